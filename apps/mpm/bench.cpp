@@ -1,0 +1,114 @@
+// `mpm bench`: the reference elastic block, timed.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "mpm/core/errors.hpp"
+#include "mpm/core/parallel.hpp"
+#include "mpm/integrators/simulation.hpp"
+#include "mpm/particles/generate.hpp"
+
+namespace mpm::app {
+
+namespace {
+struct BenchOptions {
+  int dim = 2;
+  std::string kernel = "linear";
+  std::string integrator = "usl";
+  long particles = 102400;
+  int steps = 200;
+  int threads = 0;
+  int repeat = 3;
+  bool json = false;
+};
+
+/// The reference problem: a 1 m elastic block (E = 1 MPa, nu = 0.3, rho = 1000 kg/m^3) under gravity on
+/// fixed nodes (all nodes at or below the block's base), 2 particles per cell per axis, 0.05 m of grid around
+/// it, dt = 5e-5 s.
+template <int Dim, class Kernel>
+nlohmann::json run_block(const BenchOptions& o, KernelKind kind, Integrator integrator) {
+  const int ppc = 2;
+  const int n = std::max(1, static_cast<int>(std::lround(std::pow(static_cast<double>(o.particles) / std::pow(ppc, Dim), 1.0 / Dim))));
+  const Real h = 1.0 / n;
+  const int pad = static_cast<int>(std::ceil(0.05 / h - 1e-9));
+  SimulationSpec<Dim> spec;
+  spec.h = h;
+  spec.grid_lo = Vec<Dim>::Constant(-pad * h);
+  spec.cells.fill(n + 2 * pad);
+  spec.kernel = kind;
+  spec.integrator = integrator;
+  spec.materials = {NeoHookean::from_young_poisson(1e6, 0.3, 1000)};
+  spec.gravity = Vec<Dim>::Zero();
+  spec.gravity[Dim - 1] = -9.81;
+  spec.dt = 5e-5;
+  RegionConstraint<Dim> floor{Vec<Dim>::Constant(-1e30), Vec<Dim>::Constant(1e30), {}};
+  floor.hi[Dim - 1] = 0;
+  spec.boundary.regions.push_back(floor);
+  ParticleSet<Dim> particles;
+  fill_box<Dim>(particles, Vec<Dim>::Zero(), Vec<Dim>::Ones(), h / ppc, 1000, 0);
+
+  std::vector<double> seconds;
+  double bytes = 0;
+  for (int r = 0; r < o.repeat; ++r) {
+    Simulation<Dim, Kernel> sim(spec, particles);
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int s = 0; s < o.steps; ++s) sim.step();
+    seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    bytes = sim.bytes_per_particle();
+  }
+  std::vector<double> sorted = seconds;
+  std::sort(sorted.begin(), sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  const auto count = static_cast<double>(particles.size());
+  return {{"dim", Dim},
+          {"kernel", to_string(kind)},
+          {"integrator", to_string(integrator)},
+          {"threads", num_threads()},
+          {"particles", particles.size()},
+          {"cells_per_axis", n + 2 * pad},
+          {"steps", o.steps},
+          {"seconds", median},
+          {"seconds_all_runs", seconds},
+          {"particle_steps_per_second", count * o.steps / median},
+          {"bytes_per_particle", bytes}};
+}
+}  // namespace
+
+Action add_bench(CLI::App& app) {
+  auto o = std::make_shared<BenchOptions>();
+  CLI::App* cmd = app.add_subcommand("bench", "time the reference elastic block problem");
+  cmd->add_option("--dim", o->dim, "dimension: 2 or 3")->check(CLI::IsMember({2, 3}));
+  cmd->add_option("--kernel", o->kernel, "linear, ugimp, cpgimp, bspline2 or bspline3");
+  cmd->add_option("--integrator", o->integrator, "usf, usl, cd or musl");
+  cmd->add_option("--particles", o->particles, "approximate particle count")->check(CLI::Range(1L, 1000000000L));
+  cmd->add_option("--steps", o->steps, "time steps per run")->check(CLI::PositiveNumber);
+  cmd->add_option("--threads", o->threads, "threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--repeat", o->repeat, "runs; the median is reported")->check(CLI::PositiveNumber);
+  cmd->add_flag("--json", o->json, "print one JSON object");
+  return [o]() {
+    const KernelKind kind = parse_kernel(o->kernel, "--kernel");
+    const Integrator integrator = parse_integrator(o->integrator, "--integrator");
+    set_num_threads(o->threads);
+    auto run = [&]<int Dim>() {
+      return with_kernel(kind, [&]<class K>() { return run_block<Dim, K>(*o, kind, integrator); });
+    };
+    const nlohmann::json result = o->dim == 2 ? run.operator()<2>() : run.operator()<3>();
+    if (o->json) {
+      std::cout << result.dump() << '\n';
+    } else {
+      std::cout << result["dim"] << "-D " << o->kernel << " " << o->integrator << ", " << result["particles"]
+                << " particles, " << result["threads"] << " threads: " << result["seconds"].get<double>()
+                << " s median of " << o->repeat << ", "
+                << result["particle_steps_per_second"].get<double>() / 1e6 << " M particle-steps/s, "
+                << result["bytes_per_particle"].get<double>() << " B/particle\n";
+    }
+    return 0;
+  };
+}
+
+}  // namespace mpm::app

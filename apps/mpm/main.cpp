@@ -1,0 +1,35 @@
+// The `mpm` command-line program.
+#include <iostream>
+
+#include "commands.hpp"
+#include "mpm/core/errors.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"mpm: material point method for large-deformation solids"};
+  app.require_subcommand(1);
+  const mpm::app::Action bench = mpm::app::add_bench(app);
+  const mpm::app::Action verify = mpm::app::add_verify(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "mpm: " << e.what() << '\n';
+    return mpm::exit_input_error;
+  }
+  try {
+    for (CLI::App* sub : app.get_subcommands()) {
+      if (sub->get_name() == "bench") return bench();
+      if (sub->get_name() == "verify") return verify();
+    }
+  } catch (const mpm::InputError& e) {
+    std::cerr << "mpm: " << e.what() << '\n';
+    return mpm::exit_input_error;
+  } catch (const mpm::SimulationFailure& e) {
+    std::cerr << "mpm: simulation failed: " << e.what() << '\n';
+    return mpm::exit_simulation_failure;
+  }
+  return 0;
+}

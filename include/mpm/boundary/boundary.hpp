@@ -1,0 +1,82 @@
+#pragma once
+/// Kinematic boundary conditions on grid faces and node regions. Steffen et al. 2008, Sec. 3.4.
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "mpm/core/parallel.hpp"
+#include "mpm/core/types.hpp"
+#include "mpm/grid/grid.hpp"
+
+namespace mpm {
+
+enum class FaceType { free, velocity, symmetry };
+
+/// A prescribed velocity as a function of time; an empty function means zero (a fixed wall).
+template <int Dim>
+using VelocityFn = std::function<Vec<Dim>(Real t)>;
+
+template <int Dim>
+struct FaceCondition {
+  FaceType type = FaceType::free;
+  VelocityFn<Dim> velocity;  ///< used when type == velocity
+};
+
+/// Every node (ghosts included) whose position lies in the box [lo, hi] gets the prescribed velocity.
+template <int Dim>
+struct RegionConstraint {
+  Vec<Dim> lo, hi;
+  VelocityFn<Dim> velocity;
+};
+
+/// Acceleration on constrained nodes: zero, or the velocity change the constraint imposes
+/// a_i = (v_i^{n+1} - v_i^n)/dt (Steffen et al. 2008, Eq. 30).
+enum class ConstrainedAcceleration { zero, velocity_difference };
+
+template <int Dim>
+struct BoundarySpec {
+  /// Faces in the order x-lo, x-hi, y-lo, y-hi, z-lo, z-hi.
+  std::array<FaceCondition<Dim>, 2 * Dim> faces{};
+  std::vector<RegionConstraint<Dim>> regions;
+  ConstrainedAcceleration acceleration = ConstrainedAcceleration::zero;
+};
+
+/// Which node fields a symmetry fold or mirror acts on.
+enum class NodeFields { mass_momentum, force };
+
+/// Boundary conditions compiled to node lists for one grid.
+template <int Dim>
+class KinematicConstraints {
+ public:
+  KinematicConstraints(const BoundarySpec<Dim>& spec, const GridGeometry<Dim>& g);
+
+  /// Add each symmetry-face ghost node's contributions to its mirror node (reflected), then overwrite the
+  /// ghost with the reflected mirror node: the grid then holds the fields of the body and its mirror image,
+  /// so ghosts carry the negated normal velocity of their mirror node (Steffen et al. 2008, Sec. 3.4.2).
+  void fold_and_mirror(Grid<Dim>& grid, NodeFields fields) const;
+
+  /// Impose prescribed components on a node velocity field at time t.
+  void constrain_velocity(std::vector<Vec<Dim>>& v, Real t) const;
+
+  /// Impose prescribed components on v_new at time t_new and set the constrained acceleration components.
+  void constrain_update(Grid<Dim>& grid, Real t_new, Real dt) const;
+
+ private:
+  struct Group {
+    std::vector<std::int32_t> nodes;
+    int component;              ///< constrained component, or -1 for all
+    VelocityFn<Dim> velocity;   ///< empty: zero
+  };
+  struct Mirror {
+    int axis;
+    std::vector<std::int32_t> ghost, real;  ///< pairs reflected across the plane
+  };
+  Vec<Dim> value(const Group& grp, Real t) const;
+
+  std::vector<Group> groups_;
+  std::vector<Mirror> mirrors_;
+  ConstrainedAcceleration acceleration_;
+};
+
+}  // namespace mpm

@@ -1,0 +1,81 @@
+#pragma once
+/// Uniform Cartesian background grid with ghost ("extra") node layers, node fields as flat arrays.
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include "mpm/core/types.hpp"
+
+namespace mpm {
+
+/// Geometry of a uniform grid: physical domain [lo, lo + cells*h] plus `ghost` extra node layers per side
+/// (Steffen et al. 2008, Sec. 3.4.2). Node (i_0, ..., i_{D-1}) with -ghost <= i_d <= cells_d + ghost.
+template <int Dim>
+struct GridGeometry {
+  Vec<Dim> lo = Vec<Dim>::Zero();  ///< position of node (0,...,0) [m]
+  Real h = 1.0;                    ///< cell width [m], equal along every axis
+  IVec<Dim> cells{};               ///< cells per axis in the physical domain
+  int ghost = 1;                   ///< extra node layers beyond each face
+
+  int nodes_along(int d) const { return cells[d] + 1 + 2 * ghost; }
+  std::size_t node_count() const {
+    std::size_t n = 1;
+    for (int d = 0; d < Dim; ++d) n *= static_cast<std::size_t>(nodes_along(d));
+    return n;
+  }
+  /// Flat-array stride of axis d (axis 0 varies fastest).
+  std::ptrdiff_t stride(int d) const {
+    std::ptrdiff_t s = 1;
+    for (int e = 0; e < d; ++e) s *= nodes_along(e);
+    return s;
+  }
+  /// Flat index of node with grid coordinates i (ghost nodes have negative or > cells coordinates).
+  std::ptrdiff_t flat(const IVec<Dim>& i) const {
+    std::ptrdiff_t f = 0;
+    for (int d = Dim - 1; d >= 0; --d) f = f * nodes_along(d) + (i[d] + ghost);
+    return f;
+  }
+  /// Grid coordinates of a flat node index.
+  IVec<Dim> coords(std::ptrdiff_t f) const {
+    IVec<Dim> i;
+    for (int d = 0; d < Dim; ++d) {
+      i[d] = static_cast<int>(f % nodes_along(d)) - ghost;
+      f /= nodes_along(d);
+    }
+    return i;
+  }
+  Vec<Dim> position(const IVec<Dim>& i) const {
+    Vec<Dim> x;
+    for (int d = 0; d < Dim; ++d) x[d] = lo[d] + h * i[d];
+    return x;
+  }
+  Vec<Dim> hi() const {
+    Vec<Dim> x;
+    for (int d = 0; d < Dim; ++d) x[d] = lo[d] + h * cells[d];
+    return x;
+  }
+  /// True when x lies in the physical domain (boundary included).
+  bool contains(const Vec<Dim>& x) const {
+    for (int d = 0; d < Dim; ++d)
+      if (!(x[d] >= lo[d] && x[d] <= lo[d] + h * cells[d])) return false;
+    return true;
+  }
+};
+
+/// Node fields of one time step, each a flat array over all nodes (ghosts included).
+template <int Dim>
+struct Grid {
+  GridGeometry<Dim> geometry;
+  std::vector<Real> m;             ///< nodal mass m_i [kg]
+  std::vector<Vec<Dim>> v;         ///< momentum during P2G, then velocity v_i^n [m/s]
+  std::vector<Vec<Dim>> a;         ///< force f_i during P2G, then acceleration a_i [m/s^2]
+  std::vector<Vec<Dim>> v_new;     ///< time-advanced velocity v_i^* [m/s]
+
+  explicit Grid(const GridGeometry<Dim>& g)
+      : geometry(g), m(g.node_count()), v(g.node_count()), a(g.node_count()), v_new(g.node_count()) {}
+
+  std::size_t size() const { return m.size(); }
+  std::size_t bytes() const { return size() * (sizeof(Real) + 3 * sizeof(Vec<Dim>)); }
+};
+
+}  // namespace mpm

@@ -1,0 +1,85 @@
+#pragma once
+/// An explicit MPM/GIMP simulation: particles, grid, boundary conditions, and one time step per integrator.
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "mpm/boundary/boundary.hpp"
+#include "mpm/grid/grid.hpp"
+#include "mpm/integrators/spec.hpp"
+#include "mpm/particles/particles.hpp"
+#include "mpm/shape/kernels.hpp"
+#include "mpm/shape/stencil.hpp"
+#include "mpm/transfer/g2p.hpp"
+#include "mpm/transfer/scatter_order.hpp"
+
+namespace mpm {
+
+template <int Dim, class Kernel>
+class Simulation {
+ public:
+  /// Validate the spec and the particles (InputError on bad input) and set up the grid.
+  Simulation(const SimulationSpec<Dim>& spec, ParticleSet<Dim> particles);
+
+  /// Advance one time step of min(next_dt(), max_dt). Throws SimulationFailure (naming step, time, particle
+  /// and cause) on a non-finite value, J <= 0, or a particle leaving the grid.
+  void step(Real max_dt = std::numeric_limits<Real>::infinity());
+  /// Step until time t_end is reached (the last step is shortened to land on t_end).
+  void run_until(Real t_end);
+
+  Real time() const { return time_; }
+  std::int64_t steps() const { return steps_; }
+  /// The time step the next call to step() will take (fixed, or from the CFL condition).
+  Real next_dt() const;
+
+  const ParticleSet<Dim>& particles() const { return particles_; }
+  ParticleSet<Dim>& particles() { return particles_; }
+  const Grid<Dim>& grid() const { return grid_; }
+  const SimulationSpec<Dim>& spec() const { return spec_; }
+  /// Heap bytes held by the simulation (particles, stencils, scatter order, grid) per particle.
+  double bytes_per_particle() const;
+
+ private:
+  using StencilT = Stencil<Dim, Kernel::width>;
+
+  // Time steps of each integrator (Wallstedt & Guilkey 2008, Sec. 2 and 4).
+  void step_usf(Real dt);
+  void step_usl(Real dt, Real accel_scale);
+  void step_musl(Real dt, Real accel_scale);
+
+  // Stages shared by the integrators.
+  void build_stencils();
+  void evaluate_body_force();
+  void check(ParticleFault fault, Real dt) const;
+
+  SimulationSpec<Dim> spec_;
+  ParticleSet<Dim> particles_;
+  Grid<Dim> grid_;
+  KinematicConstraints<Dim> constraints_;
+  SizeUpdate sizes_;
+  Real min_node_mass_;
+  std::vector<StencilT> stencils_;
+  ScatterOrder order_;
+  std::vector<Vec<Dim>> body_accel_;
+  Real time_ = 0;
+  std::int64_t steps_ = 0;
+};
+
+/// Call fn.template operator()<Kernel>() with the kernel policy for a kernel kind (coarse run-time choice).
+template <class Fn>
+decltype(auto) with_kernel(KernelKind k, Fn&& fn) {
+  switch (k) {
+    case KernelKind::linear:
+      return fn.template operator()<LinearKernel>();
+    case KernelKind::ugimp:
+    case KernelKind::cpgimp:
+      return fn.template operator()<GimpKernel>();
+    case KernelKind::bspline2:
+      return fn.template operator()<QuadraticBSplineKernel>();
+    case KernelKind::bspline3:
+      break;
+  }
+  return fn.template operator()<CubicBSplineKernel>();
+}
+
+}  // namespace mpm

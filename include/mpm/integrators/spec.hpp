@@ -1,0 +1,54 @@
+#pragma once
+/// Plain parameter structs describing an explicit simulation, validated in full before anything is built.
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mpm/boundary/boundary.hpp"
+#include "mpm/core/types.hpp"
+#include "mpm/grid/grid.hpp"
+#include "mpm/materials/neo_hookean.hpp"
+
+namespace mpm {
+
+/// Explicit time integrators of Wallstedt & Guilkey 2008: update stress first (USF) or last (USL), centered
+/// difference (CD) and the update-velocity-first / modified USL variant (UVF-MPM, "musl").
+enum class Integrator { usf, usl, cd, musl };
+
+/// Shape functions: linear MPM, GIMP with fixed (uGIMP) or deformed (cpGIMP) particle sizes, B-splines.
+enum class KernelKind { linear, ugimp, cpgimp, bspline2, bspline3 };
+
+/// Body acceleration b(X, t) as a function of reference position and time [m/s^2].
+template <int Dim>
+using BodyForceFn = std::function<Vec<Dim>(const Vec<Dim>& X, Real t)>;
+
+template <int Dim>
+struct SimulationSpec {
+  Vec<Dim> grid_lo = Vec<Dim>::Zero();  ///< position of the first node [m]
+  Real h = 0;                           ///< cell width [m]
+  IVec<Dim> cells{};                    ///< cells per axis
+  Integrator integrator = Integrator::usl;
+  KernelKind kernel = KernelKind::linear;
+  /// uGIMP smoothing length l (full particle width used by the kernel, 0 < l <= h, Steffen et al. 2008
+  /// Sec. 4.1); 0 uses each particle's own size.
+  Real gimp_length = 0;
+  std::vector<NeoHookean> materials;
+  BoundarySpec<Dim> boundary;
+  Vec<Dim> gravity = Vec<Dim>::Zero();  ///< [m/s^2]
+  BodyForceFn<Dim> body_force;          ///< optional b(X, t), evaluated at the start of each step
+  Real dt = 0;                          ///< fixed time step [s], or 0 to use the CFL number
+  Real cfl = 0;                         ///< dt = cfl h / max_p (c_p + |v_p|) when dt == 0
+};
+
+/// Parse a name; throws InputError naming `key` and the expected values.
+Integrator parse_integrator(std::string_view name, std::string_view key = "integrator");
+KernelKind parse_kernel(std::string_view name, std::string_view key = "kernel");
+std::string_view to_string(Integrator i);
+std::string_view to_string(KernelKind k);
+
+/// Throw InputError with a clear message for the first invalid field.
+template <int Dim>
+void validate(const SimulationSpec<Dim>& spec);
+
+}  // namespace mpm

@@ -1,0 +1,40 @@
+#pragma once
+/// Compressible Neo-Hookean solid.
+#include <algorithm>
+#include <cmath>
+
+#include "mpm/core/types.hpp"
+
+namespace mpm {
+
+/// Compressible Neo-Hookean material with Lame constants lambda, mu and reference density rho0.
+/// In 2-D the motion is plane strain (F_zz = 1); in 1-D it is uniaxial strain.
+struct NeoHookean {
+  Real lambda = 0;  ///< first Lame constant [Pa]
+  Real mu = 0;      ///< shear modulus [Pa]
+  Real rho0 = 0;    ///< reference density [kg/m^3]
+
+  static NeoHookean from_young_poisson(Real E, Real nu, Real rho0) {
+    return {E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu)), rho0};
+  }
+
+  /// Cauchy stress sigma = (lambda ln J I + mu (F F^T - I)) / J. Wallstedt & Guilkey 2008, Eq. (55).
+  template <int Dim>
+  SymTensor<Dim> stress(const Mat<Dim>& F, Real J) const {
+    const Mat<Dim> b = F * F.transpose();
+    const Real inv_J = 1 / J;
+    const Real diag = (lambda * std::log(J) - mu) * inv_J;
+    SymTensor<Dim> s;
+    for (int a = 0; a < Dim; ++a)
+      for (int c = a; c < Dim; ++c) s(a, c) = mu * inv_J * b(a, c) + (a == c ? diag : 0);
+    return s;
+  }
+
+  /// Dilatational wave speed at volume ratio J from the spatial tangent of Eq. (55):
+  /// rho c^2 = (lambda + 2 (mu - lambda ln J)) / J with rho = rho0 / J.
+  Real wave_speed(Real J) const {
+    return std::sqrt(std::max(lambda + 2 * mu - 2 * lambda * std::log(J), mu) / rho0);
+  }
+};
+
+}  // namespace mpm

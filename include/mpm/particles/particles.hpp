@@ -1,0 +1,50 @@
+#pragma once
+/// Material points stored as a structure of arrays.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "mpm/core/types.hpp"
+
+namespace mpm {
+
+/// One array per particle field. Positions and stresses are in the current configuration.
+template <int Dim>
+struct ParticleSet {
+  std::vector<Vec<Dim>> x;               ///< current position x_p [m]
+  std::vector<Vec<Dim>> X;               ///< reference position X_p [m]
+  std::vector<Vec<Dim>> v;               ///< velocity v_p [m/s]
+  std::vector<Mat<Dim>> F;               ///< deformation gradient F_p
+  std::vector<Real> m;                   ///< mass m_p [kg]
+  std::vector<Real> V0;                  ///< reference volume V_p^0 [m^Dim]
+  std::vector<Real> V;                   ///< current volume V_p = V_p^0 det F_p [m^Dim]
+  std::vector<Vec<Dim>> l0;              ///< reference GIMP half-lengths l_p^0 [m]
+  std::vector<Vec<Dim>> l;               ///< current GIMP half-lengths l_p [m]
+  std::vector<SymTensor<Dim>> sigma;     ///< Cauchy stress [Pa]
+  std::vector<std::uint16_t> material;   ///< index into the material table
+
+  std::size_t size() const { return x.size(); }
+
+  /// Append an undeformed, stress-free particle.
+  void add(const Vec<Dim>& position, const Vec<Dim>& velocity, Real mass, Real volume,
+           const Vec<Dim>& half_length, std::uint16_t material_id) {
+    x.push_back(position);
+    X.push_back(position);
+    v.push_back(velocity);
+    F.push_back(Mat<Dim>::Identity());
+    m.push_back(mass);
+    V0.push_back(volume);
+    V.push_back(volume);
+    l0.push_back(half_length);
+    l.push_back(half_length);
+    sigma.push_back(SymTensor<Dim>{});
+    material.push_back(material_id);
+  }
+
+  std::size_t bytes_per_particle() const {
+    return 4 * sizeof(Vec<Dim>) + sizeof(Vec<Dim>) + sizeof(Mat<Dim>) + 3 * sizeof(Real) +
+           sizeof(SymTensor<Dim>) + sizeof(std::uint16_t);
+  }
+};
+
+}  // namespace mpm

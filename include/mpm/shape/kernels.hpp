@@ -1,0 +1,109 @@
+#pragma once
+/// One-dimensional shape-function policies. Each gives its stencil width, the ghost layers it needs, and the
+/// weights and gradients of the `width` consecutive nodes starting at `base`. Positions are in grid units
+/// (xi = (x - lo)/h), gradients are per grid unit; multi-D weights are tensor products.
+#include <cmath>
+
+#include "mpm/core/types.hpp"
+
+namespace mpm {
+
+/// Piecewise-linear hat functions of classic MPM. Wallstedt & Guilkey 2008, Eq. (2).
+struct LinearKernel {
+  static constexpr int width = 2;
+  static constexpr int ghost = 1;
+  static constexpr const char* name = "linear";
+
+  static int weights(Real xi, Real /*half_length*/, Real* w, Real* dw) {
+    const Real base = std::floor(xi);
+    const Real r = xi - base;  // in [0, 1)
+    w[0] = 1 - r;
+    w[1] = r;
+    dw[0] = -1;
+    dw[1] = 1;
+    return static_cast<int>(base);
+  }
+};
+
+/// GIMP: the linear hat convolved with a top-hat particle of half-length l_p (in grid units, 0 < l_p <= 1/2).
+/// Wallstedt & Guilkey 2008, Eqs (5) and (6).
+struct GimpKernel {
+  static constexpr int width = 3;
+  static constexpr int ghost = 1;
+  static constexpr const char* name = "gimp";
+
+  /// Weight and gradient of the node at signed distance r = xi - i, for half-length l.
+  static void node(Real r, Real l, Real& w, Real& dw) {
+    if (r <= -1 - l || r > 1 + l) {
+      w = 0;
+      dw = 0;
+    } else if (r <= -1 + l) {
+      const Real s = 1 + l + r;  // Eq. (5), first branch
+      w = s * s / (4 * l);
+      dw = s / (2 * l);
+    } else if (r <= -l) {
+      w = 1 + r;
+      dw = 1;
+    } else if (r <= l) {
+      w = 1 - (r * r + l * l) / (2 * l);
+      dw = -r / l;
+    } else if (r <= 1 - l) {
+      w = 1 - r;
+      dw = -1;
+    } else {
+      const Real s = 1 + l - r;
+      w = s * s / (4 * l);
+      dw = -s / (2 * l);
+    }
+  }
+
+  static int weights(Real xi, Real half_length, Real* w, Real* dw) {
+    const int base = static_cast<int>(std::floor(xi - 0.5));
+    for (int k = 0; k < width; ++k) node(xi - (base + k), half_length, w[k], dw[k]);
+    return base;
+  }
+};
+
+/// Uniform quadratic B-spline (the GIMP basis with l_p = h/2). Steffen et al. 2008, Sec. 3.3 and 4.1.
+struct QuadraticBSplineKernel {
+  static constexpr int width = 3;
+  static constexpr int ghost = 1;
+  static constexpr const char* name = "bspline2";
+
+  static int weights(Real xi, Real /*half_length*/, Real* w, Real* dw) {
+    const int base = static_cast<int>(std::floor(xi - 0.5));
+    const Real r = xi - base;  // distance to the base node, in [0.5, 1.5)
+    const Real a = 1.5 - r, b = r - 1, c = r - 0.5;
+    w[0] = 0.5 * a * a;
+    w[1] = 0.75 - b * b;
+    w[2] = 0.5 * c * c;
+    dw[0] = -a;
+    dw[1] = -2 * b;
+    dw[2] = c;
+    return base;
+  }
+};
+
+/// Uniform cubic B-spline. Steffen et al. 2008, Eq. (19) with four convolutions.
+struct CubicBSplineKernel {
+  static constexpr int width = 4;
+  static constexpr int ghost = 2;
+  static constexpr const char* name = "bspline3";
+
+  static int weights(Real xi, Real /*half_length*/, Real* w, Real* dw) {
+    const int base = static_cast<int>(std::floor(xi)) - 1;
+    const Real t = xi - (base + 1);  // in [0, 1)
+    const Real s = 1 - t;
+    w[0] = s * s * s / 6;
+    w[1] = (3 * t * t * t - 6 * t * t + 4) / 6;
+    w[2] = (3 * s * s * s - 6 * s * s + 4) / 6;
+    w[3] = t * t * t / 6;
+    dw[0] = -0.5 * s * s;
+    dw[1] = 1.5 * t * t - 2 * t;
+    dw[2] = -1.5 * s * s + 2 * s;
+    dw[3] = 0.5 * t * t;
+    return base;
+  }
+};
+
+}  // namespace mpm

@@ -1,0 +1,35 @@
+#pragma once
+/// Displacement error norms over particles and time steps. Wallstedt & Guilkey 2008, Eqs (64)-(65).
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "mpm/core/types.hpp"
+#include "mpm/particles/particles.hpp"
+
+namespace mpm {
+
+/// Accumulates delta_p = |(x_p - X_p) - u_exact(X_p, t)| (Eq. 64). L_inf is the maximum over all particles and
+/// all recorded steps (Eq. 65); L1 and L2 weight every particle-step sample equally:
+/// L1 = mean delta_p, L2 = sqrt(mean delta_p^2).
+struct ErrorNorms {
+  Real linf = 0;
+  Real sum = 0;
+  Real sum_sq = 0;
+  std::int64_t samples = 0;
+
+  template <int Dim, class Exact>
+  void record(const ParticleSet<Dim>& p, Real t, const Exact& exact) {
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const Real delta = ((p.x[i] - p.X[i]) - exact.displacement(p.X[i], t)).norm();
+      linf = std::max(linf, delta);
+      sum += delta;
+      sum_sq += delta * delta;
+    }
+    samples += static_cast<std::int64_t>(p.size());
+  }
+  Real l1() const { return samples ? sum / static_cast<Real>(samples) : 0; }
+  Real l2() const { return samples ? std::sqrt(sum_sq / static_cast<Real>(samples)) : 0; }
+};
+
+}  // namespace mpm

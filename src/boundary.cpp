@@ -1,0 +1,131 @@
+#include "mpm/boundary/boundary.hpp"
+
+namespace mpm {
+
+namespace {
+/// Visit every node (ghosts included) with its grid coordinates.
+template <int Dim, class Fn>
+void for_all_nodes(const GridGeometry<Dim>& g, Fn&& fn) {
+  const auto n = static_cast<std::ptrdiff_t>(g.node_count());
+  for (std::ptrdiff_t f = 0; f < n; ++f) fn(static_cast<std::int32_t>(f), g.coords(f));
+}
+
+template <int Dim>
+Vec<Dim> reflect(Vec<Dim> v, int axis) {
+  v[axis] = -v[axis];
+  return v;
+}
+}  // namespace
+
+template <int Dim>
+KinematicConstraints<Dim>::KinematicConstraints(const BoundarySpec<Dim>& spec, const GridGeometry<Dim>& g)
+    : acceleration_(spec.acceleration) {
+  for (int face = 0; face < 2 * Dim; ++face) {
+    const FaceCondition<Dim>& fc = spec.faces[face];
+    const int axis = face / 2;
+    const bool high = face % 2 == 1;
+    const int plane = high ? g.cells[axis] : 0;
+    const int outward = high ? 1 : -1;
+    if (fc.type == FaceType::velocity) {
+      Group grp{{}, -1, fc.velocity};
+      for_all_nodes(g, [&](std::int32_t f, const IVec<Dim>& i) {
+        if ((i[axis] - plane) * outward >= 0) grp.nodes.push_back(f);
+      });
+      groups_.push_back(std::move(grp));
+    } else if (fc.type == FaceType::symmetry) {
+      Group grp{{}, axis, {}};
+      Mirror mir{axis, {}, {}};
+      for_all_nodes(g, [&](std::int32_t f, const IVec<Dim>& i) {
+        const int k = (i[axis] - plane) * outward;  // layers beyond the plane
+        if (k == 0) grp.nodes.push_back(f);
+        if (k > 0) {
+          IVec<Dim> j = i;
+          j[axis] = plane - k * outward;
+          mir.ghost.push_back(f);
+          mir.real.push_back(static_cast<std::int32_t>(g.flat(j)));
+        }
+      });
+      groups_.push_back(std::move(grp));
+      mirrors_.push_back(std::move(mir));
+    }
+  }
+  const Real tol = 1e-9 * g.h;
+  for (const RegionConstraint<Dim>& rc : spec.regions) {
+    Group grp{{}, -1, rc.velocity};
+    for_all_nodes(g, [&](std::int32_t f, const IVec<Dim>& i) {
+      const Vec<Dim> x = g.position(i);
+      for (int d = 0; d < Dim; ++d)
+        if (x[d] < rc.lo[d] - tol || x[d] > rc.hi[d] + tol) return;
+      grp.nodes.push_back(f);
+    });
+    groups_.push_back(std::move(grp));
+  }
+}
+
+template <int Dim>
+void KinematicConstraints<Dim>::fold_and_mirror(Grid<Dim>& grid, NodeFields fields) const {
+  auto apply = [&](auto&& op) {
+    for (const Mirror& mir : mirrors_)
+      for (std::size_t k = 0; k < mir.ghost.size(); ++k) op(mir, mir.ghost[k], mir.real[k], true);
+    for (auto it = mirrors_.rbegin(); it != mirrors_.rend(); ++it)
+      for (std::size_t k = 0; k < it->ghost.size(); ++k) op(*it, it->ghost[k], it->real[k], false);
+  };
+  if (fields == NodeFields::mass_momentum) {
+    apply([&](const Mirror& mir, std::int32_t gh, std::int32_t re, bool fold) {
+      if (fold) {
+        grid.m[re] += grid.m[gh];
+        grid.v[re] += reflect<Dim>(grid.v[gh], mir.axis);
+      } else {
+        grid.m[gh] = grid.m[re];
+        grid.v[gh] = reflect<Dim>(grid.v[re], mir.axis);
+      }
+    });
+  } else {
+    apply([&](const Mirror& mir, std::int32_t gh, std::int32_t re, bool fold) {
+      if (fold)
+        grid.a[re] += reflect<Dim>(grid.a[gh], mir.axis);
+      else
+        grid.a[gh] = reflect<Dim>(grid.a[re], mir.axis);
+    });
+  }
+}
+
+template <int Dim>
+Vec<Dim> KinematicConstraints<Dim>::value(const Group& grp, Real t) const {
+  return grp.velocity ? grp.velocity(t) : Vec<Dim>::Zero();
+}
+
+template <int Dim>
+void KinematicConstraints<Dim>::constrain_velocity(std::vector<Vec<Dim>>& v, Real t) const {
+  for (const Group& grp : groups_) {
+    const Vec<Dim> val = value(grp, t);
+    for (std::int32_t n : grp.nodes) {
+      if (grp.component < 0)
+        v[n] = val;
+      else
+        v[n][grp.component] = val[grp.component];
+    }
+  }
+}
+
+template <int Dim>
+void KinematicConstraints<Dim>::constrain_update(Grid<Dim>& grid, Real t_new, Real dt) const {
+  const bool difference = acceleration_ == ConstrainedAcceleration::velocity_difference;
+  for (const Group& grp : groups_) {
+    const Vec<Dim> val = value(grp, t_new);
+    const int first = grp.component < 0 ? 0 : grp.component;
+    const int last = grp.component < 0 ? Dim : grp.component + 1;
+    for (std::int32_t n : grp.nodes)
+      for (int c = first; c < last; ++c) {
+        grid.v_new[n][c] = val[c];
+        // Steffen et al. 2008, Eq. (30): the acceleration that brings the projected velocity to the prescribed one.
+        grid.a[n][c] = difference ? (val[c] - grid.v[n][c]) / dt : 0;
+      }
+  }
+}
+
+template class KinematicConstraints<1>;
+template class KinematicConstraints<2>;
+template class KinematicConstraints<3>;
+
+}  // namespace mpm

@@ -1,0 +1,8 @@
+#include "simulation_impl.hpp"
+
+namespace mpm {
+template class Simulation<3, LinearKernel>;
+template class Simulation<3, GimpKernel>;
+template class Simulation<3, QuadraticBSplineKernel>;
+template class Simulation<3, CubicBSplineKernel>;
+}  // namespace mpm

@@ -1,0 +1,213 @@
+#pragma once
+// Implementation of Simulation<Dim, Kernel>; included by the per-dimension instantiation files.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "mpm/core/errors.hpp"
+#include "mpm/integrators/simulation.hpp"
+#include "mpm/transfer/p2g.hpp"
+
+namespace mpm {
+
+namespace detail {
+template <int Dim>
+std::string format(const Vec<Dim>& x) {
+  std::ostringstream os;
+  os.precision(9);
+  os << '(';
+  for (int d = 0; d < Dim; ++d) os << (d ? ", " : "") << x[d];
+  os << ')';
+  return os.str();
+}
+
+template <int Dim, class Kernel>
+GridGeometry<Dim> make_geometry(const SimulationSpec<Dim>& spec) {
+  validate(spec);
+  return GridGeometry<Dim>{spec.grid_lo, spec.h, spec.cells, Kernel::ghost};
+}
+}  // namespace detail
+
+template <int Dim, class Kernel>
+Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet<Dim> particles)
+    : spec_(spec),
+      particles_(std::move(particles)),
+      grid_(detail::make_geometry<Dim, Kernel>(spec)),
+      constraints_(spec.boundary, grid_.geometry),
+      sizes_(spec.kernel == KernelKind::cpgimp ? SizeUpdate::deformed : SizeUpdate::fixed) {
+  const GridGeometry<Dim>& g = grid_.geometry;
+  ParticleSet<Dim>& p = particles_;
+  if (p.size() == 0) throw InputError("particles: the simulation has no particles");
+  if (p.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
+    throw InputError("particles: more than 2^31 - 1 particles");
+  Real min_mass = std::numeric_limits<Real>::max();
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const std::string at = "particle " + std::to_string(i);
+    if (!g.contains(p.x[i]))
+      throw InputError(at + " at " + detail::format<Dim>(p.x[i]) + " lies outside the grid " +
+                       detail::format<Dim>(g.lo) + " - " + detail::format<Dim>(g.hi()));
+    if (!(p.m[i] > 0) || !(p.V0[i] > 0)) throw InputError(at + ": mass and volume must be positive");
+    if (p.material[i] >= spec.materials.size())
+      throw InputError(at + ": material index " + std::to_string(p.material[i]) + " has no material");
+    if (!p.v[i].allFinite()) throw InputError(at + ": velocity must be finite");
+    if (spec.kernel == KernelKind::ugimp && spec.gimp_length > 0) p.l[i].setConstant(0.5 * spec.gimp_length);
+    if (spec.kernel == KernelKind::ugimp || spec.kernel == KernelKind::cpgimp)
+      for (int d = 0; d < Dim; ++d)
+        if (!(p.l[i][d] > 0 && p.l[i][d] <= 0.5 * g.h))
+          throw InputError(at + ": GIMP half-length " + std::to_string(p.l[i][d]) + " must lie in (0, h/2]");
+    const Real J = p.F[i].determinant();
+    p.V[i] = p.V0[i] * J;
+    if (!(J > 0)) throw InputError(at + ": deformation gradient must have det F > 0");
+    p.sigma[i] = spec.materials[p.material[i]].template stress<Dim>(p.F[i], J);
+    min_mass = std::min(min_mass, p.m[i]);
+  }
+  // Nodes lighter than this are treated as empty (round-off level against the lightest particle).
+  min_node_mass_ = 1e-14 * min_mass;
+}
+
+template <int Dim, class Kernel>
+Real Simulation<Dim, Kernel>::next_dt() const {
+  if (spec_.dt > 0) return spec_.dt;
+  const ParticleSet<Dim>& p = particles_;
+  Real speed = 0;
+#pragma omp parallel for reduction(max : speed)
+  for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(p.size()); ++i)
+    speed = std::max(speed, spec_.materials[p.material[i]].wave_speed(p.V[i] / p.V0[i]) + p.v[i].norm());
+  return spec_.cfl * spec_.h / speed;
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::step(Real max_dt) {
+  const Real dt = std::min(next_dt(), max_dt);
+  // Centered difference starts from v^{-1/2} by halving the first grid acceleration
+  // (Wallstedt & Guilkey 2008, Sec. 4); UVF-MPM is a modification of it and does the same.
+  const Real first_scale = steps_ == 0 ? 0.5 : 1.0;
+  switch (spec_.integrator) {
+    case Integrator::usf:
+      step_usf(dt);
+      break;
+    case Integrator::usl:
+      step_usl(dt, 1.0);
+      break;
+    case Integrator::cd:
+      step_usl(dt, first_scale);  // CD is USL with the half-step start (Eqs 40-50)
+      break;
+    case Integrator::musl:
+      step_musl(dt, first_scale);
+      break;
+  }
+  time_ += dt;
+  ++steps_;
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::run_until(Real t_end) {
+  while (time_ < t_end * (1 - 1e-14)) step(t_end - time_);
+}
+
+// USF: the stress is updated from the projected velocity before the forces are computed
+// (Wallstedt & Guilkey 2008, Eqs 8-18).
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::step_usf(Real dt) {
+  build_stencils();
+  p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils_, order_, body_accel_, grid_);
+  constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
+  grid_velocity(grid_, min_node_mass_);
+  grid_.v_new = grid_.v;
+  constraints_.constrain_velocity(grid_.v_new, time_);
+  check(g2p<Gather{.velocity = false, .position = false, .deformation = true}>(
+            particles_, stencils_, grid_, grid_.v_new, dt, spec_.materials, sizes_),
+        dt);
+  p2g<Scatter{.mass_momentum = false, .force = true}>(particles_, stencils_, order_, body_accel_, grid_);
+  constraints_.fold_and_mirror(grid_, NodeFields::force);
+  grid_update(grid_, spec_.gravity, dt, 1.0, min_node_mass_);
+  constraints_.constrain_update(grid_, time_ + dt, dt);
+  check(g2p<Gather{.velocity = true, .position = true, .deformation = false}>(
+            particles_, stencils_, grid_, grid_.v_new, dt, spec_.materials, sizes_),
+        dt);
+}
+
+// USL: forces from the previous stress, then the stress is updated from the advanced grid velocity
+// (Eqs 8-9, 14-19). With accel_scale = 1/2 on the first step this is the centered difference (Eqs 40-50).
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::step_usl(Real dt, Real accel_scale) {
+  build_stencils();
+  p2g<Scatter{.mass_momentum = true, .force = true}>(particles_, stencils_, order_, body_accel_, grid_);
+  constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
+  constraints_.fold_and_mirror(grid_, NodeFields::force);
+  grid_velocity(grid_, min_node_mass_);
+  grid_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
+  constraints_.constrain_update(grid_, time_ + dt, dt);
+  check(g2p<Gather{.velocity = true, .position = true, .deformation = true}>(
+            particles_, stencils_, grid_, grid_.v_new, dt, spec_.materials, sizes_),
+        dt);
+}
+
+// UVF-MPM / MUSL: as CD, but the grid velocity used for positions and gradients is re-projected from the
+// updated particle velocities (Eq. 51 replaces Eq. 47).
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::step_musl(Real dt, Real accel_scale) {
+  build_stencils();
+  p2g<Scatter{.mass_momentum = true, .force = true}>(particles_, stencils_, order_, body_accel_, grid_);
+  constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
+  constraints_.fold_and_mirror(grid_, NodeFields::force);
+  grid_velocity(grid_, min_node_mass_);
+  grid_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
+  constraints_.constrain_update(grid_, time_ + dt, dt);
+  check(g2p<Gather{.velocity = true, .position = false, .deformation = false}>(
+            particles_, stencils_, grid_, grid_.v_new, dt, spec_.materials, sizes_),
+        dt);
+  p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils_, order_, body_accel_, grid_);
+  constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
+  grid_velocity(grid_, min_node_mass_);
+  constraints_.constrain_velocity(grid_.v, time_ + dt);
+  check(g2p<Gather{.velocity = false, .position = true, .deformation = true}>(
+            particles_, stencils_, grid_, grid_.v, dt, spec_.materials, sizes_),
+        dt);
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::build_stencils() {
+  mpm::build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_);
+  order_.build(stencils_, grid_.geometry);
+  evaluate_body_force();
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::evaluate_body_force() {
+  if (!spec_.body_force) return;
+  body_accel_.resize(particles_.size());
+  parallel_for(static_cast<std::ptrdiff_t>(particles_.size()),
+               [&](std::ptrdiff_t i) { body_accel_[i] = spec_.body_force(particles_.X[i], time_); });
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::check(ParticleFault fault, Real dt) const {
+  if (!fault) return;
+  const std::int64_t i = fault.index;
+  const ParticleSet<Dim>& p = particles_;
+  const Real J = p.F[i].determinant();
+  std::string cause;
+  if (!p.x[i].allFinite() || !p.v[i].allFinite() || !std::isfinite(J))
+    cause = "non-finite position, velocity or deformation gradient";
+  else if (!grid_.geometry.contains(p.x[i]))
+    cause = "left the grid at " + detail::format<Dim>(p.x[i]);
+  else if (!(J > 0))
+    cause = "det F = " + std::to_string(J) + " <= 0 (material inverted)";
+  else
+    cause = "cpGIMP half-lengths " + detail::format<Dim>(p.l[i]) + " left (0, h/2] (deformation too large)";
+  std::ostringstream os;
+  os.precision(9);
+  os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << i << ": " << cause;
+  throw SimulationFailure(os.str());
+}
+
+template <int Dim, class Kernel>
+double Simulation<Dim, Kernel>::bytes_per_particle() const {
+  const double n = static_cast<double>(particles_.size());
+  return static_cast<double>(particles_.bytes_per_particle()) + sizeof(StencilT) +
+         static_cast<double>(order_.bytes() + body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes()) / n;
+}
+
+}  // namespace mpm

@@ -1,0 +1,73 @@
+#include "mpm/integrators/spec.hpp"
+
+#include <array>
+#include <cmath>
+#include <sstream>
+
+#include "mpm/core/errors.hpp"
+
+namespace mpm {
+
+namespace {
+constexpr std::array<std::string_view, 4> integrator_names{"usf", "usl", "cd", "musl"};
+constexpr std::array<std::string_view, 5> kernel_names{"linear", "ugimp", "cpgimp", "bspline2", "bspline3"};
+
+template <class Names>
+std::string join(const Names& names) {
+  std::string s;
+  for (std::string_view n : names) s += (s.empty() ? "" : ", ") + std::string(n);
+  return s;
+}
+
+void require(bool ok, const std::string& message) {
+  if (!ok) throw InputError(message);
+}
+}  // namespace
+
+Integrator parse_integrator(std::string_view name, std::string_view key) {
+  for (std::size_t k = 0; k < integrator_names.size(); ++k)
+    if (name == integrator_names[k]) return static_cast<Integrator>(k);
+  throw InputError(std::string(key) + ": unknown name '" + std::string(name) + "' (expected one of " +
+                   join(integrator_names) + ")");
+}
+
+KernelKind parse_kernel(std::string_view name, std::string_view key) {
+  for (std::size_t k = 0; k < kernel_names.size(); ++k)
+    if (name == kernel_names[k]) return static_cast<KernelKind>(k);
+  throw InputError(std::string(key) + ": unknown name '" + std::string(name) + "' (expected one of " + join(kernel_names) +
+                   ")");
+}
+
+std::string_view to_string(Integrator i) { return integrator_names[static_cast<std::size_t>(i)]; }
+std::string_view to_string(KernelKind k) { return kernel_names[static_cast<std::size_t>(k)]; }
+
+template <int Dim>
+void validate(const SimulationSpec<Dim>& s) {
+  require(std::isfinite(s.h) && s.h > 0, "grid.h: cell width must be positive");
+  for (int d = 0; d < Dim; ++d) require(s.cells[d] >= 1, "grid.cells: every axis needs at least 1 cell");
+  require(s.grid_lo.allFinite(), "grid.lo: must be finite");
+  require(!s.materials.empty(), "materials: at least one material is required");
+  for (std::size_t k = 0; k < s.materials.size(); ++k) {
+    const NeoHookean& m = s.materials[k];
+    const std::string key = "materials[" + std::to_string(k) + "]";
+    require(m.rho0 > 0, key + ".density: must be positive");
+    require(m.mu > 0, key + ": shear modulus must be positive (E > 0 and -1 < nu < 0.5)");
+    require(m.lambda + 2.0 * m.mu / Dim > 0 || Dim == 1, key + ": bulk modulus must be positive (nu < 0.5)");
+  }
+  if (s.dt > 0) {
+    require(std::isfinite(s.dt), "dt: must be finite");
+  } else {
+    require(s.dt == 0, "dt: must be positive (or 0 to use the CFL number)");
+    require(s.cfl > 0 && s.cfl <= 1, "cfl: expected a number in (0, 1]");
+  }
+  require(s.gravity.allFinite(), "gravity: must be finite");
+  require(s.gimp_length >= 0 && s.gimp_length <= s.h, "gimp_length: expected 0 <= l <= h");
+  require(s.gimp_length == 0 || s.kernel == KernelKind::ugimp,
+          "gimp_length: a smoothing length applies to the ugimp kernel only");
+}
+
+template void validate<1>(const SimulationSpec<1>&);
+template void validate<2>(const SimulationSpec<2>&);
+template void validate<3>(const SimulationSpec<3>&);
+
+}  // namespace mpm
