@@ -169,8 +169,9 @@ void Simulation<Dim, Kernel>::step_musl(Real dt, Real accel_scale) {
 
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::build_stencils() {
-  mpm::build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_);
-  order_.build(stencils_, grid_.geometry);
+  // The scatter order depends only on the strips, so it is rebuilt only when a particle changed strip.
+  if (mpm::build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, strip_))
+    order_.build(strip_, ScatterOrder::strip_count<Dim, Kernel::width>(grid_.geometry));
   evaluate_body_force();
 }
 
@@ -207,7 +208,7 @@ template <int Dim, class Kernel>
 double Simulation<Dim, Kernel>::bytes_per_particle() const {
   const double n = static_cast<double>(particles_.size());
   return static_cast<double>(particles_.bytes_per_particle()) + sizeof(StencilT) +
-         static_cast<double>(order_.bytes() + body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes()) / n;
+         static_cast<double>(order_.bytes() + strip_.capacity() * sizeof(std::int32_t) + body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes()) / n;
 }
 
 }  // namespace mpm

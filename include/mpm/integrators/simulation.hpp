@@ -59,6 +59,7 @@ class Simulation {
   SizeUpdate sizes_;
   Real min_node_mass_;
   std::vector<StencilT> stencils_;
+  std::vector<std::int32_t> strip_;
   ScatterOrder order_;
   std::vector<Vec<Dim>> body_accel_;
   Real time_ = 0;

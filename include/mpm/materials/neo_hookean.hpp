@@ -20,7 +20,7 @@ struct NeoHookean {
 
   /// Cauchy stress sigma = (lambda ln J I + mu (F F^T - I)) / J. Wallstedt & Guilkey 2008, Eq. (55).
   template <int Dim>
-  SymTensor<Dim> stress(const Mat<Dim>& F, Real J) const {
+  [[gnu::always_inline]] inline SymTensor<Dim> stress(const Mat<Dim>& F, Real J) const {
     const Mat<Dim> b = F * F.transpose();
     const Real inv_J = 1 / J;
     const Real diag = (lambda * std::log(J) - mu) * inv_J;

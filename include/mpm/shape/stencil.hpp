@@ -2,6 +2,7 @@
 /// Per-particle stencil: the base node and the 1-D weights and gradients along each axis, computed once per
 /// particle per step and consumed by every transfer (P2G, G2P, re-projection).
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -10,12 +11,14 @@
 #include "mpm/core/types.hpp"
 #include "mpm/grid/grid.hpp"
 #include "mpm/particles/particles.hpp"
+#include "mpm/transfer/scatter_order.hpp"
 
 namespace mpm {
 
 template <int Dim, int N>
 struct Stencil {
   std::int32_t node;                       ///< flat index of the base node
+  std::int32_t layer;                      ///< storage index of the base node along the slowest axis
   std::array<std::array<Real, N>, Dim> w;  ///< 1-D weights per axis
   std::array<std::array<Real, N>, Dim> dw; ///< 1-D gradients per axis [1/m]
 };
@@ -41,19 +44,31 @@ inline Stencil<Dim, Kernel::width> make_stencil(const GridGeometry<Dim>& g, cons
     const int base = Kernel::weights(xi, l[d] * inv_h, s.w[d].data(), s.dw[d].data());
     for (int k = 0; k < Kernel::width; ++k) s.dw[d][k] *= inv_h;
     node += (base + g.ghost) * st.s[d];
+    if (d == Dim - 1) s.layer = base + g.ghost;
   }
   s.node = node;
   return s;
 }
 
-/// Stencils of all particles at their current positions and half-lengths.
+/// Stencils of all particles at their current positions and half-lengths, and the scatter strip of each
+/// (ScatterOrder::strip_of its base node along the slowest axis). Returns whether any strip changed.
 template <int Dim, class Kernel>
-void build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g,
-                    std::vector<Stencil<Dim, Kernel::width>>& out) {
+bool build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g,
+                    std::vector<Stencil<Dim, Kernel::width>>& out, std::vector<std::int32_t>& strip) {
+  const bool resized = strip.size() != p.size();
   out.resize(p.size());
+  strip.resize(p.size(), -1);
   const Strides<Dim> st(g);
-  parallel_for(static_cast<std::ptrdiff_t>(p.size()),
-               [&](std::ptrdiff_t i) { out[i] = make_stencil<Dim, Kernel>(g, st, p.x[i], p.l[i]); });
+  std::atomic<bool> changed{resized};
+  parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
+    out[i] = make_stencil<Dim, Kernel>(g, st, p.x[i], p.l[i]);
+    const std::int32_t s = ScatterOrder::strip_of<Kernel::width>(out[i].layer);
+    if (s != strip[i]) {
+      strip[i] = s;
+      changed.store(true, std::memory_order_relaxed);
+    }
+  });
+  return changed.load();
 }
 
 /// Visit every node of the tensor-product stencil: fn(flat node index, weight S_ip, gradient grad S_ip).

@@ -3,30 +3,56 @@
 /// into strips of `width` node layers along the slowest grid axis; strips of equal parity touch disjoint
 /// nodes, so even strips run in parallel, then odd ones. Each node then receives its contributions in the
 /// same order whatever the thread count.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
 #include "mpm/core/parallel.hpp"
 #include "mpm/grid/grid.hpp"
-#include "mpm/shape/stencil.hpp"
 
 namespace mpm {
 
 class ScatterOrder {
  public:
+  /// Strip of a stencil whose base node has storage index `base` (ghosts included) along the slowest axis.
+  template <int N>
+  static std::int32_t strip_of(std::int32_t base) {
+    return base / N;
+  }
   template <int Dim, int N>
-  void build(const std::vector<Stencil<Dim, N>>& stencils, const GridGeometry<Dim>& g) {
-    const auto slow = static_cast<std::int32_t>(g.stride(Dim - 1));
-    const int strips = (g.nodes_along(Dim - 1) + N - 1) / N;
+  static int strip_count(const GridGeometry<Dim>& g) {
+    return (g.nodes_along(Dim - 1) + N - 1) / N;
+  }
+
+  /// Stable counting sort of particles by strip. The result is unique, so computing it in parallel chunks
+  /// gives the same order for any thread count.
+  void build(const std::vector<std::int32_t>& strip, int strips) {
+    const auto n = static_cast<std::ptrdiff_t>(strip.size());
+    const std::ptrdiff_t chunks = std::max<std::ptrdiff_t>(1, std::min<std::ptrdiff_t>(4 * num_threads(), n / 1024));
+    const std::ptrdiff_t chunk = (n + chunks - 1) / chunks;
+    count_.assign(static_cast<std::size_t>(chunks * strips), 0);
+    parallel_for(chunks, [&](std::ptrdiff_t c) {
+      std::int32_t* cnt = &count_[c * strips];
+      for (std::ptrdiff_t p = c * chunk; p < std::min(n, (c + 1) * chunk); ++p) ++cnt[strip[p]];
+    });
+    // Exclusive prefix over (strip, chunk): chunk c's particles of strip s start at count_[c*strips + s].
     strip_begin_.assign(strips + 1, 0);
-    key_.resize(stencils.size());
-    parallel_for(static_cast<std::ptrdiff_t>(stencils.size()),
-                 [&](std::ptrdiff_t p) { key_[p] = stencils[p].node / slow / N; });
-    for (std::int32_t k : key_) ++strip_begin_[k + 1];
-    for (int s = 0; s < strips; ++s) strip_begin_[s + 1] += strip_begin_[s];
-    order_.resize(stencils.size());
-    cursor_.assign(strip_begin_.begin(), strip_begin_.end() - 1);
-    for (std::size_t p = 0; p < key_.size(); ++p) order_[cursor_[key_[p]]++] = static_cast<std::int32_t>(p);
+    std::int32_t total = 0;
+    for (int s = 0; s < strips; ++s) {
+      strip_begin_[s] = total;
+      for (std::ptrdiff_t c = 0; c < chunks; ++c) {
+        const std::int32_t k = count_[c * strips + s];
+        count_[c * strips + s] = total;
+        total += k;
+      }
+    }
+    strip_begin_[strips] = total;
+    order_.resize(strip.size());
+    parallel_for(chunks, [&](std::ptrdiff_t c) {
+      std::int32_t* cursor = &count_[c * strips];
+      for (std::ptrdiff_t p = c * chunk; p < std::min(n, (c + 1) * chunk); ++p)
+        order_[cursor[strip[p]]++] = static_cast<std::int32_t>(p);
+    });
   }
 
   /// Call fn(p) for every particle: even strips in parallel, then odd strips in parallel.
@@ -40,10 +66,10 @@ class ScatterOrder {
       });
   }
 
-  std::size_t bytes() const { return (key_.capacity() + order_.capacity()) * sizeof(std::int32_t); }
+  std::size_t bytes() const { return order_.capacity() * sizeof(std::int32_t); }
 
  private:
-  std::vector<std::int32_t> key_, order_, strip_begin_, cursor_;
+  std::vector<std::int32_t> order_, strip_begin_, count_;
 };
 
 }  // namespace mpm

@@ -1,0 +1,87 @@
+// The `mpm` program: bad arguments give one clear line on stderr and exit status 2, with nothing written.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+struct Outcome {
+  int status;
+  std::string out, err;
+};
+
+std::string slurp(const std::filesystem::path& f) {
+  std::ifstream is(f);
+  std::stringstream ss;
+  ss << is.rdbuf();
+  return ss.str();
+}
+
+Outcome run_mpm(const std::string& args) {
+  const auto dir = std::filesystem::temp_directory_path() / ("mpm_cli_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string cmd = std::string(MPM_BINARY) + " " + args + " >" + (dir / "out").string() + " 2>" +
+                          (dir / "err").string();
+  const int raw = std::system(cmd.c_str());
+  Outcome o{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(dir / "out"), slurp(dir / "err")};
+  std::filesystem::remove_all(dir);
+  return o;
+}
+
+struct BadArgument {
+  const char* args;
+  const char* message;  ///< a fragment the one-line error must contain
+};
+
+class CliBadInput : public ::testing::TestWithParam<BadArgument> {};
+
+TEST_P(CliBadInput, ExitsWithStatus2AndOneClearLine) {
+  const BadArgument& bad = GetParam();
+  const auto out_dir = std::filesystem::temp_directory_path() / "mpm_cli_should_not_exist";
+  std::filesystem::remove_all(out_dir);
+  const Outcome o = run_mpm(std::string(bad.args) + " --out " + out_dir.string());
+  EXPECT_EQ(o.status, 2) << bad.args << "\nstderr: " << o.err;
+  EXPECT_NE(o.err.find(bad.message), std::string::npos) << "stderr: " << o.err;
+  EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << "stderr: " << o.err;
+  EXPECT_TRUE(o.out.empty()) << o.out;
+  EXPECT_FALSE(std::filesystem::exists(out_dir)) << "bad input must not create output";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Verify, CliBadInput,
+    ::testing::Values(BadArgument{"verify axis-aligned --kernel quadratic", "--kernel: unknown name 'quadratic'"},
+                      BadArgument{"verify axis-aligned --integrator rk4", "--integrator: unknown name 'rk4'"},
+                      BadArgument{"verify axis-aligned --cells 1", "--cells: expected at least 2"},
+                      BadArgument{"verify axis-aligned --cells -4", "--cells: expected at least 2"},
+                      BadArgument{"verify axis-aligned --ppc 0", "--ppc: expected at least 1"},
+                      BadArgument{"verify axis-aligned --cfl 0", "--cfl: expected a number in (0, 1]"},
+                      BadArgument{"verify axis-aligned --cfl 1.5", "--cfl: expected a number in (0, 1]"},
+                      BadArgument{"verify axis-aligned --cells many", "--cells"},
+                      BadArgument{"verify ring", "case: unknown case 'ring'"},
+                      BadArgument{"verify axis-aligned --amplitude 0.5", "--amplitude"}));
+
+TEST(Cli, BenchRejectsBadKernelAndDimension) {
+  Outcome o = run_mpm("bench --kernel cubic --steps 1");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("--kernel: unknown name 'cubic' (expected one of linear, ugimp, cpgimp, bspline2, bspline3)"),
+            std::string::npos)
+      << o.err;
+  o = run_mpm("bench --dim 4 --steps 1");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("--dim"), std::string::npos) << o.err;
+}
+
+TEST(Cli, BenchPrintsTheRequiredJsonFields) {
+  const Outcome o = run_mpm("bench --particles 400 --steps 3 --repeat 1 --json");
+  ASSERT_EQ(o.status, 0) << o.err;
+  for (const char* key : {"\"particles\":400", "\"steps\":3", "\"seconds\":", "\"particle_steps_per_second\":",
+                          "\"bytes_per_particle\":"})
+    EXPECT_NE(o.out.find(key), std::string::npos) << key << " missing in " << o.out;
+}
+
+}  // namespace

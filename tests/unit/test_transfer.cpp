@@ -1,0 +1,216 @@
+// Particle-to-grid and grid-to-particle transfers (mpm/transfer/p2g.hpp, g2p.hpp) through the real stencils and
+// scatter order, for every kernel in 1-D, 2-D and 3-D:
+//   * P2G conserves mass and momentum: sum_i m_i = sum_p m_p and sum_i p_i = sum_p m_p v_p
+//     (Wallstedt & Guilkey 2008, Eqs 8-9, by the partition of unity of the shape functions);
+//   * G2P of a linear nodal velocity field v_i = v0 + L x_i gives every particle the displacement dt v(x_p) and
+//     the deformation gradient F = (I + dt L) F_old (Eqs 10-11 and 17, by linear reproduction).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "mpm/grid/grid.hpp"
+#include "mpm/materials/neo_hookean.hpp"
+#include "mpm/particles/particles.hpp"
+#include "mpm/shape/kernels.hpp"
+#include "mpm/shape/stencil.hpp"
+#include "mpm/transfer/g2p.hpp"
+#include "mpm/transfer/p2g.hpp"
+#include "mpm/transfer/scatter_order.hpp"
+
+namespace {
+
+using mpm::Mat;
+using mpm::Real;
+using mpm::Vec;
+constexpr Real kEps = std::numeric_limits<Real>::epsilon();
+constexpr int kParticles = 300;
+
+template <class K, int D>
+struct Case {
+  using Kernel = K;
+  static constexpr int dim = D;
+};
+
+using Cases = ::testing::Types<Case<mpm::LinearKernel, 1>, Case<mpm::LinearKernel, 2>, Case<mpm::LinearKernel, 3>,
+                               Case<mpm::GimpKernel, 1>, Case<mpm::GimpKernel, 2>, Case<mpm::GimpKernel, 3>,
+                               Case<mpm::QuadraticBSplineKernel, 1>, Case<mpm::QuadraticBSplineKernel, 2>,
+                               Case<mpm::QuadraticBSplineKernel, 3>, Case<mpm::CubicBSplineKernel, 1>,
+                               Case<mpm::CubicBSplineKernel, 2>, Case<mpm::CubicBSplineKernel, 3>>;
+
+struct CaseName {
+  template <class C>
+  static std::string GetName(int) {
+    return std::string(C::Kernel::name) + "_" + std::to_string(C::dim) + "d";
+  }
+};
+
+template <class C>
+class TransferTest : public ::testing::Test {};
+TYPED_TEST_SUITE(TransferTest, Cases, CaseName);
+
+// Particle half-lengths as fractions of h: GIMP is tested across (0, 1/2]; the other kernels ignore them.
+template <class Kernel>
+std::vector<Real> half_length_fractions() {
+  if constexpr (std::is_same_v<Kernel, mpm::GimpKernel>)
+    return {0.05, 0.125, 0.25, 0.4, 0.5};
+  else
+    return {0.5};
+}
+
+// An 8-cell-per-axis grid with an offset origin and a cell width that is not a power of two.
+template <int Dim, class Kernel>
+mpm::GridGeometry<Dim> test_geometry() {
+  const std::array<Real, 3> origin = {-0.35, 0.2, 1.1};
+  Vec<Dim> lo;
+  for (int d = 0; d < Dim; ++d) lo[d] = origin[d];
+  mpm::IVec<Dim> cells;
+  cells.fill(8);
+  return mpm::GridGeometry<Dim>{lo, 0.1, cells, Kernel::ghost};
+}
+
+// kParticles particles at pseudo-random positions at least `margin` inside the physical domain, with random
+// masses, velocities in [-1, 1]^Dim and half-lengths `fraction * h` (fixed seed).
+template <int Dim>
+mpm::ParticleSet<Dim> random_particles(const mpm::GridGeometry<Dim>& g, Real margin, Real fraction,
+                                       std::mt19937_64& rng) {
+  std::uniform_real_distribution<Real> unit(0.0, 1.0), sym(-1.0, 1.0), mass(0.5, 2.0);
+  const Vec<Dim> hi = g.hi();
+  mpm::ParticleSet<Dim> p;
+  for (int i = 0; i < kParticles; ++i) {
+    Vec<Dim> x, v;
+    for (int d = 0; d < Dim; ++d) {
+      x[d] = g.lo[d] + margin + unit(rng) * (hi[d] - g.lo[d] - 2 * margin);
+      v[d] = sym(rng);
+    }
+    p.add(x, v, 1e-3 * mass(rng), 1e-4, Vec<Dim>::Constant(fraction * g.h), 0);
+  }
+  return p;
+}
+
+// Stencils and scatter order of the particles, as the simulation builds them.
+template <int Dim, class Kernel>
+struct Transfer {
+  std::vector<mpm::Stencil<Dim, Kernel::width>> stencils;
+  std::vector<std::int32_t> strip;
+  mpm::ScatterOrder order;
+
+  Transfer(const mpm::ParticleSet<Dim>& p, const mpm::GridGeometry<Dim>& g) {
+    mpm::build_stencils<Dim, Kernel>(p, g, stencils, strip);
+    order.build(strip, mpm::ScatterOrder::strip_count<Dim, Kernel::width>(g));
+  }
+};
+
+TYPED_TEST(TransferTest, p2g_conserves_mass_and_momentum) {
+  using Kernel = typename TypeParam::Kernel;
+  constexpr int Dim = TypeParam::dim;
+  const mpm::GridGeometry<Dim> geo = test_geometry<Dim, Kernel>();
+  std::mt19937_64 rng(1000 + Dim);
+  for (Real fraction : half_length_fractions<Kernel>()) {
+    SCOPED_TRACE(::testing::Message() << "l_p/h = " << fraction);
+    // Particles anywhere in the domain, boundaries included: their stencils reach the ghost layers.
+    const mpm::ParticleSet<Dim> p = random_particles(geo, 0.0, fraction, rng);
+    const Transfer<Dim, Kernel> t(p, geo);
+    mpm::Grid<Dim> grid(geo);
+    mpm::p2g<mpm::Scatter{.mass_momentum = true, .force = false}>(p, t.stencils, t.order, {}, grid);
+
+    // Reference sums in long double so that their own round-off is negligible.
+    long double particle_mass = 0, grid_mass = 0;
+    std::array<long double, Dim> particle_momentum{}, grid_momentum{}, momentum_scale{};
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      particle_mass += p.m[i];
+      for (int d = 0; d < Dim; ++d) {
+        particle_momentum[d] += p.m[i] * p.v[i][d];
+        momentum_scale[d] += std::abs(p.m[i] * p.v[i][d]);
+      }
+    }
+    for (std::size_t n = 0; n < grid.size(); ++n) {
+      grid_mass += grid.m[n];
+      for (int d = 0; d < Dim; ++d) grid_momentum[d] += grid.v[n][d];  // momentum until grid_velocity
+    }
+    // Each nodal sum accumulates at most a few hundred contributions, each carrying the partition-of-unity
+    // round-off of the stencil: relative error ~ tens of ulps, well below 1e-13.
+    EXPECT_NEAR(static_cast<Real>(grid_mass), static_cast<Real>(particle_mass),
+                1e-13 * static_cast<Real>(particle_mass));
+    // Momentum components may cancel; the error scales with sum_p m_p |v_p|.
+    for (int d = 0; d < Dim; ++d)
+      EXPECT_NEAR(static_cast<Real>(grid_momentum[d]), static_cast<Real>(particle_momentum[d]),
+                  1e-13 * static_cast<Real>(momentum_scale[d]))
+          << "axis " << d;
+  }
+}
+
+TYPED_TEST(TransferTest, g2p_reproduces_linear_velocity_field_and_its_gradient) {
+  using Kernel = typename TypeParam::Kernel;
+  constexpr int Dim = TypeParam::dim;
+  const mpm::GridGeometry<Dim> geo = test_geometry<Dim, Kernel>();
+  const std::vector<mpm::NeoHookean> materials = {mpm::NeoHookean::from_young_poisson(1e6, 0.3, 1e3)};
+  // Displacements stay below dt (|v0| + |L| |x|) < 0.1 h, so no particle leaves the domain.
+  const Real dt = 1e-3;
+  std::mt19937_64 rng(2000 + Dim);
+  std::uniform_real_distribution<Real> sym(-1.0, 1.0);
+
+  // v(x) = v0 + L x at every node, ghosts included.
+  Vec<Dim> v0;
+  Mat<Dim> L;
+  for (int a = 0; a < Dim; ++a) {
+    v0[a] = sym(rng);
+    for (int b = 0; b < Dim; ++b) L(a, b) = sym(rng);
+  }
+  mpm::Grid<Dim> grid(geo);
+  Real v_max = 0, x_max = 0;
+  for (std::size_t n = 0; n < grid.size(); ++n) {
+    const Vec<Dim> xn = geo.position(geo.coords(static_cast<std::ptrdiff_t>(n)));
+    grid.v_new[n] = v0 + L * xn;
+    v_max = std::max(v_max, grid.v_new[n].cwiseAbs().maxCoeff());
+    x_max = std::max(x_max, xn.cwiseAbs().maxCoeff());
+  }
+  int nodes = 1;
+  for (int d = 0; d < Dim; ++d) nodes *= Kernel::width;
+  // Round-off bounds. Positions are stored in double (a few ulps of |x|) and the gathered velocity sums `nodes`
+  // terms of size <= v_max. The velocity gradient sums `nodes` terms of size <= v_max / h that cancel down to L,
+  // so its round-off is ~ nodes * eps * v_max / h; F adds a few ulps of |F_old|.
+  const Real tol_x = 4 * kEps * x_max + dt * 2 * nodes * kEps * v_max;
+  const Real tol_F = 8 * kEps + dt * 2 * nodes * kEps * v_max / geo.h;
+
+  for (Real fraction : half_length_fractions<Kernel>()) {
+    SCOPED_TRACE(::testing::Message() << "l_p/h = " << fraction);
+    // Away from the boundaries by one cell, with a random F_old near the identity (checks the order of the
+    // product in Eq. 11).
+    mpm::ParticleSet<Dim> p = random_particles(geo, geo.h, fraction, rng);
+    for (std::size_t i = 0; i < p.size(); ++i)
+      for (int a = 0; a < Dim; ++a)
+        for (int b = 0; b < Dim; ++b) p.F[i](a, b) += 0.1 * sym(rng);
+    const mpm::ParticleSet<Dim> before = p;
+    const Transfer<Dim, Kernel> t(p, geo);
+
+    const mpm::ParticleFault fault =
+        mpm::g2p<mpm::Gather{.velocity = false, .position = true, .deformation = true}>(
+            p, t.stencils, grid, grid.v_new, dt, materials, mpm::SizeUpdate::fixed);
+    EXPECT_FALSE(fault) << "particle " << fault.index;
+
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      SCOPED_TRACE(::testing::Message() << "particle " << i << " at " << before.x[i].transpose());
+      const Vec<Dim> x_expected = before.x[i] + dt * (v0 + L * before.x[i]);               // Eq. (17)
+      const Mat<Dim> F_expected = (Mat<Dim>::Identity() + dt * L) * before.F[i];           // Eq. (11)
+      for (int a = 0; a < Dim; ++a) {
+        EXPECT_NEAR(p.x[i][a], x_expected[a], tol_x);
+        EXPECT_EQ(p.v[i][a], before.v[i][a]);  // velocity not gathered: untouched bit for bit
+        for (int b = 0; b < Dim; ++b) EXPECT_NEAR(p.F[i](a, b), F_expected(a, b), tol_F);
+      }
+      // Eq. (12): V = V0 det F; det is a smooth function of entries of size ~1, so its error is ~Dim tol_F.
+      EXPECT_NEAR(p.V[i], before.V0[i] * F_expected.determinant(), before.V0[i] * 4 * Dim * tol_F);
+      // SizeUpdate::fixed (uGIMP) keeps the half-lengths.
+      for (int d = 0; d < Dim; ++d) EXPECT_EQ(p.l[i][d], before.l[i][d]);
+    }
+  }
+}
+
+}  // namespace
