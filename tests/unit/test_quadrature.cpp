@@ -1,0 +1,135 @@
+// Quadrature error of the uGIMP internal force, Steffen et al. 2008, Sec. 4.2, Eq. (42) and Fig. 6.
+//
+// For a constant stress sigma = 1 the exact nodal internal force f_i = -int grad phi_i sigma dx is zero (phi_i
+// vanishes at both ends of its support), so the force the library computes at an interior node,
+//     f_i = -sum_p grad phi_i(x_p) sigma_p V_p                                (Steffen et al. 2008, Eq. 42),
+// is the particle-quadrature error. The uGIMP gradient weighting function with smoothing length l (full width) is
+// continuous and piecewise linear with kinks at +-l/2 and +-(h -+ l/2): when the particle spacing dx < l a voxel
+// spans at most one kink and the error is O(dx^2) (Eq. 41); when dx > l a voxel can span both kinks of a width-l
+// region, and the error tends to O(dx) (Eq. 40).
+//
+// The force is computed by the library's internal-force scatter, p2g<Scatter{.force = true}> (Wallstedt & Guilkey
+// 2008, Eq. 14), with GimpKernel stencils whose half-length is l/2 for every particle regardless of its size.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "mpm/core/parallel.hpp"
+#include "mpm/grid/grid.hpp"
+#include "mpm/particles/particles.hpp"
+#include "mpm/shape/kernels.hpp"
+#include "mpm/shape/stencil.hpp"
+#include "mpm/transfer/p2g.hpp"
+#include "mpm/transfer/scatter_order.hpp"
+
+namespace {
+
+using mpm::Real;
+using V1 = mpm::Vec<1>;
+
+constexpr Real kH = 1.0;            // grid spacing (Fig. 6)
+constexpr Real kL = 0.1;            // uGIMP smoothing length l (Fig. 6)
+constexpr int kCells = 8;
+constexpr int kNode = 4;            // interior node at x = 4; its support [2.95, 5.05] is tiled by particles
+constexpr Real kAlternation = 0.2;  // voxel widths alternate (1 + 0.2) dx, (1 - 0.2) dx
+constexpr int kOffsets = 32;        // offsets of the particle lattice sampled per spacing
+
+/// |f_i| at the interior node for particles whose voxels alternate in width (1 +- kAlternation) dx and tile
+/// [x_node - 1.5 h, x_node + 1.5 h] or more; the lattice is shifted by `phase` of its period 2 dx. The density is
+/// globally uniform (each pair of voxels spans 2 dx) but the spacing is locally non-uniform: with uniform spacing
+/// the errors of neighbouring voxels cancel and the results are super-convergent (Steffen et al. 2008, Fig. 6).
+Real nodal_force_error(Real dx, Real phase) {
+  const Real period = 2 * dx;
+  const Real node_x = kNode * kH;
+  const Real first = node_x - period * (std::ceil(1.5 * kH / period) + phase);  // <= node_x - 1.5 h
+  const Real widths[2] = {(1 + kAlternation) * dx, (1 - kAlternation) * dx};
+
+  mpm::ParticleSet<1> p;
+  for (long k = 0;; ++k) {
+    // Voxel boundaries from the pair index, not by accumulation, so the voxels tile without drift.
+    const Real lo = first + static_cast<Real>(k / 2) * period + (k % 2 == 1 ? widths[0] : 0.0);
+    if (lo >= node_x + 1.5 * kH) break;
+    const Real w = widths[k % 2];
+    // V_p = voxel width; the GIMP half-length is l/2 for every particle (uGIMP with a free smoothing length).
+    p.add(V1(lo + 0.5 * w), V1::Zero(), 1.0, w, V1(0.5 * kL), 0);
+    p.sigma.back()(0, 0) = 1.0;
+  }
+
+  const mpm::GridGeometry<1> geometry{V1(0.0), kH, {kCells}, mpm::GimpKernel::ghost};
+  mpm::Grid<1> grid(geometry);
+  std::vector<mpm::Stencil<1, mpm::GimpKernel::width>> stencils;
+  mpm::build_stencils<1, mpm::GimpKernel>(p, geometry, stencils);
+  mpm::ScatterOrder order;
+  order.build(stencils, geometry);
+  const std::vector<V1> no_body_force;
+  mpm::p2g<mpm::Scatter{.mass_momentum = false, .force = true}>(p, stencils, order, no_body_force, grid);
+  return std::abs(grid.a[static_cast<std::size_t>(geometry.flat({kNode}))][0]);
+}
+
+/// The error at spacing dx, maximised over kOffsets shifts of the lattice relative to the grid. The error of a
+/// single arrangement oscillates with how the voxel edges fall relative to the kinks of grad phi_i (it can vanish
+/// by accident), so a single arrangement gives a noisy slope; the maximum over offsets follows the error bound.
+/// Offsets are (k + 0.37)/kOffsets of the period, so no sample sits exactly on a symmetric alignment.
+Real max_error(Real dx) {
+  Real e = 0;
+  for (int k = 0; k < kOffsets; ++k) e = std::max(e, nodal_force_error(dx, (k + 0.37) / kOffsets));
+  return e;
+}
+
+struct Point {
+  Real dx, error;
+};
+
+/// Least-squares slope of log(error) against log(dx) over the points with lo <= dx <= hi.
+Real loglog_slope(const std::vector<Point>& pts, Real lo, Real hi) {
+  Real n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (const Point& q : pts) {
+    if (q.dx < lo || q.dx > hi) continue;
+    const Real x = std::log(q.dx), y = std::log(q.error);
+    n += 1;
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+class Quadrature : public ::testing::Test {
+ protected:
+  // A few hundred tiny scatters: threads would only add synchronisation (results do not depend on the count).
+  void SetUp() override { mpm::set_num_threads(1); }
+};
+
+TEST_F(Quadrature, UgimpForceErrorOrder) {
+  // PPC = 1/dx from 2 to 200, geometrically spaced (Fig. 6 spans the same range of 1/PPC).
+  std::vector<Point> pts;
+  constexpr int kSamples = 41;
+  for (int j = 0; j < kSamples; ++j) {
+    const Real ppc = 2 * std::pow(100.0, static_cast<Real>(j) / (kSamples - 1));
+    pts.push_back({1 / ppc, max_error(1 / ppc)});
+  }
+  for (const Point& q : pts) std::printf("dx = %.5f  (dx/l = %6.3f)  max |f_i| = %.3e\n", q.dx, q.dx / kL, q.error);
+
+  // Regimes kept a factor ~2 away from the transition dx = l.
+  const Real fine = loglog_slope(pts, 0.0, 0.5 * kL);   // dx <= l/2  (PPC >= 20)
+  const Real coarse = loglog_slope(pts, 2 * kL, 1.0);   // dx >= 2 l  (PPC <= 5)
+  std::printf("log-log slope: dx < l: %.3f, dx > l: %.3f\n", fine, coarse);
+  RecordProperty("slope_dx_below_l", std::to_string(fine));
+  RecordProperty("slope_dx_above_l", std::to_string(coarse));
+
+  // Steffen et al. 2008, Eq. (41): second order while a voxel spans at most one kink (slope 2, minus scatter of
+  // the maximum over offsets).
+  EXPECT_GE(fine, 1.7);
+  EXPECT_LE(fine, 2.3);
+  // Eq. (40): the order falls toward one once voxels span both kinks of the width-l region.
+  EXPECT_GE(coarse, 0.7);
+  EXPECT_LE(coarse, 1.4);
+  // The error is not super-convergent: at the finest spacing it is still far above round-off (sum |grad phi V| ~ 2).
+  EXPECT_GT(pts.back().error, 1e-9);
+}
+
+}  // namespace
