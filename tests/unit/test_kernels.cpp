@@ -128,12 +128,23 @@ TYPED_TEST(KernelTest, partition_of_unity_and_zero_gradient_sum) {
       const Weights<Kernel> s = evaluate<Kernel>(xi, l);
       Real sum_w = 0, sum_dw = 0;
       for (int k = 0; k < Kernel::width; ++k) {
-        EXPECT_GE(s.w[k], 0.0);  // exact: every branch is a square or bounded away from zero
         sum_w += s.w[k];
         sum_dw += s.dw[k];
       }
       EXPECT_NEAR(sum_w, 1.0, kSumTol);
       EXPECT_NEAR(sum_dw, 0.0, kSumTol);
+    }
+}
+
+TYPED_TEST(KernelTest, weights_are_non_negative) {
+  using Kernel = TypeParam;
+  for (Real l : half_lengths_for<Kernel>())
+    for (Real xi : sample_positions()) {
+      SCOPED_TRACE(::testing::Message() << "l_p/h = " << l << ", xi = " << xi);
+      const Weights<Kernel> s = evaluate<Kernel>(xi, l);
+      // Exact: evaluated on its own interval (kernels.hpp: r = xi - base in [0, 1) or [0.5, 1.5)), every
+      // branch is a square or bounded away from zero.
+      for (int k = 0; k < Kernel::width; ++k) EXPECT_GE(s.w[k], 0.0) << "node " << s.base + k;
     }
 }
 

@@ -2,6 +2,7 @@
 /// One-dimensional shape-function policies. Each gives its stencil width, the ghost layers it needs, and the
 /// weights and gradients of the `width` consecutive nodes starting at `base`. Positions are in grid units
 /// (xi = (x - lo)/h), gradients are per grid unit; multi-D weights are tensor products.
+#include <algorithm>
 #include <cmath>
 
 #include "mpm/core/types.hpp"
@@ -9,8 +10,12 @@
 namespace mpm {
 
 /// floor(v) as an int for v > -16, without a libm call on baseline x86-64. Stencil positions are in grid
-/// units with particles inside the grid, so v >= -1 always holds there.
-inline int floor_index(Real v) { return static_cast<int>(v + 16) - 16; }
+/// units with particles inside the grid, so v >= -1 always holds there. Rounding in v + 16 can only overshoot
+/// by one (just below an integer), which the comparison corrects.
+inline int floor_index(Real v) {
+  const int b = static_cast<int>(v + 16) - 16;
+  return b - (v < b);
+}
 
 /// Piecewise-linear hat functions of classic MPM. Wallstedt & Guilkey 2008, Eq. (2).
 struct LinearKernel {
@@ -30,40 +35,29 @@ struct LinearKernel {
 };
 
 /// GIMP: the linear hat convolved with a top-hat particle of half-length l_p (in grid units, 0 < l_p <= 1/2).
-/// Wallstedt & Guilkey 2008, Eqs (5) and (6).
+/// Wallstedt & Guilkey 2008, Eqs (5) and (6), written in q = |r| with the pieces chosen by selects rather
+/// than branches (S is even in r, S' odd).
 struct GimpKernel {
   static constexpr int width = 3;
   static constexpr int ghost = 1;
   static constexpr const char* name = "gimp";
 
-  /// Weight and gradient of the node at signed distance r = xi - i, for half-length l.
-  static void node(Real r, Real l, Real& w, Real& dw) {
-    if (r <= -1 - l || r > 1 + l) {
-      w = 0;
-      dw = 0;
-    } else if (r <= -1 + l) {
-      const Real s = 1 + l + r;  // Eq. (5), first branch
-      w = s * s / (4 * l);
-      dw = s / (2 * l);
-    } else if (r <= -l) {
-      w = 1 + r;
-      dw = 1;
-    } else if (r <= l) {
-      w = 1 - (r * r + l * l) / (2 * l);
-      dw = -r / l;
-    } else if (r <= 1 - l) {
-      w = 1 - r;
-      dw = -1;
-    } else {
-      const Real s = 1 + l - r;
-      w = s * s / (4 * l);
-      dw = -s / (2 * l);
-    }
+  /// Weight and gradient of the node at signed distance r = xi - i, for half-length l (inv_2l = 1 / (2 l)).
+  static void node(Real r, Real l, Real inv_2l, Real& w, Real& dw) {
+    const Real q = std::abs(r);
+    const Real sign = r < 0 ? -1 : 1;
+    const Real t = std::max(Real(0), 1 + l - q);
+    const Real w_centre = 1 - (q * q + l * l) * inv_2l, dw_centre = -2 * q * inv_2l;  // |r| <= l
+    const Real w_linear = 1 - q, dw_linear = -1;                                      // l < |r| <= 1 - l
+    const Real w_tail = 0.5 * t * t * inv_2l, dw_tail = -t * inv_2l;                  // 1 - l < |r|
+    w = q <= l ? w_centre : (q <= 1 - l ? w_linear : w_tail);
+    dw = sign * (q <= l ? dw_centre : (q <= 1 - l ? dw_linear : dw_tail));
   }
 
   static int weights(Real xi, Real half_length, Real* w, Real* dw) {
     const int base = floor_index(xi - 0.5);
-    for (int k = 0; k < width; ++k) node(xi - (base + k), half_length, w[k], dw[k]);
+    const Real inv_2l = 0.5 / half_length;
+    for (int k = 0; k < width; ++k) node(xi - (base + k), half_length, inv_2l, w[k], dw[k]);
     return base;
   }
 };
