@@ -35,29 +35,29 @@ struct LinearKernel {
 };
 
 /// GIMP: the linear hat convolved with a top-hat particle of half-length l_p (in grid units, 0 < l_p <= 1/2).
-/// Wallstedt & Guilkey 2008, Eqs (5) and (6), written in q = |r| with the pieces chosen by selects rather
-/// than branches (S is even in r, S' odd).
+/// Wallstedt & Guilkey 2008, Eqs (5) and (6), written in q = |r| as one branch-free expression:
+///   S = max(0, 1 - q - v^2/(2l) + u^2/(4l)),  dS/dq = -1 + v/l + u/(2l),
+///   v = max(0, l - q),  u = clamp(q - 1 + l, 0, 2l).
+/// For q <= l this is 1 - (q^2 + l^2)/(2l); for l < q <= 1 - l, 1 - q; for 1 - l < q <= 1 + l,
+/// (1 + l - q)^2/(4l); beyond, 0 (both corrections cannot be active at once because l <= 1/2).
 struct GimpKernel {
   static constexpr int width = 3;
   static constexpr int ghost = 1;
   static constexpr const char* name = "gimp";
 
-  /// Weight and gradient of the node at signed distance r = xi - i, for half-length l (inv_2l = 1 / (2 l)).
-  static void node(Real r, Real l, Real inv_2l, Real& w, Real& dw) {
+  /// Weight and gradient of the node at signed distance r = xi - i, for half-length l (inv_l = 1 / l).
+  static void node(Real r, Real l, Real inv_l, Real& w, Real& dw) {
     const Real q = std::abs(r);
-    const Real sign = r < 0 ? -1 : 1;
-    const Real t = std::max(Real(0), 1 + l - q);
-    const Real w_centre = 1 - (q * q + l * l) * inv_2l, dw_centre = -2 * q * inv_2l;  // |r| <= l
-    const Real w_linear = 1 - q, dw_linear = -1;                                      // l < |r| <= 1 - l
-    const Real w_tail = 0.5 * t * t * inv_2l, dw_tail = -t * inv_2l;                  // 1 - l < |r|
-    w = q <= l ? w_centre : (q <= 1 - l ? w_linear : w_tail);
-    dw = sign * (q <= l ? dw_centre : (q <= 1 - l ? dw_linear : dw_tail));
+    const Real v = std::max(Real(0), l - q);
+    const Real u = std::min(std::max(Real(0), q - 1 + l), 2 * l);
+    w = std::max(Real(0), 1 - q - 0.5 * v * v * inv_l + 0.25 * u * u * inv_l);
+    dw = std::copysign(Real(1), r) * (-1 + v * inv_l + 0.5 * u * inv_l);
   }
 
   static int weights(Real xi, Real half_length, Real* w, Real* dw) {
     const int base = floor_index(xi - 0.5);
-    const Real inv_2l = 0.5 / half_length;
-    for (int k = 0; k < width; ++k) node(xi - (base + k), half_length, inv_2l, w[k], dw[k]);
+    const Real inv_l = 1 / half_length;
+    for (int k = 0; k < width; ++k) node(xi - (base + k), half_length, inv_l, w[k], dw[k]);
     return base;
   }
 };
