@@ -333,7 +333,7 @@ void expect_tensor_product_properties() {
   geo.h = 0.1;
   geo.cells.fill(6);
   geo.ghost = Kernel::ghost;
-  const mpm::Strides<Dim> strides(geo);
+  const mpm::NodeLayout<Dim> strides(geo);
   const mpm::Vec<Dim> hi = geo.hi();
 
   std::mt19937_64 rng(4242 + Dim);

@@ -45,7 +45,7 @@ constexpr int kOffsets = 32;        // offsets of the particle lattice sampled p
 std::vector<V1> internal_force(const mpm::ParticleSet<1>& p) {
   const mpm::GridGeometry<1> geometry{V1(0.0), kH, {kCells}, mpm::GimpKernel::ghost};
   mpm::Grid<1> grid(geometry);
-  std::vector<mpm::Stencil<1, mpm::GimpKernel::width>> stencils;
+  std::vector<mpm::Stencil<1, mpm::GimpKernel>> stencils;
   std::vector<std::int32_t> strip;
   mpm::build_stencils<1, mpm::GimpKernel>(p, geometry, stencils, strip);
   mpm::ScatterOrder order;

@@ -98,7 +98,7 @@ mpm::ParticleSet<Dim> random_particles(const mpm::GridGeometry<Dim>& g, Real mar
 // Stencils and scatter order of the particles, as the simulation builds them.
 template <int Dim, class Kernel>
 struct Transfer {
-  std::vector<mpm::Stencil<Dim, Kernel::width>> stencils;
+  std::vector<mpm::Stencil<Dim, Kernel>> stencils;
   std::vector<std::int32_t> strip;
   mpm::ScatterOrder order;
 

@@ -40,7 +40,7 @@ class Simulation {
   double bytes_per_particle() const;
 
  private:
-  using StencilT = Stencil<Dim, Kernel::width>;
+  using StencilT = Stencil<Dim, Kernel>;
 
   // Time steps of each integrator (Wallstedt & Guilkey 2008, Sec. 2 and 4).
   void step_usf(Real dt);

@@ -1,7 +1,9 @@
 #pragma once
-/// One-dimensional shape-function policies. Each gives its stencil width, the ghost layers it needs, and the
-/// weights and gradients of the `width` consecutive nodes starting at `base`. Positions are in grid units
-/// (xi = (x - lo)/h), gradients are per grid unit; multi-D weights are tensor products.
+/// One-dimensional shape-function policies. Each gives its stencil width, the ghost layers it needs, what a
+/// stencil keeps per axis (`Axis`: as little as reproduces the weights cheaply), `locate` (base node and
+/// Axis data of a position) and `evaluate` (weights and gradients of the `width` consecutive nodes starting at
+/// the base). Positions are in grid units (xi = (x - lo)/h), gradients per grid unit; multi-D weights are
+/// tensor products.
 #include <algorithm>
 #include <cmath>
 
@@ -17,60 +19,101 @@ inline int floor_index(Real v) {
   return b - (v < b);
 }
 
+/// Adds `weights(xi, half_length, w, dw)` (locate then evaluate) to a kernel policy.
+template <class Kernel>
+struct KernelWeights {
+  static int weights(Real xi, Real half_length, Real* w, Real* dw) {
+    typename Kernel::Axis a;
+    const int base = Kernel::locate(xi, half_length, a);
+    Kernel::evaluate(a, w, dw);
+    return base;
+  }
+};
+
 /// Piecewise-linear hat functions of classic MPM. Wallstedt & Guilkey 2008, Eq. (2).
-struct LinearKernel {
+struct LinearKernel : KernelWeights<LinearKernel> {
   static constexpr int width = 2;
   static constexpr int ghost = 1;
   static constexpr const char* name = "linear";
+  struct Axis {
+    Real r;  ///< offset from the base node, in [0, 1)
+  };
 
-  static int weights(Real xi, Real /*half_length*/, Real* w, Real* dw) {
+  static int locate(Real xi, Real /*half_length*/, Axis& a) {
     const int base = floor_index(xi);
-    const Real r = xi - base;  // in [0, 1)
-    w[0] = 1 - r;
-    w[1] = r;
+    a.r = xi - base;
+    return base;
+  }
+  static void evaluate(const Axis& a, Real* w, Real* dw) {
+    w[0] = 1 - a.r;
+    w[1] = a.r;
     dw[0] = -1;
     dw[1] = 1;
-    return base;
   }
 };
 
 /// GIMP: the linear hat convolved with a top-hat particle of half-length l_p (in grid units, 0 < l_p <= 1/2).
-/// Wallstedt & Guilkey 2008, Eqs (5) and (6), written in q = |r| as one branch-free expression:
+/// Wallstedt & Guilkey 2008, Eqs (5) and (6), written in q = |r| with r = xi - x_i:
 ///   S = max(0, 1 - q - v^2/(2l) + u^2/(4l)),  dS/dq = -1 + v/l + u/(2l),
 ///   v = max(0, l - q),  u = clamp(q - 1 + l, 0, 2l).
 /// For q <= l this is 1 - (q^2 + l^2)/(2l); for l < q <= 1 - l, 1 - q; for 1 - l < q <= 1 + l,
-/// (1 + l - q)^2/(4l); beyond, 0 (both corrections cannot be active at once because l <= 1/2).
-struct GimpKernel {
+/// (1 + l - q)^2/(4l); beyond, 0. With the base node at distance r in [1/2, 3/2), the outer two nodes have
+/// q >= 1/2 >= l (no v term) and the middle one q <= 1/2 <= 1 - l (no u term).
+struct GimpKernel : KernelWeights<GimpKernel> {
   static constexpr int width = 3;
   static constexpr int ghost = 1;
   static constexpr const char* name = "gimp";
+  /// GIMP weights are costly to evaluate, so the stencil keeps them.
+  struct Axis {
+    Real w[width], dw[width];
+  };
 
-  /// Weight and gradient of the node at signed distance r = xi - i, for half-length l (inv_l = 1 / l).
-  static void node(Real r, Real l, Real inv_l, Real& w, Real& dw) {
-    const Real q = std::abs(r);
-    const Real v = std::max(Real(0), l - q);
-    const Real u = std::min(std::max(Real(0), q - 1 + l), 2 * l);
-    w = std::max(Real(0), 1 - q - 0.5 * v * v * inv_l + 0.25 * u * u * inv_l);
-    dw = std::copysign(Real(1), r) * (-1 + v * inv_l + 0.5 * u * inv_l);
-  }
-
-  static int weights(Real xi, Real half_length, Real* w, Real* dw) {
+  static int locate(Real xi, Real l, Axis& a) {
     const int base = floor_index(xi - 0.5);
-    const Real inv_l = 1 / half_length;
-    for (int k = 0; k < width; ++k) node(xi - (base + k), half_length, inv_l, w[k], dw[k]);
+    const Real inv_l = 1 / l;
+    // Outer nodes: q = r (base) and q = 2 - r (base + 2), tail correction u only.
+    auto outer = [&](Real q, Real& w, Real& dS_dq) {
+      const Real u = std::min(std::max(Real(0), q - 1 + l), 2 * l);
+      w = std::max(Real(0), 1 - q + 0.25 * u * u * inv_l);
+      dS_dq = -1 + 0.5 * u * inv_l;
+    };
+    const Real r = xi - base;
+    Real dS_dq;
+    outer(r, a.w[0], dS_dq);
+    a.dw[0] = dS_dq;  // r > 0
+    outer(2 - r, a.w[2], dS_dq);
+    a.dw[2] = -dS_dq;  // r - 2 < 0
+    // Middle node: r - 1 in [-1/2, 1/2), centre correction v only.
+    const Real r1 = r - 1, q1 = std::abs(r1);
+    const Real v = std::max(Real(0), l - q1);
+    a.w[1] = 1 - q1 - 0.5 * v * v * inv_l;
+    a.dw[1] = std::copysign(1 - v * inv_l, -r1);  // sign(r1) dS/dq, and dS/dq = -1 + v/l <= 0
     return base;
+  }
+  static void evaluate(const Axis& a, Real* w, Real* dw) {
+    for (int k = 0; k < width; ++k) {
+      w[k] = a.w[k];
+      dw[k] = a.dw[k];
+    }
   }
 };
 
 /// Uniform quadratic B-spline (the GIMP basis with l_p = h/2). Steffen et al. 2008, Sec. 3.3 and 4.1.
-struct QuadraticBSplineKernel {
+struct QuadraticBSplineKernel : KernelWeights<QuadraticBSplineKernel> {
   static constexpr int width = 3;
   static constexpr int ghost = 1;
   static constexpr const char* name = "bspline2";
+  struct Axis {
+    Real r;  ///< distance to the base node, in [0.5, 1.5)
+  };
 
-  static int weights(Real xi, Real /*half_length*/, Real* w, Real* dw) {
+  static int locate(Real xi, Real /*half_length*/, Axis& ax) {
     const int base = floor_index(xi - 0.5);
-    const Real r = xi - base;  // distance to the base node, in [0.5, 1.5)
+    ax.r = xi - base;
+    return base;
+  }
+  static void evaluate(const Axis& ax, Real* w, Real* dw) {
+    const Real r = ax.r;
     const Real a = 1.5 - r, b = r - 1, c = r - 0.5;
     w[0] = 0.5 * a * a;
     w[1] = 0.75 - b * b;
@@ -78,19 +121,25 @@ struct QuadraticBSplineKernel {
     dw[0] = -a;
     dw[1] = -2 * b;
     dw[2] = c;
-    return base;
   }
 };
 
 /// Uniform cubic B-spline. Steffen et al. 2008, Eq. (19) with four convolutions.
-struct CubicBSplineKernel {
+struct CubicBSplineKernel : KernelWeights<CubicBSplineKernel> {
   static constexpr int width = 4;
   static constexpr int ghost = 2;
   static constexpr const char* name = "bspline3";
+  struct Axis {
+    Real t;  ///< offset from the second node of the stencil, in [0, 1)
+  };
 
-  static int weights(Real xi, Real /*half_length*/, Real* w, Real* dw) {
+  static int locate(Real xi, Real /*half_length*/, Axis& a) {
     const int base = floor_index(xi) - 1;
-    const Real t = xi - (base + 1);  // in [0, 1)
+    a.t = xi - (base + 1);
+    return base;
+  }
+  static void evaluate(const Axis& a, Real* w, Real* dw) {
+    const Real t = a.t;
     const Real s = 1 - t;
     w[0] = s * s * s / 6;
     w[1] = (3 * t * t * t - 6 * t * t + 4) / 6;
@@ -100,7 +149,6 @@ struct CubicBSplineKernel {
     dw[1] = 1.5 * t * t - 2 * t;
     dw[2] = -1.5 * s * s + 2 * s;
     dw[3] = 0.5 * t * t;
-    return base;
   }
 };
 

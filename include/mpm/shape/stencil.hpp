@@ -15,35 +15,32 @@
 
 namespace mpm {
 
-template <int Dim, int N>
+template <int Dim, class Kernel>
 struct Stencil {
-  std::int32_t node;                       ///< flat index of the base node
-  std::int32_t layer;                      ///< storage index of the base node along the slowest axis
-  std::array<std::array<Real, N>, Dim> w;  ///< 1-D weights per axis
-  std::array<std::array<Real, N>, Dim> dw; ///< 1-D gradients per axis [1/m]
+  std::int32_t node;                           ///< flat index of the base node
+  std::int32_t layer;                          ///< storage index of the base node along the slowest axis
+  std::array<typename Kernel::Axis, Dim> axis;  ///< per-axis data the kernel evaluates weights from
 };
 
-/// Flat strides of the grid, cached for the tensor-product loops.
+/// Flat strides and inverse cell width of a grid, cached for the tensor-product loops.
 template <int Dim>
-struct Strides {
-  std::array<std::int32_t, Dim> s;
-  explicit Strides(const GridGeometry<Dim>& g) {
-    for (int d = 0; d < Dim; ++d) s[d] = static_cast<std::int32_t>(g.stride(d));
+struct NodeLayout {
+  std::array<std::int32_t, Dim> stride;
+  Real inv_h;
+  explicit NodeLayout(const GridGeometry<Dim>& g) : inv_h(1 / g.h) {
+    for (int d = 0; d < Dim; ++d) stride[d] = static_cast<std::int32_t>(g.stride(d));
   }
 };
 
 /// Compute the stencil of a particle at x with half-lengths l (used by GIMP only).
 template <int Dim, class Kernel>
-inline Stencil<Dim, Kernel::width> make_stencil(const GridGeometry<Dim>& g, const Strides<Dim>& st,
-                                                 const Vec<Dim>& x, const Vec<Dim>& l) {
-  Stencil<Dim, Kernel::width> s;
-  const Real inv_h = 1 / g.h;
+inline Stencil<Dim, Kernel> make_stencil(const GridGeometry<Dim>& g, const NodeLayout<Dim>& nl,
+                                         const Vec<Dim>& x, const Vec<Dim>& l) {
+  Stencil<Dim, Kernel> s;
   std::int32_t node = 0;
   for (int d = 0; d < Dim; ++d) {
-    const Real xi = (x[d] - g.lo[d]) * inv_h;
-    const int base = Kernel::weights(xi, l[d] * inv_h, s.w[d].data(), s.dw[d].data());
-    for (int k = 0; k < Kernel::width; ++k) s.dw[d][k] *= inv_h;
-    node += (base + g.ghost) * st.s[d];
+    const int base = Kernel::locate((x[d] - g.lo[d]) * nl.inv_h, l[d] * nl.inv_h, s.axis[d]);
+    node += (base + g.ghost) * nl.stride[d];
     if (d == Dim - 1) s.layer = base + g.ghost;
   }
   s.node = node;
@@ -54,14 +51,14 @@ inline Stencil<Dim, Kernel::width> make_stencil(const GridGeometry<Dim>& g, cons
 /// (ScatterOrder::strip_of its base node along the slowest axis). Returns whether any strip changed.
 template <int Dim, class Kernel>
 bool build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g,
-                    std::vector<Stencil<Dim, Kernel::width>>& out, std::vector<std::int32_t>& strip) {
+                    std::vector<Stencil<Dim, Kernel>>& out, std::vector<std::int32_t>& strip) {
   const bool resized = strip.size() != p.size();
   out.resize(p.size());
   strip.resize(p.size(), -1);
-  const Strides<Dim> st(g);
+  const NodeLayout<Dim> nl(g);
   std::atomic<bool> changed{resized};
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
-    out[i] = make_stencil<Dim, Kernel>(g, st, p.x[i], p.l[i]);
+    out[i] = make_stencil<Dim, Kernel>(g, nl, p.x[i], p.l[i]);
     const std::int32_t s = ScatterOrder::strip_of<Kernel::width>(out[i].layer);
     if (s != strip[i]) {
       strip[i] = s;
@@ -71,25 +68,31 @@ bool build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g,
   return changed.load();
 }
 
-/// Visit every node of the tensor-product stencil: fn(flat node index, weight S_ip, gradient grad S_ip).
-template <int Dim, int N, class Fn>
-inline void for_each_node(const Stencil<Dim, N>& s, const Strides<Dim>& st, Fn&& fn) {
+/// Visit every node of the tensor-product stencil: fn(flat node index, weight S_ip, gradient grad S_ip [1/m]).
+template <int Dim, class Kernel, class Fn>
+inline void for_each_node(const Stencil<Dim, Kernel>& s, const NodeLayout<Dim>& nl, Fn&& fn) {
+  constexpr int N = Kernel::width;
+  Real w[Dim][N], dw[Dim][N];
+  for (int d = 0; d < Dim; ++d) {
+    Kernel::evaluate(s.axis[d], w[d], dw[d]);
+    for (int k = 0; k < N; ++k) dw[d][k] *= nl.inv_h;
+  }
   if constexpr (Dim == 1) {
-    for (int a = 0; a < N; ++a) fn(s.node + a, s.w[0][a], Vec<1>(s.dw[0][a]));
+    for (int a = 0; a < N; ++a) fn(s.node + a, w[0][a], Vec<1>(dw[0][a]));
   } else if constexpr (Dim == 2) {
     for (int b = 0; b < N; ++b) {
-      const std::int32_t row = s.node + b * st.s[1];
+      const std::int32_t row = s.node + b * nl.stride[1];
       for (int a = 0; a < N; ++a)
-        fn(row + a, s.w[0][a] * s.w[1][b], Vec<2>(s.dw[0][a] * s.w[1][b], s.w[0][a] * s.dw[1][b]));
+        fn(row + a, w[0][a] * w[1][b], Vec<2>(dw[0][a] * w[1][b], w[0][a] * dw[1][b]));
     }
   } else {
     for (int c = 0; c < N; ++c)
       for (int b = 0; b < N; ++b) {
-        const std::int32_t row = s.node + b * st.s[1] + c * st.s[2];
-        const Real wbc = s.w[1][b] * s.w[2][c];
+        const std::int32_t row = s.node + b * nl.stride[1] + c * nl.stride[2];
+        const Real wbc = w[1][b] * w[2][c];
         for (int a = 0; a < N; ++a)
-          fn(row + a, s.w[0][a] * wbc,
-             Vec<3>(s.dw[0][a] * wbc, s.w[0][a] * s.dw[1][b] * s.w[2][c], s.w[0][a] * s.w[1][b] * s.dw[2][c]));
+          fn(row + a, w[0][a] * wbc,
+             Vec<3>(dw[0][a] * wbc, w[0][a] * dw[1][b] * w[2][c], w[0][a] * w[1][b] * dw[2][c]));
       }
   }
 }

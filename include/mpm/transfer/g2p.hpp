@@ -34,17 +34,17 @@ struct ParticleFault {
 
 /// Gather grid fields to particles. `v_grid` is the node velocity used for positions and velocity gradients.
 /// Returns the lowest-index particle whose new state is non-finite, has J <= 0 or left the grid.
-template <Gather what, int Dim, int N>
-ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, N>>& stencils, const Grid<Dim>& grid,
+template <Gather what, int Dim, class Kernel>
+ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<Dim>& grid,
                   const std::vector<Vec<Dim>>& v_grid, Real dt,
                   const std::vector<NeoHookean>& materials, SizeUpdate sizes) {
-  const Strides<Dim> strides(grid.geometry);
+  const NodeLayout<Dim> layout(grid.geometry);
   const GridGeometry<Dim>& geo = grid.geometry;
   std::atomic<std::int64_t> first_fault{ParticleFault::none};
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
     Vec<Dim> a_p = Vec<Dim>::Zero(), v_p = Vec<Dim>::Zero();
     Mat<Dim> grad_v = Mat<Dim>::Zero();
-    for_each_node(stencils[i], strides, [&](std::int32_t n, Real S_ip, const Vec<Dim>& dS_ip) {
+    for_each_node(stencils[i], layout, [&](std::int32_t n, Real S_ip, const Vec<Dim>& dS_ip) {
       if constexpr (what.velocity) a_p += S_ip * grid.a[n];
       if constexpr (what.position) v_p += S_ip * v_grid[n];
       if constexpr (what.deformation) grad_v += v_grid[n] * dS_ip.transpose();

@@ -19,10 +19,10 @@ struct Scatter {
 /// Scatter particle data to the grid. Mass and momentum: Wallstedt & Guilkey 2008, Eqs (8)-(9) (the
 /// division by m_i happens in grid_velocity). Force: internal force Eq. (14), f_i = -sum_p grad S_ip . sigma_p V_p,
 /// plus the body force sum_p S_ip m_p b_p when per-particle body accelerations b are given.
-template <Scatter what, int Dim, int N>
-void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, N>>& stencils, const ScatterOrder& order,
+template <Scatter what, int Dim, class Kernel>
+void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils, const ScatterOrder& order,
          const std::vector<Vec<Dim>>& body_accel, Grid<Dim>& grid) {
-  const Strides<Dim> strides(grid.geometry);
+  const NodeLayout<Dim> layout(grid.geometry);
   parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) {
     if constexpr (what.mass_momentum) {
       grid.m[n] = 0;
@@ -36,7 +36,7 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, N>>& stencils
     const Vec<Dim> mv_p = m_p * p.v[i];
     const Mat<Dim> Vsigma_p = p.V[i] * p.sigma[i].full();
     const Vec<Dim> mb_p = body ? Vec<Dim>(m_p * body_accel[i]) : Vec<Dim>::Zero();
-    for_each_node(stencils[i], strides, [&](std::int32_t n, Real S_ip, const Vec<Dim>& dS_ip) {
+    for_each_node(stencils[i], layout, [&](std::int32_t n, Real S_ip, const Vec<Dim>& dS_ip) {
       if constexpr (what.mass_momentum) {
         grid.m[n] += S_ip * m_p;
         grid.v[n] += S_ip * mv_p;
