@@ -72,20 +72,24 @@ void KinematicConstraints<Dim>::fold_and_mirror(Grid<Dim>& grid, NodeFields fiel
   };
   if (fields == NodeFields::mass_momentum) {
     apply([&](const Mirror& mir, std::int32_t gh, std::int32_t re, bool fold) {
+      GridNode<Dim>& ghost = grid.nodes[gh];
+      GridNode<Dim>& real = grid.nodes[re];
       if (fold) {
-        grid.m[re] += grid.m[gh];
-        grid.v[re] += reflect<Dim>(grid.v[gh], mir.axis);
+        real.m += ghost.m;
+        real.v += reflect<Dim>(ghost.v, mir.axis);
       } else {
-        grid.m[gh] = grid.m[re];
-        grid.v[gh] = reflect<Dim>(grid.v[re], mir.axis);
+        ghost.m = real.m;
+        ghost.v = reflect<Dim>(real.v, mir.axis);
       }
     });
   } else {
     apply([&](const Mirror& mir, std::int32_t gh, std::int32_t re, bool fold) {
+      GridNode<Dim>& ghost = grid.nodes[gh];
+      GridNode<Dim>& real = grid.nodes[re];
       if (fold)
-        grid.a[re] += reflect<Dim>(grid.a[gh], mir.axis);
+        real.a += reflect<Dim>(ghost.a, mir.axis);
       else
-        grid.a[gh] = reflect<Dim>(grid.a[re], mir.axis);
+        ghost.a = reflect<Dim>(real.a, mir.axis);
     });
   }
 }
@@ -96,14 +100,15 @@ Vec<Dim> KinematicConstraints<Dim>::value(const Group& grp, Real t) const {
 }
 
 template <int Dim>
-void KinematicConstraints<Dim>::constrain_velocity(std::vector<Vec<Dim>>& v, Real t) const {
+void KinematicConstraints<Dim>::constrain_velocity(Grid<Dim>& grid, NodeVelocity<Dim> field, Real t) const {
   for (const Group& grp : groups_) {
     const Vec<Dim> val = value(grp, t);
     for (std::int32_t n : grp.nodes) {
+      Vec<Dim>& v = grid.nodes[n].*field;
       if (grp.component < 0)
-        v[n] = val;
+        v = val;
       else
-        v[n][grp.component] = val[grp.component];
+        v[grp.component] = val[grp.component];
     }
   }
 }
@@ -115,12 +120,14 @@ void KinematicConstraints<Dim>::constrain_update(Grid<Dim>& grid, Real t_new, Re
     const Vec<Dim> val = value(grp, t_new);
     const int first = grp.component < 0 ? 0 : grp.component;
     const int last = grp.component < 0 ? Dim : grp.component + 1;
-    for (std::int32_t n : grp.nodes)
+    for (std::int32_t n : grp.nodes) {
+      GridNode<Dim>& node = grid.nodes[n];
       for (int c = first; c < last; ++c) {
-        grid.v_new[n][c] = val[c];
+        node.v_new[c] = val[c];
         // Steffen et al. 2008, Eq. (30): the acceleration that brings the projected velocity to the prescribed one.
-        grid.a[n][c] = difference ? (val[c] - grid.v[n][c]) / dt : 0;
+        node.a[c] = difference ? (val[c] - node.v[c]) / dt : 0;
       }
+    }
   }
 }
 

@@ -114,17 +114,17 @@ void Simulation<Dim, Kernel>::step_usf(Real dt) {
   p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils_, order_, body_accel_, grid_);
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   grid_velocity(grid_, min_node_mass_);
-  grid_.v_new = grid_.v;
-  constraints_.constrain_velocity(grid_.v_new, time_);
+  for (GridNode<Dim>& node : grid_.nodes) node.v_new = node.v;
+  constraints_.constrain_velocity(grid_, &GridNode<Dim>::v_new, time_);
   check(g2p<Gather{.velocity = false, .position = false, .deformation = true}>(
-            particles_, stencils_, grid_, grid_.v_new, dt, spec_.materials, sizes_),
+            particles_, stencils_, grid_, &GridNode<Dim>::v_new, dt, spec_.materials, sizes_),
         dt);
   p2g<Scatter{.mass_momentum = false, .force = true}>(particles_, stencils_, order_, body_accel_, grid_);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
   grid_update(grid_, spec_.gravity, dt, 1.0, min_node_mass_);
   constraints_.constrain_update(grid_, time_ + dt, dt);
   check(g2p<Gather{.velocity = true, .position = true, .deformation = false}>(
-            particles_, stencils_, grid_, grid_.v_new, dt, spec_.materials, sizes_),
+            particles_, stencils_, grid_, &GridNode<Dim>::v_new, dt, spec_.materials, sizes_),
         dt);
 }
 
@@ -140,7 +140,7 @@ void Simulation<Dim, Kernel>::step_usl(Real dt, Real accel_scale) {
   grid_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
   constraints_.constrain_update(grid_, time_ + dt, dt);
   check(g2p<Gather{.velocity = true, .position = true, .deformation = true}>(
-            particles_, stencils_, grid_, grid_.v_new, dt, spec_.materials, sizes_),
+            particles_, stencils_, grid_, &GridNode<Dim>::v_new, dt, spec_.materials, sizes_),
         dt);
 }
 
@@ -156,14 +156,14 @@ void Simulation<Dim, Kernel>::step_musl(Real dt, Real accel_scale) {
   grid_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
   constraints_.constrain_update(grid_, time_ + dt, dt);
   check(g2p<Gather{.velocity = true, .position = false, .deformation = false}>(
-            particles_, stencils_, grid_, grid_.v_new, dt, spec_.materials, sizes_),
+            particles_, stencils_, grid_, &GridNode<Dim>::v_new, dt, spec_.materials, sizes_),
         dt);
   p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils_, order_, body_accel_, grid_);
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   grid_velocity(grid_, min_node_mass_);
-  constraints_.constrain_velocity(grid_.v, time_ + dt);
+  constraints_.constrain_velocity(grid_, &GridNode<Dim>::v, time_ + dt);
   check(g2p<Gather{.velocity = false, .position = true, .deformation = true}>(
-            particles_, stencils_, grid_, grid_.v, dt, spec_.materials, sizes_),
+            particles_, stencils_, grid_, &GridNode<Dim>::v, dt, spec_.materials, sizes_),
         dt);
 }
 

@@ -52,7 +52,9 @@ std::vector<V1> internal_force(const mpm::ParticleSet<1>& p) {
   order.build(strip, mpm::ScatterOrder::strip_count<1, mpm::GimpKernel::width>(geometry));
   const std::vector<V1> no_body_force;
   mpm::p2g<mpm::Scatter{.mass_momentum = false, .force = true}>(p, stencils, order, no_body_force, grid);
-  return grid.a;
+  std::vector<V1> force(grid.size());
+  for (std::size_t n = 0; n < grid.size(); ++n) force[n] = grid.nodes[n].a;
+  return force;
 }
 
 /// |f_i| at the interior node for particles whose voxels alternate in width (1 +- kAlternation) dx and tile

@@ -310,15 +310,15 @@ TEST_P(VelocityFace, NodesTakePrescribedVelocity) {
       if (g.geometry.coords(static_cast<std::ptrdiff_t>(n))[1] > 0)
         continue;  // the face plane and ghosts beyond
       ++checked;
-      if (g.m[n] > 0) ++loaded;
+      if (g.nodes[n].m > 0) ++loaded;
       // The prescribed value is written, not computed: exact equality.
-      EXPECT_EQ(g.v_new[n], kPrescribed);
+      EXPECT_EQ(g.nodes[n].v_new, kPrescribed);
       // Steffen et al. 2008, Eq. (30): a = (v^{n+1} - v^n)/dt with v^n the projected (unconstrained)
       // velocity, evaluated with the same floating-point operations as the library: exact equality.
       const V2 expected = acceleration == mpm::ConstrainedAcceleration::velocity_difference
-                              ? V2((kPrescribed - g.v[n]) / kDt)
+                              ? V2((kPrescribed - g.nodes[n].v) / kDt)
                               : V2::Zero();
-      EXPECT_EQ(g.a[n], expected);
+      EXPECT_EQ(g.nodes[n].a, expected);
     }
   };
   run(spec, std::move(p), kFaceSteps, inspect);

@@ -132,8 +132,8 @@ TYPED_TEST(TransferTest, p2g_conserves_mass_and_momentum) {
       }
     }
     for (std::size_t n = 0; n < grid.size(); ++n) {
-      grid_mass += grid.m[n];
-      for (int d = 0; d < Dim; ++d) grid_momentum[d] += grid.v[n][d];  // momentum until grid_velocity
+      grid_mass += grid.nodes[n].m;
+      for (int d = 0; d < Dim; ++d) grid_momentum[d] += grid.nodes[n].v[d];  // momentum until grid_velocity
     }
     // Each nodal sum accumulates at most a few hundred contributions, each carrying the partition-of-unity
     // round-off of the stencil: relative error ~ tens of ulps, well below 1e-13.
@@ -168,8 +168,8 @@ TYPED_TEST(TransferTest, g2p_reproduces_linear_velocity_field_and_its_gradient) 
   Real v_max = 0, x_max = 0;
   for (std::size_t n = 0; n < grid.size(); ++n) {
     const Vec<Dim> xn = geo.position(geo.coords(static_cast<std::ptrdiff_t>(n)));
-    grid.v_new[n] = v0 + L * xn;
-    v_max = std::max(v_max, grid.v_new[n].cwiseAbs().maxCoeff());
+    grid.nodes[n].v_new = v0 + L * xn;
+    v_max = std::max(v_max, grid.nodes[n].v_new.cwiseAbs().maxCoeff());
     x_max = std::max(x_max, xn.cwiseAbs().maxCoeff());
   }
   int nodes = 1;
@@ -193,7 +193,7 @@ TYPED_TEST(TransferTest, g2p_reproduces_linear_velocity_field_and_its_gradient) 
 
     const mpm::ParticleFault fault =
         mpm::g2p<mpm::Gather{.velocity = false, .position = true, .deformation = true}>(
-            p, t.stencils, grid, grid.v_new, dt, materials, mpm::SizeUpdate::fixed);
+            p, t.stencils, grid, &mpm::GridNode<Dim>::v_new, dt, materials, mpm::SizeUpdate::fixed);
     EXPECT_FALSE(fault) << "particle " << fault.index;
 
     for (std::size_t i = 0; i < p.size(); ++i) {

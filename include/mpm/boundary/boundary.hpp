@@ -56,8 +56,8 @@ class KinematicConstraints {
   /// so ghosts carry the negated normal velocity of their mirror node (Steffen et al. 2008, Sec. 3.4.2).
   void fold_and_mirror(Grid<Dim>& grid, NodeFields fields) const;
 
-  /// Impose prescribed components on a node velocity field at time t.
-  void constrain_velocity(std::vector<Vec<Dim>>& v, Real t) const;
+  /// Impose prescribed components on a node velocity field (&GridNode::v or &GridNode::v_new) at time t.
+  void constrain_velocity(Grid<Dim>& grid, NodeVelocity<Dim> field, Real t) const;
 
   /// Impose prescribed components on v_new at time t_new and set the constrained acceleration components.
   void constrain_update(Grid<Dim>& grid, Real t_new, Real dt) const;

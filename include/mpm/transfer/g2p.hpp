@@ -32,11 +32,12 @@ struct ParticleFault {
   explicit operator bool() const { return index != none; }
 };
 
-/// Gather grid fields to particles. `v_grid` is the node velocity used for positions and velocity gradients.
+/// Gather grid fields to particles. `v_grid` is the node velocity field used for positions and velocity
+/// gradients (&GridNode::v_new, or &GridNode::v after a re-projection).
 /// Returns the lowest-index particle whose new state is non-finite, has J <= 0 or left the grid.
 template <Gather what, int Dim, class Kernel>
 ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<Dim>& grid,
-                  const std::vector<Vec<Dim>>& v_grid, Real dt,
+                  NodeVelocity<Dim> v_grid, Real dt,
                   const std::vector<NeoHookean>& materials, SizeUpdate sizes) {
   const NodeLayout<Dim> layout(grid.geometry);
   const GridGeometry<Dim>& geo = grid.geometry;
@@ -45,9 +46,10 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
     Vec<Dim> a_p = Vec<Dim>::Zero(), v_p = Vec<Dim>::Zero();
     Mat<Dim> grad_v = Mat<Dim>::Zero();
     for_each_node(stencils[i], layout, [&](std::int32_t n, Real S_ip, const Vec<Dim>& dS_ip) {
-      if constexpr (what.velocity) a_p += S_ip * grid.a[n];
-      if constexpr (what.position) v_p += S_ip * v_grid[n];
-      if constexpr (what.deformation) grad_v += v_grid[n] * dS_ip.transpose();
+      const GridNode<Dim>& node = grid.nodes[n];
+      if constexpr (what.velocity) a_p += S_ip * node.a;
+      if constexpr (what.position) v_p += S_ip * (node.*v_grid);
+      if constexpr (what.deformation) grad_v += (node.*v_grid) * dS_ip.transpose();
     });
     bool ok = true;
     if constexpr (what.velocity) p.v[i] += dt * a_p;

@@ -24,11 +24,12 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
          const std::vector<Vec<Dim>>& body_accel, Grid<Dim>& grid) {
   const NodeLayout<Dim> layout(grid.geometry);
   parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) {
+    GridNode<Dim>& node = grid.nodes[n];
     if constexpr (what.mass_momentum) {
-      grid.m[n] = 0;
-      grid.v[n].setZero();
+      node.m = 0;
+      node.v.setZero();
     }
-    if constexpr (what.force) grid.a[n].setZero();
+    if constexpr (what.force) node.a.setZero();
   });
   const bool body = what.force && !body_accel.empty();
   order.for_each([&](std::int32_t i) {
@@ -37,11 +38,12 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
     const Mat<Dim> Vsigma_p = p.V[i] * p.sigma[i].full();
     const Vec<Dim> mb_p = body ? Vec<Dim>(m_p * body_accel[i]) : Vec<Dim>::Zero();
     for_each_node(stencils[i], layout, [&](std::int32_t n, Real S_ip, const Vec<Dim>& dS_ip) {
+      GridNode<Dim>& node = grid.nodes[n];
       if constexpr (what.mass_momentum) {
-        grid.m[n] += S_ip * m_p;
-        grid.v[n] += S_ip * mv_p;
+        node.m += S_ip * m_p;
+        node.v += S_ip * mv_p;
       }
-      if constexpr (what.force) grid.a[n] += S_ip * mb_p - Vsigma_p * dS_ip;
+      if constexpr (what.force) node.a += S_ip * mb_p - Vsigma_p * dS_ip;
     });
   });
 }
@@ -50,10 +52,11 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
 template <int Dim>
 void grid_velocity(Grid<Dim>& grid, Real min_mass) {
   parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) {
-    if (grid.m[n] > min_mass)
-      grid.v[n] /= grid.m[n];
+    GridNode<Dim>& node = grid.nodes[n];
+    if (node.m > min_mass)
+      node.v /= node.m;
     else
-      grid.v[n].setZero();
+      node.v.setZero();
   });
 }
 
@@ -62,11 +65,12 @@ void grid_velocity(Grid<Dim>& grid, Real min_mass) {
 template <int Dim>
 void grid_update(Grid<Dim>& grid, const Vec<Dim>& gravity, Real dt, Real scale, Real min_mass) {
   parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) {
-    if (grid.m[n] > min_mass)
-      grid.a[n] = scale * (grid.a[n] / grid.m[n] + gravity);
+    GridNode<Dim>& node = grid.nodes[n];
+    if (node.m > min_mass)
+      node.a = scale * (node.a / node.m + gravity);
     else
-      grid.a[n].setZero();
-    grid.v_new[n] = grid.v[n] + dt * grid.a[n];
+      node.a.setZero();
+    node.v_new = node.v + dt * node.a;
   });
 }
 
