@@ -31,21 +31,29 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
     }
     if constexpr (what.force) node.a.setZero();
   });
-  const bool body = what.force && !body_accel.empty();
-  order.for_each([&](std::int32_t i) {
-    const Real m_p = p.m[i];
-    const Vec<Dim> mv_p = m_p * p.v[i];
-    const Mat<Dim> Vsigma_p = p.V[i] * p.sigma[i].full();
-    const Vec<Dim> mb_p = body ? Vec<Dim>(m_p * body_accel[i]) : Vec<Dim>::Zero();
-    for_each_node(stencils[i], layout, [&](std::int32_t n, Real S_ip, const Vec<Dim>& dS_ip) {
-      GridNode<Dim>& node = grid.nodes[n];
-      if constexpr (what.mass_momentum) {
-        node.m += S_ip * m_p;
-        node.v += S_ip * mv_p;
-      }
-      if constexpr (what.force) node.a += S_ip * mb_p - Vsigma_p * dS_ip;
+  // The body-force term is compiled in only when there is one.
+  auto scatter = [&]<bool body>() {
+    order.for_each([&](std::int32_t i) {
+      const Real m_p = p.m[i];
+      const Vec<Dim> mv_p = m_p * p.v[i];
+      const Mat<Dim> Vsigma_p = p.V[i] * p.sigma[i].full();
+      for_each_node(stencils[i], layout, [&](std::int32_t n, Real S_ip, const Vec<Dim>& dS_ip) {
+        GridNode<Dim>& node = grid.nodes[n];
+        if constexpr (what.mass_momentum) {
+          node.m += S_ip * m_p;
+          node.v += S_ip * mv_p;
+        }
+        if constexpr (what.force) {
+          node.a -= Vsigma_p * dS_ip;
+          if constexpr (body) node.a += (S_ip * m_p) * body_accel[i];
+        }
+      });
     });
-  });
+  };
+  if (what.force && !body_accel.empty())
+    scatter.template operator()<true>();
+  else
+    scatter.template operator()<false>();
 }
 
 /// Turn nodal momentum into velocity v_i = p_i / m_i (Wallstedt & Guilkey 2008, Eq. 9); empty nodes get zero.
