@@ -49,7 +49,8 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
       const GridNode<Dim>& node = grid.nodes[n];
       if constexpr (what.velocity) a_p += S_ip * node.a;
       if constexpr (what.position) v_p += S_ip * (node.*v_grid);
-      if constexpr (what.deformation) grad_v += (node.*v_grid) * dS_ip.transpose();
+      if constexpr (what.deformation)  // column by column: no Dim x Dim temporary (store-forwarding stalls)
+        for (int b = 0; b < Dim; ++b) grad_v.col(b) += dS_ip[b] * (node.*v_grid);
     });
     bool ok = true;
     if constexpr (what.velocity) p.v[i] += dt * a_p;
