@@ -9,5 +9,6 @@ using Action = std::function<int()>;
 
 Action add_bench(CLI::App& app);
 Action add_verify(CLI::App& app);
+Action add_converge(CLI::App& app);
 
 }  // namespace mpm::app

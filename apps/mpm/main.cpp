@@ -9,6 +9,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   const mpm::app::Action bench = mpm::app::add_bench(app);
   const mpm::app::Action verify = mpm::app::add_verify(app);
+  const mpm::app::Action converge = mpm::app::add_converge(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -23,6 +24,7 @@ int main(int argc, char** argv) {
     for (CLI::App* sub : app.get_subcommands()) {
       if (sub->get_name() == "bench") return bench();
       if (sub->get_name() == "verify") return verify();
+      if (sub->get_name() == "converge") return converge();
     }
   } catch (const mpm::InputError& e) {
     std::cerr << "mpm: " << e.what() << '\n';

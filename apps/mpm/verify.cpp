@@ -1,96 +1,203 @@
-// `mpm verify CASE`: run a manufactured solution and report its error norms.
+// `mpm verify CASE` and `mpm converge CASE`: manufactured solutions, their error norms and observed orders.
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "commands.hpp"
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
-#include "mpm/verification/axis_aligned.hpp"
 #include "mpm/verification/study.hpp"
 
 namespace mpm::app {
 
 namespace {
-struct VerifyCommand {
+/// Options shared by verify and converge.
+struct CaseOptions {
   std::string case_name;
   std::string kernel = "cpgimp";
   std::string integrator = "cd";
   VerifyOptions options;
-  std::string out;
   int threads = 0;
   bool json = false;
+
+  void add_to(CLI::App* cmd) {
+    cmd->add_option("case", case_name, "axis-aligned or bar-1d")->required();
+    cmd->add_option("--kernel", kernel, "linear, ugimp, cpgimp, bspline2 or bspline3");
+    cmd->add_option("--integrator", integrator, "usf, usl, cd or musl");
+    cmd->add_option("--cells", options.cells, "cells per axis across the body");
+    cmd->add_option("--ppc", options.ppc, "particles per cell per axis");
+    cmd->add_option("--cfl", options.cfl, "CFL number in (0, 1]");
+    cmd->add_option("--amplitude", options.amplitude, "displacement amplitude A");
+    cmd->add_option("--end-time", options.end_time, "end time (default: one period)");
+    cmd->add_option("--threads", threads, "threads (0: all cores)")->check(CLI::NonNegativeNumber);
+    cmd->add_flag("--json", json, "print JSON");
+  }
+  /// Parse names and validate; throws InputError naming the argument.
+  VerifyCase resolve() {
+    const VerifyCase c = parse_case(case_name);
+    options.kernel = parse_kernel(kernel, "--kernel");
+    options.integrator = parse_integrator(integrator, "--integrator");
+    validate(options);
+    set_num_threads(threads);
+    return c;
+  }
 };
 
-/// Write final particle states (reference and current position, velocity, J, stress, error) as CSV.
-void write_particles(const std::filesystem::path& file, const ParticleSet<2>& p, const AxisAligned& exact,
-                     Real t) {
+nlohmann::json to_json(VerifyCase c, const VerifyOptions& o, const VerifyResult& r) {
+  nlohmann::json j{{"case", to_string(c)},    {"dim", dimension(c)},
+                   {"kernel", to_string(o.kernel)}, {"integrator", to_string(o.integrator)},
+                   {"cells", o.cells},        {"ppc", o.ppc},
+                   {"cfl", o.cfl},            {"amplitude", o.amplitude},
+                   {"end_time", r.end_time},  {"steps", r.steps},
+                   {"linf", r.error.linf},    {"l1", r.error.l1()},
+                   {"l2", r.error.l2()},      {"status", r.ok ? "ok" : "failed"}};
+  if (!r.ok) j["failure"] = r.failure;
+  return j;
+}
+
+void write_csv(const std::filesystem::path& file, const ParticleTable& tab) {
   std::ofstream os(file);
   if (!os) throw InputError("--out: cannot write " + file.string());
   os.precision(17);
-  os << "X,Y,x,y,vx,vy,J,sigma_xx,sigma_yy,sigma_xy,error\n";
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const Real err = ((p.x[i] - p.X[i]) - exact.displacement(p.X[i], t)).norm();
-    os << p.X[i][0] << ',' << p.X[i][1] << ',' << p.x[i][0] << ',' << p.x[i][1] << ',' << p.v[i][0] << ','
-       << p.v[i][1] << ',' << p.F[i].determinant() << ',' << p.sigma[i](0, 0) << ',' << p.sigma[i](1, 1) << ','
-       << p.sigma[i](0, 1) << ',' << err << '\n';
+  for (std::size_t k = 0; k < tab.columns.size(); ++k) os << (k ? "," : "") << tab.columns[k];
+  os << '\n';
+  for (const std::vector<Real>& row : tab.rows) {
+    for (std::size_t k = 0; k < row.size(); ++k) os << (k ? "," : "") << row[k];
+    os << '\n';
   }
+}
+
+std::vector<double> parse_values(const std::string& text) {
+  std::vector<double> values;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    std::size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size()) throw InputError("--values: '" + item + "' is not a number");
+    values.push_back(v);
+  }
+  if (values.size() < 2) throw InputError("--values: expected at least two comma-separated values");
+  return values;
 }
 }  // namespace
 
 Action add_verify(CLI::App& app) {
-  auto c = std::make_shared<VerifyCommand>();
+  auto c = std::make_shared<CaseOptions>();
+  auto out = std::make_shared<std::string>();
   CLI::App* cmd = app.add_subcommand("verify", "run a manufactured solution and report its error");
-  cmd->add_option("case", c->case_name, "axis-aligned")->required();
-  cmd->add_option("--kernel", c->kernel, "linear, ugimp, cpgimp, bspline2 or bspline3");
-  cmd->add_option("--integrator", c->integrator, "usf, usl, cd or musl");
-  cmd->add_option("--cells", c->options.cells, "cells per axis across the body");
-  cmd->add_option("--ppc", c->options.ppc, "particles per cell per axis");
-  cmd->add_option("--cfl", c->options.cfl, "CFL number in (0, 1]");
-  cmd->add_option("--amplitude", c->options.amplitude, "displacement amplitude A");
-  cmd->add_option("--end-time", c->options.end_time, "end time (default: one period)");
-  cmd->add_option("--out", c->out, "directory for the final particle states (particles.csv)");
-  cmd->add_option("--threads", c->threads, "threads (0: all cores)")->check(CLI::NonNegativeNumber);
-  cmd->add_flag("--json", c->json, "print one JSON object");
-  return [c]() {
-    if (c->case_name != "axis-aligned")
-      throw InputError("case: unknown case '" + c->case_name + "' (expected axis-aligned)");
-    c->options.kernel = parse_kernel(c->kernel, "--kernel");
-    c->options.integrator = parse_integrator(c->integrator, "--integrator");
-    validate(c->options);
-    set_num_threads(c->threads);
-    const AxisAligned exact{c->options.amplitude, NeoHookean::from_young_poisson(1e7, 0.3, 1000)};
+  c->add_to(cmd);
+  cmd->add_option("--out", *out, "directory for the final particle states (particles.csv)");
+  return [c, out]() {
+    const VerifyCase which = c->resolve();
+    ParticleTable final_state;
+    const VerifyResult r = verify(which, c->options, out->empty() ? nullptr : &final_state);
     std::filesystem::path csv;
-    if (!c->out.empty()) {
-      std::filesystem::create_directories(c->out);
-      csv = std::filesystem::path(c->out) / "particles.csv";
+    if (!out->empty()) {
+      std::filesystem::create_directories(*out);
+      csv = std::filesystem::path(*out) / "particles.csv";
+      write_csv(csv, final_state);
     }
-    Real t_end = 0;
-    const VerifyResult r = verify_axis_aligned(c->options, [&](const ParticleSet<2>& p) {
-      if (!csv.empty()) write_particles(csv, p, exact, t_end);
-    });
-    t_end = r.end_time;
-    nlohmann::json j{{"case", c->case_name},       {"dim", 2},
-                     {"kernel", c->kernel},        {"integrator", c->integrator},
-                     {"cells", c->options.cells},  {"ppc", c->options.ppc},
-                     {"cfl", c->options.cfl},      {"amplitude", c->options.amplitude},
-                     {"end_time", r.end_time},     {"steps", r.steps},
-                     {"linf", r.error.linf},       {"l1", r.error.l1()},
-                     {"l2", r.error.l2()},         {"status", r.ok ? "ok" : "failed"}};
-    if (!r.ok) j["failure"] = r.failure;
+    nlohmann::json j = to_json(which, c->options, r);
     if (!csv.empty()) j["particles_csv"] = csv.string();
     if (c->json) {
       std::cout << j.dump() << '\n';
     } else {
-      std::cout << "axis-aligned, " << c->kernel << " + " << c->integrator << ", " << c->options.cells << "x"
-                << c->options.cells << " cells, " << r.steps << " steps to t = " << r.end_time << " s: "
+      std::cout << to_string(which) << ", " << c->kernel << " + " << c->integrator << ", " << c->options.cells
+                << " cells per axis, " << r.steps << " steps to t = " << r.end_time << " s: "
                 << (r.ok ? "ok" : "FAILED: " + r.failure) << "\n  L_inf = " << r.error.linf
                 << "  L1 = " << r.error.l1() << "  L2 = " << r.error.l2() << '\n';
       if (!csv.empty()) std::cout << "  final particle states: " << csv.string() << '\n';
     }
     return r.ok ? 0 : exit_simulation_failure;
+  };
+}
+
+Action add_converge(CLI::App& app) {
+  auto c = std::make_shared<CaseOptions>();
+  auto vary = std::make_shared<std::string>();
+  auto values = std::make_shared<std::string>();
+  auto csv = std::make_shared<std::string>();
+  CLI::App* cmd = app.add_subcommand("converge", "error table and observed orders over cells or CFL");
+  c->add_to(cmd);
+  cmd->add_option("--vary", *vary, "cells or cfl")->required();
+  cmd->add_option("--values", *values, "comma-separated values, e.g. 8,16,32")->required();
+  cmd->add_option("--csv", *csv, "write the table to this CSV file");
+  return [c, vary, values, csv]() {
+    if (*vary != "cells" && *vary != "cfl")
+      throw InputError("--vary: expected cells or cfl, got '" + *vary + "'");
+    const std::vector<double> vals = parse_values(*values);
+    for (double v : vals) {  // validate every point before running any
+      VerifyOptions o = c->options;
+      if (*vary == "cells") {
+        if (v != std::floor(v)) throw InputError("--values: cells must be whole numbers");
+        o.cells = static_cast<int>(v);
+      } else {
+        o.cfl = v;
+      }
+      validate(o);
+    }
+    const VerifyCase which = c->resolve();
+    nlohmann::json rows = nlohmann::json::array();
+    std::vector<Real> linf;
+    for (double v : vals) {
+      VerifyOptions o = c->options;
+      if (*vary == "cells")
+        o.cells = static_cast<int>(v);
+      else
+        o.cfl = v;
+      const VerifyResult r = verify(which, o);
+      nlohmann::json row = to_json(which, o, r);
+      // Observed order between consecutive points: log(e_prev / e) / log(h_prev / h) with h ~ 1/cells
+      // (or dt ~ cfl).
+      if (!linf.empty()) {
+        const Real ratio = *vary == "cells" ? v / vals[linf.size() - 1] : vals[linf.size() - 1] / v;
+        row["order"] = std::log(linf.back() / r.error.linf) / std::log(ratio);
+      }
+      linf.push_back(r.error.linf);
+      rows.push_back(row);
+    }
+    if (!csv->empty()) {
+      std::ofstream os(*csv);
+      if (!os) throw InputError("--csv: cannot write " + *csv);
+      os.precision(10);
+      os << *vary << ",linf,l1,l2,order,status,steps\n";
+      for (const nlohmann::json& row : rows)
+        os << row[*vary] << ',' << row["linf"] << ',' << row["l1"] << ',' << row["l2"] << ','
+           << (row.contains("order") ? row["order"].dump() : "") << ',' << row["status"].get<std::string>()
+           << ',' << row["steps"] << '\n';
+    }
+    if (c->json) {
+      std::cout << rows.dump() << '\n';
+    } else {
+      std::cout << to_string(which) << ", " << c->kernel << " + " << c->integrator << ", varying " << *vary
+                << "\n";
+      std::cout << std::setw(10) << *vary << std::setw(14) << "L_inf" << std::setw(14) << "L1" << std::setw(14)
+                << "L2" << std::setw(9) << "order" << "  status\n";
+      for (const nlohmann::json& row : rows) {
+        std::cout << std::setw(10) << row[*vary].get<double>() << std::setw(14) << row["linf"].get<double>()
+                  << std::setw(14) << row["l1"].get<double>() << std::setw(14) << row["l2"].get<double>()
+                  << std::setw(9);
+        if (row.contains("order"))
+          std::cout << std::fixed << std::setprecision(2) << row["order"].get<double>() << std::defaultfloat
+                    << std::setprecision(6);
+        else
+          std::cout << "";
+        std::cout << "  " << row["status"].get<std::string>() << '\n';
+      }
+    }
+    return 0;
   };
 }
 

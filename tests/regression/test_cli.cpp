@@ -62,7 +62,7 @@ INSTANTIATE_TEST_SUITE_P(
                       BadArgument{"verify axis-aligned --cfl 0", "--cfl: expected a number in (0, 1]"},
                       BadArgument{"verify axis-aligned --cfl 1.5", "--cfl: expected a number in (0, 1]"},
                       BadArgument{"verify axis-aligned --cells many", "--cells"},
-                      BadArgument{"verify ring", "case: unknown case 'ring'"},
+                      BadArgument{"verify ring", "case: unknown case 'ring' (expected axis-aligned or bar-1d)"},
                       BadArgument{"verify axis-aligned --amplitude 0.5", "--amplitude"}));
 
 TEST(Cli, BenchRejectsBadKernelAndDimension) {

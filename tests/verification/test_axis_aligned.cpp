@@ -13,7 +13,7 @@ Real linf(KernelKind kernel, Integrator integrator, int cells) {
   o.kernel = kernel;
   o.integrator = integrator;
   o.cells = cells;
-  const VerifyResult r = verify_axis_aligned(o);
+  const VerifyResult r = verify(VerifyCase::axis_aligned, o);
   EXPECT_TRUE(r.ok) << r.failure;
   return r.error.linf;
 }
@@ -33,7 +33,7 @@ TEST(AxisAligned, InitialStateIsTheExactSolution) {
   // 1e-10 would mean the initial positions, velocities or stresses are not those of the exact solution.
   VerifyOptions o;
   o.end_time = 1e-9;
-  const VerifyResult r = verify_axis_aligned(o);
+  const VerifyResult r = verify(VerifyCase::axis_aligned, o);
   ASSERT_TRUE(r.ok);
   EXPECT_EQ(r.steps, 1);
   EXPECT_LT(r.error.linf, 1e-10);

@@ -5,17 +5,22 @@
 #include <numbers>
 
 #include "mpm/core/types.hpp"
+#include "mpm/integrators/spec.hpp"
 #include "mpm/materials/neo_hookean.hpp"
+#include "mpm/particles/generate.hpp"
 
 namespace mpm {
 
 struct AxisAligned {
+  static constexpr int dim = 2;
   Real A;            ///< displacement amplitude [m]
   NeoHookean mat;    ///< Lame constants and reference density
 
   Real young() const { return mat.mu * (3 * mat.lambda + 2 * mat.mu) / (mat.lambda + mat.mu); }
   /// c^2 = E / rho0 (Eq. 56).
   Real c() const { return std::sqrt(young() / mat.rho0); }
+  /// Largest amplitude with det F > 0 everywhere (F_XX = 1 + A pi cos(pi X) cos(c pi t)).
+  Real max_amplitude() const { return 1 / std::numbers::pi; }
   /// One period of the motion [s].
   Real period() const { return 2 / c(); }
 
@@ -49,6 +54,17 @@ struct AxisAligned {
              (mat.lambda / Fd2 * (1 - K) + mat.mu * (1 + 1 / Fd2) - young());
     }
     return b;
+  }
+
+  /// The unit square on a grid of the same extent; u_x is odd about X = 0, 1 and u_y about Y = 0, 1, so all four
+  /// faces are symmetry planes.
+  void configure(SimulationSpec<2>& spec, int cells) const {
+    spec.h = 1.0 / cells;
+    spec.cells = {cells, cells};
+    for (FaceCondition<2>& f : spec.boundary.faces) f.type = FaceType::symmetry;
+  }
+  void seed(ParticleSet<2>& p, Real spacing) const {
+    fill_box<2>(p, Vec<2>::Zero(), Vec<2>::Ones(), spacing, mat.rho0, 0);
   }
 };
 

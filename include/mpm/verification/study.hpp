@@ -1,13 +1,22 @@
 #pragma once
 /// Running a manufactured-solution case and measuring its error.
-#include <functional>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "mpm/integrators/spec.hpp"
-#include "mpm/particles/particles.hpp"
 #include "mpm/verification/error_norms.hpp"
 
 namespace mpm {
+
+/// The built-in manufactured solutions.
+enum class VerifyCase {
+  axis_aligned,  ///< 2-D axis-aligned displacement in the unit square (Wallstedt & Guilkey 2008, Sec. 5.1)
+  bar_1d,        ///< 1-D fixed-fixed bar, u = A sin(2 pi X/L) cos(c pi t/L)
+};
+VerifyCase parse_case(std::string_view name);  ///< throws InputError naming the expected cases
+std::string_view to_string(VerifyCase c);
+int dimension(VerifyCase c);
 
 struct VerifyOptions {
   KernelKind kernel = KernelKind::cpgimp;
@@ -27,11 +36,17 @@ struct VerifyResult {
   ErrorNorms error;     ///< L_inf = 1 for plotting when the run failed (Wallstedt & Guilkey 2008, Sec. 6.1.1)
 };
 
-/// The 2-D axis-aligned displacement case in the unit square (Wallstedt & Guilkey 2008, Sec. 5.1) with
-/// symmetry planes on all four faces, E = 1e7 Pa, nu = 0.3, rho0 = 1000 kg/m^3. `on_finish` sees the final
-/// particles (also after a failure).
-VerifyResult verify_axis_aligned(const VerifyOptions& o,
-                                 const std::function<void(const ParticleSet<2>&)>& on_finish = {});
+/// Final particle states as a table: reference and current positions, velocity, J, stress components and
+/// the displacement error of Eq. (64), one row per particle.
+struct ParticleTable {
+  std::vector<std::string> columns;
+  std::vector<std::vector<Real>> rows;
+};
+
+/// Run a case from its exact state at t = 0 (E = 1e7 Pa, nu = 0.3 for axis-aligned and 0 for the bar,
+/// rho0 = 1000 kg/m^3, symmetry planes where the displacement is odd), recording the error after every
+/// step. When `final_state` is given it receives the particles at the end (also after a failure).
+VerifyResult verify(VerifyCase c, const VerifyOptions& o, ParticleTable* final_state = nullptr);
 
 /// Throw InputError for impossible options (cells < 2, ppc < 1, cfl outside (0, 1], amplitude, end time).
 void validate(const VerifyOptions& o);
