@@ -89,9 +89,13 @@ VerifyCase parse_case(std::string_view name) {
   throw InputError("case: unknown case '" + std::string(name) + "' (expected axis-aligned or bar-1d)");
 }
 
-std::string_view to_string(VerifyCase c) { return case_names[static_cast<std::size_t>(c)]; }
+std::string_view to_string(VerifyCase c) {
+  return case_names[static_cast<std::size_t>(c)];
+}
 
-int dimension(VerifyCase c) { return c == VerifyCase::bar_1d ? 1 : 2; }
+int dimension(VerifyCase c) {
+  return c == VerifyCase::bar_1d ? 1 : 2;
+}
 
 void validate(const VerifyOptions& o) {
   if (o.cells < 2) throw InputError("--cells: expected at least 2 cells per axis");

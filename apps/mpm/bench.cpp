@@ -33,7 +33,8 @@ struct BenchOptions {
 template <int Dim, class Kernel>
 nlohmann::json run_block(const BenchOptions& o, KernelKind kind, Integrator integrator) {
   const int ppc = 2;
-  const int n = std::max(1, static_cast<int>(std::lround(std::pow(static_cast<double>(o.particles) / std::pow(ppc, Dim), 1.0 / Dim))));
+  const int n = std::max(1, static_cast<int>(std::lround(
+                                std::pow(static_cast<double>(o.particles) / std::pow(ppc, Dim), 1.0 / Dim))));
   const Real h = 1.0 / n;
   const int pad = static_cast<int>(std::ceil(0.05 / h - 1e-9));
   SimulationSpec<Dim> spec;
@@ -85,7 +86,8 @@ Action add_bench(CLI::App& app) {
   cmd->add_option("--dim", o->dim, "dimension: 2 or 3")->check(CLI::IsMember({2, 3}));
   cmd->add_option("--kernel", o->kernel, "linear, ugimp, cpgimp, bspline2 or bspline3");
   cmd->add_option("--integrator", o->integrator, "usf, usl, cd or musl");
-  cmd->add_option("--particles", o->particles, "approximate particle count")->check(CLI::Range(1L, 1000000000L));
+  cmd->add_option("--particles", o->particles, "approximate particle count")
+      ->check(CLI::Range(1L, 1000000000L));
   cmd->add_option("--steps", o->steps, "time steps per run")->check(CLI::PositiveNumber);
   cmd->add_option("--threads", o->threads, "threads (0: all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--repeat", o->repeat, "runs; the median is reported")->check(CLI::PositiveNumber);

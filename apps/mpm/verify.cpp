@@ -50,13 +50,20 @@ struct CaseOptions {
 };
 
 nlohmann::json to_json(VerifyCase c, const VerifyOptions& o, const VerifyResult& r) {
-  nlohmann::json j{{"case", to_string(c)},    {"dim", dimension(c)},
-                   {"kernel", to_string(o.kernel)}, {"integrator", to_string(o.integrator)},
-                   {"cells", o.cells},        {"ppc", o.ppc},
-                   {"cfl", o.cfl},            {"amplitude", o.amplitude},
-                   {"end_time", r.end_time},  {"steps", r.steps},
-                   {"linf", r.error.linf},    {"l1", r.error.l1()},
-                   {"l2", r.error.l2()},      {"status", r.ok ? "ok" : "failed"}};
+  nlohmann::json j{{"case", to_string(c)},
+                   {"dim", dimension(c)},
+                   {"kernel", to_string(o.kernel)},
+                   {"integrator", to_string(o.integrator)},
+                   {"cells", o.cells},
+                   {"ppc", o.ppc},
+                   {"cfl", o.cfl},
+                   {"amplitude", o.amplitude},
+                   {"end_time", r.end_time},
+                   {"steps", r.steps},
+                   {"linf", r.error.linf},
+                   {"l1", r.error.l1()},
+                   {"l2", r.error.l2()},
+                   {"status", r.ok ? "ok" : "failed"}};
   if (!r.ok) j["failure"] = r.failure;
   return j;
 }
@@ -115,8 +122,8 @@ Action add_verify(CLI::App& app) {
       std::cout << j.dump() << '\n';
     } else {
       std::cout << to_string(which) << ", " << c->kernel << " + " << c->integrator << ", " << c->options.cells
-                << " cells per axis, " << r.steps << " steps to t = " << r.end_time << " s: "
-                << (r.ok ? "ok" : "FAILED: " + r.failure) << "\n  L_inf = " << r.error.linf
+                << " cells per axis, " << r.steps << " steps to t = " << r.end_time
+                << " s: " << (r.ok ? "ok" : "FAILED: " + r.failure) << "\n  L_inf = " << r.error.linf
                 << "  L1 = " << r.error.l1() << "  L2 = " << r.error.l2() << '\n';
       if (!csv.empty()) std::cout << "  final particle states: " << csv.string() << '\n';
     }
@@ -183,8 +190,9 @@ Action add_converge(CLI::App& app) {
     } else {
       std::cout << to_string(which) << ", " << c->kernel << " + " << c->integrator << ", varying " << *vary
                 << "\n";
-      std::cout << std::setw(10) << *vary << std::setw(14) << "L_inf" << std::setw(14) << "L1" << std::setw(14)
-                << "L2" << std::setw(9) << "order" << "  status\n";
+      std::cout << std::setw(10) << *vary << std::setw(14) << "L_inf" << std::setw(14) << "L1"
+                << std::setw(14) << "L2" << std::setw(9) << "order"
+                << "  status\n";
       for (const nlohmann::json& row : rows) {
         std::cout << std::setw(10) << row[*vary].get<double>() << std::setw(14) << row["linf"].get<double>()
                   << std::setw(14) << row["l1"].get<double>() << std::setw(14) << row["l2"].get<double>()

@@ -25,8 +25,8 @@ std::string slurp(const std::filesystem::path& f) {
 Outcome run_mpm(const std::string& args) {
   const auto dir = std::filesystem::temp_directory_path() / ("mpm_cli_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  const std::string cmd = std::string(MPM_BINARY) + " " + args + " >" + (dir / "out").string() + " 2>" +
-                          (dir / "err").string();
+  const std::string cmd =
+      std::string(MPM_BINARY) + " " + args + " >" + (dir / "out").string() + " 2>" + (dir / "err").string();
   const int raw = std::system(cmd.c_str());
   Outcome o{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(dir / "out"), slurp(dir / "err")};
   std::filesystem::remove_all(dir);
@@ -35,7 +35,8 @@ Outcome run_mpm(const std::string& args) {
 
 struct BadArgument {
   const char* args;
-  const char* message;  ///< a fragment the one-line error must contain
+  const char* message;           ///< a fragment the one-line error must contain
+  const char* output = "--out";  ///< the option naming the output that must not be created
 };
 
 class CliBadInput : public ::testing::TestWithParam<BadArgument> {};
@@ -44,7 +45,7 @@ TEST_P(CliBadInput, ExitsWithStatus2AndOneClearLine) {
   const BadArgument& bad = GetParam();
   const auto out_dir = std::filesystem::temp_directory_path() / "mpm_cli_should_not_exist";
   std::filesystem::remove_all(out_dir);
-  const Outcome o = run_mpm(std::string(bad.args) + " --out " + out_dir.string());
+  const Outcome o = run_mpm(std::string(bad.args) + " " + bad.output + " " + out_dir.string());
   EXPECT_EQ(o.status, 2) << bad.args << "\nstderr: " << o.err;
   EXPECT_NE(o.err.find(bad.message), std::string::npos) << "stderr: " << o.err;
   EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << "stderr: " << o.err;
@@ -54,21 +55,42 @@ TEST_P(CliBadInput, ExitsWithStatus2AndOneClearLine) {
 
 INSTANTIATE_TEST_SUITE_P(
     Verify, CliBadInput,
-    ::testing::Values(BadArgument{"verify axis-aligned --kernel quadratic", "--kernel: unknown name 'quadratic'"},
-                      BadArgument{"verify axis-aligned --integrator rk4", "--integrator: unknown name 'rk4'"},
-                      BadArgument{"verify axis-aligned --cells 1", "--cells: expected at least 2"},
-                      BadArgument{"verify axis-aligned --cells -4", "--cells: expected at least 2"},
-                      BadArgument{"verify axis-aligned --ppc 0", "--ppc: expected at least 1"},
-                      BadArgument{"verify axis-aligned --cfl 0", "--cfl: expected a number in (0, 1]"},
-                      BadArgument{"verify axis-aligned --cfl 1.5", "--cfl: expected a number in (0, 1]"},
-                      BadArgument{"verify axis-aligned --cells many", "--cells"},
-                      BadArgument{"verify ring", "case: unknown case 'ring' (expected axis-aligned or bar-1d)"},
-                      BadArgument{"verify axis-aligned --amplitude 0.5", "--amplitude"}));
+    ::testing::Values(
+        BadArgument{"verify axis-aligned --kernel quadratic", "--kernel: unknown name 'quadratic'"},
+        BadArgument{"verify axis-aligned --integrator rk4", "--integrator: unknown name 'rk4'"},
+        BadArgument{"verify axis-aligned --cells 1", "--cells: expected at least 2"},
+        BadArgument{"verify axis-aligned --cells -4", "--cells: expected at least 2"},
+        BadArgument{"verify axis-aligned --ppc 0", "--ppc: expected at least 1"},
+        BadArgument{"verify axis-aligned --cfl 0", "--cfl: expected a number in (0, 1]"},
+        BadArgument{"verify axis-aligned --cfl 1.5", "--cfl: expected a number in (0, 1]"},
+        BadArgument{"verify axis-aligned --cells many", "--cells"},
+        BadArgument{"verify ring", "case: unknown case 'ring' (expected axis-aligned or bar-1d)"},
+        BadArgument{"verify axis-aligned --amplitude 0.5", "--amplitude"},
+        BadArgument{"verify bar-1d --amplitude 0.2", "--amplitude: expected A < 0.159"}));
+
+INSTANTIATE_TEST_SUITE_P(
+    Converge, CliBadInput,
+    ::testing::Values(
+        BadArgument{"converge bar-1d --vary dt --values 8,16", "--vary: expected cells or cfl", "--csv"},
+        BadArgument{"converge bar-1d --vary cells --values 8,x", "--values: 'x' is not a number", "--csv"},
+        BadArgument{"converge bar-1d --vary cells --values 8", "--values: expected at least two", "--csv"},
+        BadArgument{"converge bar-1d --vary cells --values 8,1", "--cells: expected at least 2", "--csv"},
+        BadArgument{"converge bar-1d --vary cfl --values 0.5,1.5", "--cfl: expected a number in (0, 1]",
+                    "--csv"}));
+
+TEST(Cli, ConvergeReportsObservedOrders) {
+  const Outcome o = run_mpm("converge bar-1d --amplitude 0.01 --vary cells --values 8,16,32 --json");
+  ASSERT_EQ(o.status, 0) << o.err;
+  // Same runs as the verification test of the bar (cpGIMP, CD): orders 1.91 and 1.76.
+  for (const char* key : {"\"order\":1.9", "\"order\":1.7", "\"cells\":32", "\"status\":\"ok\""})
+    EXPECT_NE(o.out.find(key), std::string::npos) << key << " missing in " << o.out;
+}
 
 TEST(Cli, BenchRejectsBadKernelAndDimension) {
   Outcome o = run_mpm("bench --kernel cubic --steps 1");
   EXPECT_EQ(o.status, 2);
-  EXPECT_NE(o.err.find("--kernel: unknown name 'cubic' (expected one of linear, ugimp, cpgimp, bspline2, bspline3)"),
+  EXPECT_NE(o.err.find(
+                "--kernel: unknown name 'cubic' (expected one of linear, ugimp, cpgimp, bspline2, bspline3)"),
             std::string::npos)
       << o.err;
   o = run_mpm("bench --dim 4 --steps 1");
@@ -79,8 +101,8 @@ TEST(Cli, BenchRejectsBadKernelAndDimension) {
 TEST(Cli, BenchPrintsTheRequiredJsonFields) {
   const Outcome o = run_mpm("bench --particles 400 --steps 3 --repeat 1 --json");
   ASSERT_EQ(o.status, 0) << o.err;
-  for (const char* key : {"\"particles\":400", "\"steps\":3", "\"seconds\":", "\"particle_steps_per_second\":",
-                          "\"bytes_per_particle\":"})
+  for (const char* key : {"\"particles\":400", "\"steps\":3",
+                          "\"seconds\":", "\"particle_steps_per_second\":", "\"bytes_per_particle\":"})
     EXPECT_NE(o.out.find(key), std::string::npos) << key << " missing in " << o.out;
 }
 

@@ -13,8 +13,8 @@ namespace mpm {
 
 struct AxisAligned {
   static constexpr int dim = 2;
-  Real A;            ///< displacement amplitude [m]
-  NeoHookean mat;    ///< Lame constants and reference density
+  Real A;          ///< displacement amplitude [m]
+  NeoHookean mat;  ///< Lame constants and reference density
 
   Real young() const { return mat.mu * (3 * mat.lambda + 2 * mat.mu) / (mat.lambda + mat.mu); }
   /// c^2 = E / rho0 (Eq. 56).
@@ -50,14 +50,13 @@ struct AxisAligned {
     Vec<2> b;
     for (int d = 0; d < 2; ++d) {
       const Real Fd2 = F(d, d) * F(d, d);
-      b[d] = pi * pi * u[d] / mat.rho0 *
-             (mat.lambda / Fd2 * (1 - K) + mat.mu * (1 + 1 / Fd2) - young());
+      b[d] = pi * pi * u[d] / mat.rho0 * (mat.lambda / Fd2 * (1 - K) + mat.mu * (1 + 1 / Fd2) - young());
     }
     return b;
   }
 
-  /// The unit square on a grid of the same extent; u_x is odd about X = 0, 1 and u_y about Y = 0, 1, so all four
-  /// faces are symmetry planes.
+  /// The unit square on a grid of the same extent; u_x is odd about X = 0, 1 and u_y about Y = 0, 1, so all
+  /// four faces are symmetry planes.
   void configure(SimulationSpec<2>& spec, int cells) const {
     spec.h = 1.0 / cells;
     spec.cells = {cells, cells};

@@ -21,11 +21,11 @@ int dimension(VerifyCase c);
 struct VerifyOptions {
   KernelKind kernel = KernelKind::cpgimp;
   Integrator integrator = Integrator::cd;
-  int cells = 32;          ///< cells per axis across the body's reference extent
-  int ppc = 2;             ///< particles per cell per axis
-  Real cfl = 0.4;          ///< dt = cfl h / max_p(c_p + |v_p|)
-  Real amplitude = 0.1;    ///< A of the manufactured displacement [m]
-  Real end_time = 0;       ///< 0: one period of the motion
+  int cells = 32;        ///< cells per axis across the body's reference extent
+  int ppc = 2;           ///< particles per cell per axis
+  Real cfl = 0.4;        ///< dt = cfl h / max_p(c_p + |v_p|)
+  Real amplitude = 0.1;  ///< A of the manufactured displacement [m]
+  Real end_time = 0;     ///< 0: one period of the motion
 };
 
 struct VerifyResult {
@@ -33,7 +33,7 @@ struct VerifyResult {
   std::string failure;  ///< the SimulationFailure message when !ok
   std::int64_t steps = 0;
   Real end_time = 0;
-  ErrorNorms error;     ///< L_inf = 1 for plotting when the run failed (Wallstedt & Guilkey 2008, Sec. 6.1.1)
+  ErrorNorms error;  ///< L_inf = 1 for plotting when the run failed (Wallstedt & Guilkey 2008, Sec. 6.1.1)
 };
 
 /// Final particle states as a table: reference and current positions, velocity, J, stress components and
