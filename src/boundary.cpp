@@ -124,7 +124,8 @@ void KinematicConstraints<Dim>::constrain_update(Grid<Dim>& grid, Real t_new, Re
       GridNode<Dim>& node = grid.nodes[n];
       for (int c = first; c < last; ++c) {
         node.v_new[c] = val[c];
-        // Steffen et al. 2008, Eq. (30): the acceleration that brings the projected velocity to the prescribed one.
+        // Steffen et al. 2008, Eq. (30): the acceleration that brings the projected velocity to the
+        // prescribed one.
         node.a[c] = difference ? (val[c] - node.v[c]) / dt : 0;
       }
     }

@@ -208,7 +208,9 @@ template <int Dim, class Kernel>
 double Simulation<Dim, Kernel>::bytes_per_particle() const {
   const double n = static_cast<double>(particles_.size());
   return static_cast<double>(particles_.bytes_per_particle()) + sizeof(StencilT) +
-         static_cast<double>(order_.bytes() + strip_.capacity() * sizeof(std::int32_t) + body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes()) / n;
+         static_cast<double>(order_.bytes() + strip_.capacity() * sizeof(std::int32_t) +
+                             body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes()) /
+             n;
 }
 
 }  // namespace mpm

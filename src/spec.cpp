@@ -34,12 +34,16 @@ Integrator parse_integrator(std::string_view name, std::string_view key) {
 KernelKind parse_kernel(std::string_view name, std::string_view key) {
   for (std::size_t k = 0; k < kernel_names.size(); ++k)
     if (name == kernel_names[k]) return static_cast<KernelKind>(k);
-  throw InputError(std::string(key) + ": unknown name '" + std::string(name) + "' (expected one of " + join(kernel_names) +
-                   ")");
+  throw InputError(std::string(key) + ": unknown name '" + std::string(name) + "' (expected one of " +
+                   join(kernel_names) + ")");
 }
 
-std::string_view to_string(Integrator i) { return integrator_names[static_cast<std::size_t>(i)]; }
-std::string_view to_string(KernelKind k) { return kernel_names[static_cast<std::size_t>(k)]; }
+std::string_view to_string(Integrator i) {
+  return integrator_names[static_cast<std::size_t>(i)];
+}
+std::string_view to_string(KernelKind k) {
+  return kernel_names[static_cast<std::size_t>(k)];
+}
 
 template <int Dim>
 void validate(const SimulationSpec<Dim>& s) {

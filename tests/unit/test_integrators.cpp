@@ -22,7 +22,7 @@ constexpr KernelKind all_kernels[] = {KernelKind::linear, KernelKind::ugimp, Ker
 /// it (rate `rate`), centred in a grid of free faces, no gravity.
 template <int Dim>
 std::pair<SimulationSpec<Dim>, ParticleSet<Dim>> flying_block(KernelKind kernel, Integrator integrator,
-                                                               int cells, Real drift, Real rate) {
+                                                              int cells, Real drift, Real rate) {
   const int ppc = 2;
   SimulationSpec<Dim> spec;
   spec.h = 1.0 / cells;
@@ -68,7 +68,8 @@ void expect_momentum_conserved(KernelKind kind, Integrator integrator) {
       << "kernel " << to_string(kind) << ", integrator " << to_string(integrator);
   // The body did deform: the check is not vacuous.
   Real max_strain = 0;
-  for (const Mat<Dim>& F : sim.particles().F) max_strain = std::max(max_strain, (F - Mat<Dim>::Identity()).norm());
+  for (const Mat<Dim>& F : sim.particles().F)
+    max_strain = std::max(max_strain, (F - Mat<Dim>::Identity()).norm());
   EXPECT_GT(max_strain, 1e-3);
 }
 
@@ -80,7 +81,8 @@ TEST(Integrators, FreeFlyingBodyConservesLinearMomentum2D) {
 
 TEST(Integrators, FreeFlyingBodyConservesLinearMomentum3D) {
   for (Integrator in : all_integrators)
-    with_kernel(KernelKind::cpgimp, [&]<class K>() { expect_momentum_conserved<3, K>(KernelKind::cpgimp, in); });
+    with_kernel(KernelKind::cpgimp,
+                [&]<class K>() { expect_momentum_conserved<3, K>(KernelKind::cpgimp, in); });
 }
 
 template <int Dim, class Kernel>
@@ -117,11 +119,14 @@ void expect_thread_count_invariant(KernelKind kind, Integrator integrator, int c
 TEST(Integrators, BitwiseIdenticalWithOneTwoAndThreeThreads) {
   // 100 cells: ~10^4 particles, enough for several sort chunks and scatter strips per thread.
   for (Integrator in : all_integrators) {
-    with_kernel(KernelKind::linear, [&]<class K>() { expect_thread_count_invariant<2, K>(KernelKind::linear, in, 100); });
-    with_kernel(KernelKind::cpgimp, [&]<class K>() { expect_thread_count_invariant<2, K>(KernelKind::cpgimp, in, 100); });
+    with_kernel(KernelKind::linear,
+                [&]<class K>() { expect_thread_count_invariant<2, K>(KernelKind::linear, in, 100); });
+    with_kernel(KernelKind::cpgimp,
+                [&]<class K>() { expect_thread_count_invariant<2, K>(KernelKind::cpgimp, in, 100); });
   }
-  with_kernel(KernelKind::bspline3,
-              [&]<class K>() { expect_thread_count_invariant<3, K>(KernelKind::bspline3, Integrator::usl, 24); });
+  with_kernel(KernelKind::bspline3, [&]<class K>() {
+    expect_thread_count_invariant<3, K>(KernelKind::bspline3, Integrator::usl, 24);
+  });
 }
 
 /// Run a 1-D bar until it fails and return the failure message (empty if it did not fail).
@@ -147,7 +152,8 @@ SimulationSpec<1> bar_spec() {
 TEST(Integrators, InvertedMaterialStopsTheRunNamingStepParticleAndCause) {
   ParticleSet<1> p;
   // A velocity field converging at 2000/s with dt = 1e-3 gives F = 1 - 2 = -1 after one step.
-  fill_box<1>(p, Vec<1>(0.3), Vec<1>(0.7), 0.05, 1, 0, [](const Vec<1>& X) { return Vec<1>(-2000 * (X[0] - 0.5)); });
+  fill_box<1>(p, Vec<1>(0.3), Vec<1>(0.7), 0.05, 1, 0,
+              [](const Vec<1>& X) { return Vec<1>(-2000 * (X[0] - 0.5)); });
   const std::string msg = failure_of(bar_spec(), p, 5);
   EXPECT_NE(msg.find("step 1,"), std::string::npos) << msg;
   EXPECT_NE(msg.find("particle "), std::string::npos) << msg;
@@ -181,7 +187,8 @@ TEST(Integrators, CflTimeStepUsesDilatationalWaveSpeedPlusParticleSpeed) {
   spec.cfl = 0.5;
   spec.materials = {NeoHookean::from_young_poisson(400, 0.0, 1)};  // c = sqrt(E/rho) = 20 m/s at J = 1
   ParticleSet<1> p;
-  fill_box<1>(p, Vec<1>(0.3), Vec<1>(0.7), 0.05, 1, 0, [](const Vec<1>& X) { return Vec<1>(X[0] > 0.6 ? 5.0 : 1.0); });
+  fill_box<1>(p, Vec<1>(0.3), Vec<1>(0.7), 0.05, 1, 0,
+              [](const Vec<1>& X) { return Vec<1>(X[0] > 0.6 ? 5.0 : 1.0); });
   Simulation<1, LinearKernel> sim(spec, p);
   // dt = CFL h / max_p (c_p + |v_p|) = 0.5 * 0.1 / (20 + 5), exact up to one rounding per operation.
   EXPECT_NEAR(sim.next_dt(), 0.5 * 0.1 / 25.0, 1e-15);
@@ -208,11 +215,13 @@ TEST(Integrators, BadInputIsRejectedBeforeTheRunWithTheKeyNamed) {
   spec = bar_spec();
   ParticleSet<1> outside = p;
   outside.x[2][0] = 1.5;
-  EXPECT_NE(message([&] { Simulation<1, LinearKernel>(spec, outside); }).find("particle 2 at (1.5) lies outside"),
-            std::string::npos);
+  EXPECT_NE(
+      message([&] { Simulation<1, LinearKernel>(spec, outside); }).find("particle 2 at (1.5) lies outside"),
+      std::string::npos);
   EXPECT_NE(message([] { parse_kernel("quadratic"); }).find("expected one of linear, ugimp, cpgimp"),
             std::string::npos);
-  EXPECT_NE(message([] { parse_integrator("rk4"); }).find("integrator: unknown name 'rk4'"), std::string::npos);
+  EXPECT_NE(message([] { parse_integrator("rk4"); }).find("integrator: unknown name 'rk4'"),
+            std::string::npos);
 }
 
 }  // namespace

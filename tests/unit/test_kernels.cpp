@@ -1,10 +1,11 @@
 // One-dimensional shape-function policies (mpm/shape/kernels.hpp) and their tensor products (stencil.hpp).
 //
 // Every kernel is checked for partition of unity, zero gradient sum, linear reproduction, non-negativity and
-// continuity across the positions where its base node changes. GIMP is checked against the defining convolution
-// (Wallstedt & Guilkey 2008, Eq. 1 with Eqs 2 and 4) and its gradient against a central difference; the B-splines
-// against their closed forms; and the limits of Steffen et al. 2008, Sec. 4.1 (l_p -> 0 gives the linear hat,
-// l_p = h/2 gives the quadratic B-spline). All positions are in grid units (h = 1) unless stated otherwise.
+// continuity across the positions where its base node changes. GIMP is checked against the defining
+// convolution (Wallstedt & Guilkey 2008, Eq. 1 with Eqs 2 and 4) and its gradient against a central
+// difference; the B-splines against their closed forms; and the limits of Steffen et al. 2008, Sec. 4.1 (l_p
+// -> 0 gives the linear hat, l_p = h/2 gives the quadratic B-spline). All positions are in grid units (h = 1)
+// unless stated otherwise.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -55,8 +56,8 @@ std::array<Real, 2> node_weight(Real xi, Real half_length, int node) {
   return {s.w[k], s.dw[k]};
 }
 
-// The half-lengths to test a kernel with. Non-GIMP kernels ignore the argument: a NaN would poison their weights
-// if it were read.
+// The half-lengths to test a kernel with. Non-GIMP kernels ignore the argument: a NaN would poison their
+// weights if it were read.
 template <class Kernel>
 std::vector<Real> half_lengths_for() {
   if constexpr (std::is_same_v<Kernel, mpm::GimpKernel>)
@@ -85,12 +86,14 @@ std::vector<Real> sample_positions() {
 }
 
 // Linear hat of Wallstedt & Guilkey 2008, Eq. (2), at signed distance r (grid units).
-Real hat(Real r) { return std::max<Real>(0, 1 - std::abs(r)); }
+Real hat(Real r) {
+  return std::max<Real>(0, 1 - std::abs(r));
+}
 
 // Wallstedt & Guilkey 2008, Eq. (1) with the top-hat of Eq. (4) normalised by V_p = 2 l_p:
 //   S_i(x_p) = (1/(2 l_p)) * integral_{x_p-l_p}^{x_p+l_p} S_i(x) dx,   r = x_p - x_i.
-// The integrand is linear between its kinks {-1, 0, 1}, so the trapezoid rule on each piece is exact and the only
-// error is round-off.
+// The integrand is linear between its kinks {-1, 0, 1}, so the trapezoid rule on each piece is exact and the
+// only error is round-off.
 Real hat_average(Real r, Real l) {
   const Real b = r + l;
   Real u = r - l, integral = 0;
@@ -109,8 +112,8 @@ Real hat_average(Real r, Real l) {
 template <class Kernel>
 class KernelTest : public ::testing::Test {};
 
-using Kernels =
-    ::testing::Types<mpm::LinearKernel, mpm::GimpKernel, mpm::QuadraticBSplineKernel, mpm::CubicBSplineKernel>;
+using Kernels = ::testing::Types<mpm::LinearKernel, mpm::GimpKernel, mpm::QuadraticBSplineKernel,
+                                 mpm::CubicBSplineKernel>;
 
 struct KernelName {
   template <class Kernel>
@@ -200,11 +203,12 @@ TEST_P(GimpHalfLength, closed_form_equals_convolution_of_hat_and_top_hat) {
     SCOPED_TRACE(::testing::Message() << "xi = " << xi);
     const Weights<mpm::GimpKernel> s = evaluate<mpm::GimpKernel>(xi, l);
     for (int k = 0; k < mpm::GimpKernel::width; ++k)
-      EXPECT_NEAR(s.w[k], hat_average(xi - (s.base + k), l), tol) << "node " << s.base + k;  // Eq. (5) vs Eq. (1)
+      EXPECT_NEAR(s.w[k], hat_average(xi - (s.base + k), l), tol)
+          << "node " << s.base + k;  // Eq. (5) vs Eq. (1)
     // The stencil holds the whole support |x_p - x_i| < h + l_p: the neighbours just outside it get nothing.
-    // (Not exactly: within an ulp of a half-node, xi - 1/2 rounds onto the integer and the base node moves one
-    // node early, dropping a node whose exact weight is O(eps^2), e.g. 2.5e-32 at xi = -1.5 - ulp; that is far
-    // below round-off, so the same tolerance applies.)
+    // (Not exactly: within an ulp of a half-node, xi - 1/2 rounds onto the integer and the base node moves
+    // one node early, dropping a node whose exact weight is O(eps^2), e.g. 2.5e-32 at xi = -1.5 - ulp; that
+    // is far below round-off, so the same tolerance applies.)
     EXPECT_NEAR(hat_average(xi - (s.base - 1), l), 0.0, tol);
     EXPECT_NEAR(hat_average(xi - (s.base + mpm::GimpKernel::width), l), 0.0, tol);
   }
@@ -212,10 +216,10 @@ TEST_P(GimpHalfLength, closed_form_equals_convolution_of_hat_and_top_hat) {
 
 TEST_P(GimpHalfLength, gradient_equals_central_difference_of_weight) {
   const Real l = GetParam();
-  // Step e = 2^-14. The central-difference error is e^2/6 S''' + O(e^4), and S''' = 0 on each quadratic piece of
-  // Eq. (5), so away from the branch points only round-off remains: ~(4 eps + 2 ulp(xi)) / (2 e) ~ 2e-11,
-  // hence 1e-9. Within e of a branch point the C^1 weight has a jump in S'' of at most 3/(2 l_p) (at l_p = 1/2
-  // two branch points merge), bounding the error by 3 e / (8 l_p).
+  // Step e = 2^-14. The central-difference error is e^2/6 S''' + O(e^4), and S''' = 0 on each quadratic piece
+  // of Eq. (5), so away from the branch points only round-off remains: ~(4 eps + 2 ulp(xi)) / (2 e) ~ 2e-11,
+  // hence 1e-9. Within e of a branch point the C^1 weight has a jump in S'' of at most 3/(2 l_p) (at l_p =
+  // 1/2 two branch points merge), bounding the error by 3 e / (8 l_p).
   const Real e = std::ldexp(1.0, -14);
   const std::array<Real, 6> branch_points = {-1 - l, -1 + l, -l, l, 1 - l, 1 + l};  // Eqs (5)-(6)
   for (Real xi : sample_positions()) {
@@ -228,7 +232,8 @@ TEST_P(GimpHalfLength, gradient_equals_central_difference_of_weight) {
       for (Real b : branch_points) near_branch = near_branch || std::abs(r - b) < e;
       const Real tol = 1e-9 + (near_branch ? 3 * e / (8 * l) : 0);
       const Real central = (node_weight<mpm::GimpKernel>(xi + e, l, node)[0] -
-                            node_weight<mpm::GimpKernel>(xi - e, l, node)[0]) / (2 * e);
+                            node_weight<mpm::GimpKernel>(xi - e, l, node)[0]) /
+                           (2 * e);
       EXPECT_NEAR(s.dw[k], central, tol) << "node " << node;  // Eq. (6)
     }
   }
@@ -238,8 +243,8 @@ TEST_P(GimpHalfLength, gradient_equals_central_difference_of_weight) {
 // The limits of Steffen et al. 2008, Sec. 4.1.
 
 TEST(gimp_limits, vanishing_half_length_gives_linear_hat) {
-  // Smoothing the hat (slope jumps 2 at its peak, 1 at its feet) with a top-hat of half-length l_p changes it by
-  // at most l_p/2, attained at the nodes (1 - l_p/2 in Eq. 5); the rest is a few ulps of round-off.
+  // Smoothing the hat (slope jumps 2 at its peak, 1 at its feet) with a top-hat of half-length l_p changes it
+  // by at most l_p/2, attained at the nodes (1 - l_p/2 in Eq. 5); the rest is a few ulps of round-off.
   for (Real l : {1e-3, 1e-5, 1e-7}) {
     SCOPED_TRACE(::testing::Message() << "l_p/h = " << l);
     Real max_diff = 0;
@@ -271,8 +276,8 @@ TEST(gimp_limits, half_length_of_half_a_cell_gives_quadratic_bspline) {
 }
 
 // ---------------------------------------------------------------------------------------------------------------
-// B-splines against their closed forms (uniform B-splines built by repeated convolution of the cell-wide top-hat,
-// Steffen et al. 2008, Eq. 19), q = |x_p - x_i| / h.
+// B-splines against their closed forms (uniform B-splines built by repeated convolution of the cell-wide
+// top-hat, Steffen et al. 2008, Eq. 19), q = |x_p - x_i| / h.
 
 // Value and derivative with respect to r = x_p - x_i of the closed form N(q), given N(q) and dN/dq.
 template <class Closed>
@@ -307,13 +312,18 @@ void expect_closed_form(Closed closed) {
   }
 }
 
-TEST(bspline, quadratic_matches_closed_form) { expect_closed_form<mpm::QuadraticBSplineKernel>(quadratic_closed_form); }
+TEST(bspline, quadratic_matches_closed_form) {
+  expect_closed_form<mpm::QuadraticBSplineKernel>(quadratic_closed_form);
+}
 
-TEST(bspline, cubic_matches_closed_form) { expect_closed_form<mpm::CubicBSplineKernel>(cubic_closed_form); }
+TEST(bspline, cubic_matches_closed_form) {
+  expect_closed_form<mpm::CubicBSplineKernel>(cubic_closed_form);
+}
 
 TEST(bspline, quadratic_is_hat_convolved_with_cell_wide_top_hat) {
-  // Steffen et al. 2008, Sec. 4.1: the quadratic B-spline is the linear hat convolved with a top-hat of width h
-  // (half-width h/2). Exact piecewise integration: round-off only, as for GIMP with l_p = 1/2 (8 eps (1 + 2)).
+  // Steffen et al. 2008, Sec. 4.1: the quadratic B-spline is the linear hat convolved with a top-hat of width
+  // h (half-width h/2). Exact piecewise integration: round-off only, as for GIMP with l_p = 1/2 (8 eps (1 +
+  // 2)).
   for (Real xi : sample_positions()) {
     SCOPED_TRACE(::testing::Message() << "xi = " << xi);
     const Weights<mpm::QuadraticBSplineKernel> s = evaluate<mpm::QuadraticBSplineKernel>(xi, 0.5);
@@ -381,8 +391,12 @@ void expect_tensor_product_properties() {
   }
 }
 
-TYPED_TEST(KernelTest, tensor_product_2d) { expect_tensor_product_properties<2, TypeParam>(); }
+TYPED_TEST(KernelTest, tensor_product_2d) {
+  expect_tensor_product_properties<2, TypeParam>();
+}
 
-TYPED_TEST(KernelTest, tensor_product_3d) { expect_tensor_product_properties<3, TypeParam>(); }
+TYPED_TEST(KernelTest, tensor_product_3d) {
+  expect_tensor_product_properties<3, TypeParam>();
+}
 
 }  // namespace

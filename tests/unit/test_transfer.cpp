@@ -1,8 +1,9 @@
-// Particle-to-grid and grid-to-particle transfers (mpm/transfer/p2g.hpp, g2p.hpp) through the real stencils and
-// scatter order, for every kernel in 1-D, 2-D and 3-D:
+// Particle-to-grid and grid-to-particle transfers (mpm/transfer/p2g.hpp, g2p.hpp) through the real stencils
+// and scatter order, for every kernel in 1-D, 2-D and 3-D:
 //   * P2G conserves mass and momentum: sum_i m_i = sum_p m_p and sum_i p_i = sum_p m_p v_p
 //     (Wallstedt & Guilkey 2008, Eqs 8-9, by the partition of unity of the shape functions);
-//   * G2P of a linear nodal velocity field v_i = v0 + L x_i gives every particle the displacement dt v(x_p) and
+//   * G2P of a linear nodal velocity field v_i = v0 + L x_i gives every particle the displacement dt v(x_p)
+//   and
 //     the deformation gradient F = (I + dt L) F_old (Eqs 10-11 and 17, by linear reproduction).
 #include <gtest/gtest.h>
 
@@ -39,11 +40,12 @@ struct Case {
   static constexpr int dim = D;
 };
 
-using Cases = ::testing::Types<Case<mpm::LinearKernel, 1>, Case<mpm::LinearKernel, 2>, Case<mpm::LinearKernel, 3>,
-                               Case<mpm::GimpKernel, 1>, Case<mpm::GimpKernel, 2>, Case<mpm::GimpKernel, 3>,
-                               Case<mpm::QuadraticBSplineKernel, 1>, Case<mpm::QuadraticBSplineKernel, 2>,
-                               Case<mpm::QuadraticBSplineKernel, 3>, Case<mpm::CubicBSplineKernel, 1>,
-                               Case<mpm::CubicBSplineKernel, 2>, Case<mpm::CubicBSplineKernel, 3>>;
+using Cases =
+    ::testing::Types<Case<mpm::LinearKernel, 1>, Case<mpm::LinearKernel, 2>, Case<mpm::LinearKernel, 3>,
+                     Case<mpm::GimpKernel, 1>, Case<mpm::GimpKernel, 2>, Case<mpm::GimpKernel, 3>,
+                     Case<mpm::QuadraticBSplineKernel, 1>, Case<mpm::QuadraticBSplineKernel, 2>,
+                     Case<mpm::QuadraticBSplineKernel, 3>, Case<mpm::CubicBSplineKernel, 1>,
+                     Case<mpm::CubicBSplineKernel, 2>, Case<mpm::CubicBSplineKernel, 3>>;
 
 struct CaseName {
   template <class C>
@@ -174,9 +176,9 @@ TYPED_TEST(TransferTest, g2p_reproduces_linear_velocity_field_and_its_gradient) 
   }
   int nodes = 1;
   for (int d = 0; d < Dim; ++d) nodes *= Kernel::width;
-  // Round-off bounds. Positions are stored in double (a few ulps of |x|) and the gathered velocity sums `nodes`
-  // terms of size <= v_max. The velocity gradient sums `nodes` terms of size <= v_max / h that cancel down to L,
-  // so its round-off is ~ nodes * eps * v_max / h; F adds a few ulps of |F_old|.
+  // Round-off bounds. Positions are stored in double (a few ulps of |x|) and the gathered velocity sums
+  // `nodes` terms of size <= v_max. The velocity gradient sums `nodes` terms of size <= v_max / h that cancel
+  // down to L, so its round-off is ~ nodes * eps * v_max / h; F adds a few ulps of |F_old|.
   const Real tol_x = 4 * kEps * x_max + dt * 2 * nodes * kEps * v_max;
   const Real tol_F = 8 * kEps + dt * 2 * nodes * kEps * v_max / geo.h;
 
@@ -198,8 +200,8 @@ TYPED_TEST(TransferTest, g2p_reproduces_linear_velocity_field_and_its_gradient) 
 
     for (std::size_t i = 0; i < p.size(); ++i) {
       SCOPED_TRACE(::testing::Message() << "particle " << i << " at " << before.x[i].transpose());
-      const Vec<Dim> x_expected = before.x[i] + dt * (v0 + L * before.x[i]);               // Eq. (17)
-      const Mat<Dim> F_expected = (Mat<Dim>::Identity() + dt * L) * before.F[i];           // Eq. (11)
+      const Vec<Dim> x_expected = before.x[i] + dt * (v0 + L * before.x[i]);      // Eq. (17)
+      const Mat<Dim> F_expected = (Mat<Dim>::Identity() + dt * L) * before.F[i];  // Eq. (11)
       for (int a = 0; a < Dim; ++a) {
         EXPECT_NEAR(p.x[i][a], x_expected[a], tol_x);
         EXPECT_EQ(p.v[i][a], before.v[i][a]);  // velocity not gathered: untouched bit for bit

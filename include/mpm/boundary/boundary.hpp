@@ -65,8 +65,8 @@ class KinematicConstraints {
  private:
   struct Group {
     std::vector<std::int32_t> nodes;
-    int component;              ///< constrained component, or -1 for all
-    VelocityFn<Dim> velocity;   ///< empty: zero
+    int component;             ///< constrained component, or -1 for all
+    VelocityFn<Dim> velocity;  ///< empty: zero
   };
   struct Mirror {
     int axis;

@@ -8,7 +8,8 @@
 namespace mpm {
 
 /// Run fn(i) for i in [0, n) on all threads; loops shorter than `min_parallel` run on the calling thread
-/// (starting threads costs more than small loops gain). Bodies must not depend on which thread runs which index.
+/// (starting threads costs more than small loops gain). Bodies must not depend on which thread runs which
+/// index.
 template <class Fn>
 void parallel_for(std::ptrdiff_t n, Fn&& fn, std::ptrdiff_t min_parallel = 1024) {
 #pragma omp parallel for schedule(static) if (n >= min_parallel)

@@ -22,7 +22,7 @@ using IVec = std::array<int, Dim>;
 
 /// Number of independent components of a symmetric Dim x Dim tensor.
 template <int Dim>
-inline constexpr int sym_size = Dim * (Dim + 1) / 2;
+inline constexpr int sym_size = Dim*(Dim + 1) / 2;
 
 /// A symmetric tensor stored by its independent components: xx, yy, zz, then xy, xz, yz (2-D: xx, yy, xy).
 template <int Dim>

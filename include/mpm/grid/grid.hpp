@@ -64,12 +64,13 @@ struct GridGeometry {
 
 /// The fields of one node in one time step. Kept together (one 64-byte line in 2-D) because every stage
 /// touches several of them at once: P2G accumulates m, v and a; the grid update reads and writes all; G2P
-/// gathers a and v_new. Measured against separate arrays per field, P2G ran 15-25% faster (docs/performance.md).
+/// gathers a and v_new. Measured against separate arrays per field, P2G ran 15-25% faster
+/// (docs/performance.md).
 template <int Dim>
 struct GridNode {
-  Real m = 0;                     ///< nodal mass m_i [kg]
-  Vec<Dim> v = Vec<Dim>::Zero();  ///< momentum during P2G, then velocity v_i^n [m/s]
-  Vec<Dim> a = Vec<Dim>::Zero();  ///< force f_i during P2G, then acceleration a_i [m/s^2]
+  Real m = 0;                         ///< nodal mass m_i [kg]
+  Vec<Dim> v = Vec<Dim>::Zero();      ///< momentum during P2G, then velocity v_i^n [m/s]
+  Vec<Dim> a = Vec<Dim>::Zero();      ///< force f_i during P2G, then acceleration a_i [m/s^2]
   Vec<Dim> v_new = Vec<Dim>::Zero();  ///< time-advanced velocity v_i^* [m/s]
 };
 

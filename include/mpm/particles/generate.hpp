@@ -11,7 +11,8 @@ namespace mpm {
 
 /// Fill the box [lo, hi] with particles on a lattice of the given spacing, one at the centre of each
 /// spacing-sized sub-cell, keeping those whose centre satisfies `inside` (all when empty). Each particle gets
-/// volume spacing^Dim, half-length spacing/2, mass density * volume and velocity `velocity(X)` (zero when empty).
+/// volume spacing^Dim, half-length spacing/2, mass density * volume and velocity `velocity(X)` (zero when
+/// empty).
 template <int Dim>
 void fill_box(ParticleSet<Dim>& p, const Vec<Dim>& lo, const Vec<Dim>& hi, Real spacing, Real density,
               std::uint16_t material, const std::function<Vec<Dim>(const Vec<Dim>&)>& velocity = {},
@@ -20,7 +21,8 @@ void fill_box(ParticleSet<Dim>& p, const Vec<Dim>& lo, const Vec<Dim>& hi, Real 
   IVec<Dim> n;
   std::int64_t total = 1;
   for (int d = 0; d < Dim; ++d) {
-    if (!(hi[d] > lo[d])) throw InputError("particle box: upper corner must exceed lower corner on every axis");
+    if (!(hi[d] > lo[d]))
+      throw InputError("particle box: upper corner must exceed lower corner on every axis");
     n[d] = static_cast<int>(std::floor((hi[d] - lo[d]) / spacing + 1e-9));
     total *= n[d];
   }

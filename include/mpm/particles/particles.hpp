@@ -11,17 +11,17 @@ namespace mpm {
 /// One array per particle field. Positions and stresses are in the current configuration.
 template <int Dim>
 struct ParticleSet {
-  std::vector<Vec<Dim>> x;               ///< current position x_p [m]
-  std::vector<Vec<Dim>> X;               ///< reference position X_p [m]
-  std::vector<Vec<Dim>> v;               ///< velocity v_p [m/s]
-  std::vector<Mat<Dim>> F;               ///< deformation gradient F_p
-  std::vector<Real> m;                   ///< mass m_p [kg]
-  std::vector<Real> V0;                  ///< reference volume V_p^0 [m^Dim]
-  std::vector<Real> V;                   ///< current volume V_p = V_p^0 det F_p [m^Dim]
-  std::vector<Vec<Dim>> l0;              ///< reference GIMP half-lengths l_p^0 [m]
-  std::vector<Vec<Dim>> l;               ///< current GIMP half-lengths l_p [m]
-  std::vector<SymTensor<Dim>> sigma;     ///< Cauchy stress [Pa]
-  std::vector<std::uint16_t> material;   ///< index into the material table
+  std::vector<Vec<Dim>> x;              ///< current position x_p [m]
+  std::vector<Vec<Dim>> X;              ///< reference position X_p [m]
+  std::vector<Vec<Dim>> v;              ///< velocity v_p [m/s]
+  std::vector<Mat<Dim>> F;              ///< deformation gradient F_p
+  std::vector<Real> m;                  ///< mass m_p [kg]
+  std::vector<Real> V0;                 ///< reference volume V_p^0 [m^Dim]
+  std::vector<Real> V;                  ///< current volume V_p = V_p^0 det F_p [m^Dim]
+  std::vector<Vec<Dim>> l0;             ///< reference GIMP half-lengths l_p^0 [m]
+  std::vector<Vec<Dim>> l;              ///< current GIMP half-lengths l_p [m]
+  std::vector<SymTensor<Dim>> sigma;    ///< Cauchy stress [Pa]
+  std::vector<std::uint16_t> material;  ///< index into the material table
 
   std::size_t size() const { return x.size(); }
 

@@ -1,8 +1,8 @@
 #pragma once
 /// One-dimensional shape-function policies. Each gives its stencil width, the ghost layers it needs, what a
 /// stencil keeps per axis (`Axis`: as little as reproduces the weights cheaply), `locate` (base node and
-/// Axis data of a position) and `evaluate` (weights and gradients of the `width` consecutive nodes starting at
-/// the base). Positions are in grid units (xi = (x - lo)/h), gradients per grid unit; multi-D weights are
+/// Axis data of a position) and `evaluate` (weights and gradients of the `width` consecutive nodes starting
+/// at the base). Positions are in grid units (xi = (x - lo)/h), gradients per grid unit; multi-D weights are
 /// tensor products.
 #include <algorithm>
 #include <cmath>

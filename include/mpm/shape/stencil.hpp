@@ -17,8 +17,8 @@ namespace mpm {
 
 template <int Dim, class Kernel>
 struct Stencil {
-  std::int32_t node;                           ///< flat index of the base node
-  std::int32_t layer;                          ///< storage index of the base node along the slowest axis
+  std::int32_t node;                            ///< flat index of the base node
+  std::int32_t layer;                           ///< storage index of the base node along the slowest axis
   std::array<typename Kernel::Axis, Dim> axis;  ///< per-axis data the kernel evaluates weights from
 };
 
@@ -68,7 +68,8 @@ bool build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g,
   return changed.load();
 }
 
-/// Visit every node of the tensor-product stencil: fn(flat node index, weight S_ip, gradient grad S_ip [1/m]).
+/// Visit every node of the tensor-product stencil: fn(flat node index, weight S_ip, gradient grad S_ip
+/// [1/m]).
 template <int Dim, class Kernel, class Fn>
 inline void for_each_node(const Stencil<Dim, Kernel>& s, const NodeLayout<Dim>& nl, Fn&& fn) {
   constexpr int N = Kernel::width;

@@ -22,7 +22,8 @@ struct Gather {
   bool deformation;  ///< grad v_p = sum_i v_i grad S_ip, F, V, sigma     (Eqs 10-13 / 19)
 };
 
-/// How GIMP half-lengths evolve: fixed (uGIMP) or l_p = l_p^0 diag(F_p) (cpGIMP, Wallstedt & Guilkey 2008, Eq. 63).
+/// How GIMP half-lengths evolve: fixed (uGIMP) or l_p = l_p^0 diag(F_p) (cpGIMP, Wallstedt & Guilkey 2008,
+/// Eq. 63).
 enum class SizeUpdate { fixed, deformed };
 
 /// The first particle (lowest index) that failed in a pass, if any.
@@ -36,8 +37,8 @@ struct ParticleFault {
 /// gradients (&GridNode::v_new, or &GridNode::v after a re-projection).
 /// Returns the lowest-index particle whose new state is non-finite, has J <= 0 or left the grid.
 template <Gather what, int Dim, class Kernel>
-ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<Dim>& grid,
-                  NodeVelocity<Dim> v_grid, Real dt,
+ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils,
+                  const Grid<Dim>& grid, NodeVelocity<Dim> v_grid, Real dt,
                   const std::vector<NeoHookean>& materials, SizeUpdate sizes) {
   const NodeLayout<Dim> layout(grid.geometry);
   const GridGeometry<Dim>& geo = grid.geometry;
@@ -59,7 +60,8 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
       ok = geo.contains(p.x[i]) && p.v[i].allFinite();
     }
     if constexpr (what.deformation) {
-      // Wallstedt & Guilkey 2008, Eqs (11)-(13): F^{n+1} = (I + grad v dt) F^n, V = V^0 det F, sigma = sigma(F).
+      // Wallstedt & Guilkey 2008, Eqs (11)-(13): F^{n+1} = (I + grad v dt) F^n, V = V^0 det F, sigma =
+      // sigma(F).
       const Mat<Dim> F = (Mat<Dim>::Identity() + dt * grad_v) * p.F[i];
       const Real J = F.determinant();
       p.F[i] = F;

@@ -17,11 +17,11 @@ struct Scatter {
 };
 
 /// Scatter particle data to the grid. Mass and momentum: Wallstedt & Guilkey 2008, Eqs (8)-(9) (the
-/// division by m_i happens in grid_velocity). Force: internal force Eq. (14), f_i = -sum_p grad S_ip . sigma_p V_p,
-/// plus the body force sum_p S_ip m_p b_p when per-particle body accelerations b are given.
+/// division by m_i happens in grid_velocity). Force: internal force Eq. (14), f_i = -sum_p grad S_ip .
+/// sigma_p V_p, plus the body force sum_p S_ip m_p b_p when per-particle body accelerations b are given.
 template <Scatter what, int Dim, class Kernel>
-void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils, const ScatterOrder& order,
-         const std::vector<Vec<Dim>>& body_accel, Grid<Dim>& grid) {
+void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils,
+         const ScatterOrder& order, const std::vector<Vec<Dim>>& body_accel, Grid<Dim>& grid) {
   const NodeLayout<Dim> layout(grid.geometry);
   parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) {
     GridNode<Dim>& node = grid.nodes[n];
