@@ -5,12 +5,13 @@
 #include "mpm/integrators/simulation.hpp"
 #include "mpm/verification/axis_aligned.hpp"
 #include "mpm/verification/bar_1d.hpp"
+#include "mpm/verification/expanding_ring.hpp"
 #include "mpm/verification/study.hpp"
 
 namespace mpm {
 
 namespace {
-constexpr std::array<std::string_view, 2> case_names{"axis-aligned", "bar-1d"};
+constexpr std::array<std::string_view, 3> case_names{"axis-aligned", "bar-1d", "expanding-ring"};
 
 template <int Dim, class Exact>
 ParticleTable table_of(const ParticleSet<Dim>& p, const Exact& exact, Real t) {
@@ -86,7 +87,8 @@ VerifyResult run_case(const Exact& exact, const VerifyOptions& o, ParticleTable*
 VerifyCase parse_case(std::string_view name) {
   for (std::size_t k = 0; k < case_names.size(); ++k)
     if (name == case_names[k]) return static_cast<VerifyCase>(k);
-  throw InputError("case: unknown case '" + std::string(name) + "' (expected axis-aligned or bar-1d)");
+  throw InputError("case: unknown case '" + std::string(name) +
+                   "' (expected axis-aligned, bar-1d or expanding-ring)");
 }
 
 std::string_view to_string(VerifyCase c) {
@@ -110,6 +112,9 @@ VerifyResult verify(VerifyCase c, const VerifyOptions& o, ParticleTable* final_s
   switch (c) {
     case VerifyCase::bar_1d:
       return run_case(Bar1D{o.amplitude, NeoHookean::from_young_poisson(1e7, 0.0, 1000)}, o, final_state);
+    case VerifyCase::expanding_ring:
+      return run_case(ExpandingRing{o.amplitude, NeoHookean::from_young_poisson(1e7, 0.0, 1000)}, o,
+                      final_state);
     case VerifyCase::axis_aligned:
       break;
   }

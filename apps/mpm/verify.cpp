@@ -27,7 +27,7 @@ struct CaseOptions {
   bool json = false;
 
   void add_to(CLI::App* cmd) {
-    cmd->add_option("case", case_name, "axis-aligned or bar-1d")->required();
+    cmd->add_option("case", case_name, "axis-aligned, bar-1d or expanding-ring")->required();
     cmd->add_option("--kernel", kernel, "linear, ugimp, cpgimp, bspline2 or bspline3");
     cmd->add_option("--integrator", integrator, "usf, usl, cd or musl");
     cmd->add_option("--cells", options.cells, "cells per axis across the body");

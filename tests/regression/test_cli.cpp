@@ -64,7 +64,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadArgument{"verify axis-aligned --cfl 0", "--cfl: expected a number in (0, 1]"},
         BadArgument{"verify axis-aligned --cfl 1.5", "--cfl: expected a number in (0, 1]"},
         BadArgument{"verify axis-aligned --cells many", "--cells"},
-        BadArgument{"verify ring", "case: unknown case 'ring' (expected axis-aligned or bar-1d)"},
+        BadArgument{"verify ring",
+                    "case: unknown case 'ring' (expected axis-aligned, bar-1d or expanding-ring)"},
         BadArgument{"verify axis-aligned --amplitude 0.5", "--amplitude"},
         BadArgument{"verify bar-1d --amplitude 0.2", "--amplitude: expected A < 0.159"}));
 

@@ -11,8 +11,9 @@ namespace mpm {
 
 /// The built-in manufactured solutions.
 enum class VerifyCase {
-  axis_aligned,  ///< 2-D axis-aligned displacement in the unit square (Wallstedt & Guilkey 2008, Sec. 5.1)
-  bar_1d,        ///< 1-D fixed-fixed bar, u = A sin(2 pi X/L) cos(c pi t/L)
+  axis_aligned,    ///< 2-D axis-aligned displacement in the unit square (Wallstedt & Guilkey 2008, Sec. 5.1)
+  bar_1d,          ///< 1-D fixed-fixed bar, u = A sin(2 pi X/L) cos(c pi t/L)
+  expanding_ring,  ///< 2-D expanding ring (Wallstedt & Guilkey 2008, Sec. 5.2), quarter model
 };
 VerifyCase parse_case(std::string_view name);  ///< throws InputError naming the expected cases
 std::string_view to_string(VerifyCase c);
@@ -43,8 +44,8 @@ struct ParticleTable {
   std::vector<std::vector<Real>> rows;
 };
 
-/// Run a case from its exact state at t = 0 (E = 1e7 Pa, nu = 0.3 for axis-aligned and 0 for the bar,
-/// rho0 = 1000 kg/m^3, symmetry planes where the displacement is odd), recording the error after every
+/// Run a case from its exact state at t = 0 (E = 1e7 Pa, nu = 0.3 for axis-aligned and 0 for the bar and
+/// ring, rho0 = 1000 kg/m^3, symmetry planes where the displacement is odd), recording the error after every
 /// step. When `final_state` is given it receives the particles at the end (also after a failure).
 VerifyResult verify(VerifyCase c, const VerifyOptions& o, ParticleTable* final_state = nullptr);
 
