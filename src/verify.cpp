@@ -95,8 +95,9 @@ std::string_view to_string(VerifyCase c) {
   return case_names[static_cast<std::size_t>(c)];
 }
 
-int dimension(VerifyCase c) {
-  return c == VerifyCase::bar_1d ? 1 : 2;
+int dimension(VerifyCase c, const VerifyOptions& o) {
+  if (c == VerifyCase::bar_1d) return 1;
+  return c == VerifyCase::axis_aligned && o.dim == 3 ? 3 : 2;
 }
 
 void validate(const VerifyOptions& o) {
@@ -109,6 +110,10 @@ void validate(const VerifyOptions& o) {
 
 VerifyResult verify(VerifyCase c, const VerifyOptions& o, ParticleTable* final_state) {
   validate(o);
+  if (o.dim != 0 && o.dim != dimension(c, o))
+    throw InputError("--dim: the " + std::string(to_string(c)) + " case is " +
+                     (c == VerifyCase::axis_aligned ? std::string("2-D or 3-D")
+                                                    : std::to_string(dimension(c, o)) + "-D only"));
   switch (c) {
     case VerifyCase::bar_1d:
       return run_case(Bar1D{o.amplitude, NeoHookean::from_young_poisson(1e7, 0.0, 1000)}, o, final_state);
@@ -118,7 +123,9 @@ VerifyResult verify(VerifyCase c, const VerifyOptions& o, ParticleTable* final_s
     case VerifyCase::axis_aligned:
       break;
   }
-  return run_case(AxisAligned{o.amplitude, NeoHookean::from_young_poisson(1e7, 0.3, 1000)}, o, final_state);
+  const NeoHookean steel_like = NeoHookean::from_young_poisson(1e7, 0.3, 1000);
+  if (o.dim == 3) return run_case(AxisAligned<3>{o.amplitude, steel_like}, o, final_state);
+  return run_case(AxisAligned<2>{o.amplitude, steel_like}, o, final_state);
 }
 
 }  // namespace mpm

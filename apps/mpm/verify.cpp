@@ -28,6 +28,7 @@ struct CaseOptions {
 
   void add_to(CLI::App* cmd) {
     cmd->add_option("case", case_name, "axis-aligned, bar-1d or expanding-ring")->required();
+    cmd->add_option("--dim", options.dim, "dimension (axis-aligned: 2 or 3)");
     cmd->add_option("--kernel", kernel, "linear, ugimp, cpgimp, bspline2 or bspline3");
     cmd->add_option("--integrator", integrator, "usf, usl, cd or musl");
     cmd->add_option("--cells", options.cells, "cells per axis across the body");
@@ -51,7 +52,7 @@ struct CaseOptions {
 
 nlohmann::json to_json(VerifyCase c, const VerifyOptions& o, const VerifyResult& r) {
   nlohmann::json j{{"case", to_string(c)},
-                   {"dim", dimension(c)},
+                   {"dim", dimension(c, o)},
                    {"kernel", to_string(o.kernel)},
                    {"integrator", to_string(o.integrator)},
                    {"cells", o.cells},

@@ -8,8 +8,9 @@
 namespace mpm {
 namespace {
 
-Real linf(KernelKind kernel, Integrator integrator, int cells) {
+Real linf(KernelKind kernel, Integrator integrator, int cells, int dim = 2) {
   VerifyOptions o;
+  o.dim = dim;
   o.kernel = kernel;
   o.integrator = integrator;
   o.cells = cells;
@@ -26,6 +27,16 @@ TEST(AxisAligned, CentredDifferenceCpGimpConvergesAtSecondOrderInSpace) {
   const Real e32 = linf(KernelKind::cpgimp, Integrator::cd, 32);
   EXPECT_GE(std::log2(e8 / e16), 1.7);
   EXPECT_GE(std::log2(e16 / e32), 1.7);
+}
+
+TEST(AxisAligned, ThreeDimensionalVersionConvergesAtSecondOrder) {
+  // The 3-D case (third component with its own phase) on 4, 8, 16 cells per axis. Measured L_inf = 9.07e-2,
+  // 2.39e-2, 6.05e-3 (orders 1.93, 1.98), the same behaviour as in 2-D.
+  const Real e4 = linf(KernelKind::cpgimp, Integrator::cd, 4, 3);
+  const Real e8 = linf(KernelKind::cpgimp, Integrator::cd, 8, 3);
+  const Real e16 = linf(KernelKind::cpgimp, Integrator::cd, 16, 3);
+  EXPECT_GE(std::log2(e4 / e8), 1.7);
+  EXPECT_GE(std::log2(e8 / e16), 1.7);
 }
 
 TEST(AxisAligned, InitialStateIsTheExactSolution) {

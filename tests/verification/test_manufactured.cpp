@@ -71,8 +71,13 @@ Vec<Dim> in_unit_box(std::mt19937& rng) {
 
 TEST(Manufactured, AxisAlignedBodyForceSatisfiesTheEquationOfMotion) {
   // Eq. (59) against a - Div P / rho0 from Eqs (56)-(57) and (54).
-  expect_body_force_matches<2>(AxisAligned{0.1, NeoHookean::from_young_poisson(1e7, 0.3, 1000)},
+  expect_body_force_matches<2>(AxisAligned<2>{0.1, NeoHookean::from_young_poisson(1e7, 0.3, 1000)},
                                in_unit_box<2>);
+}
+
+TEST(Manufactured, AxisAligned3DBodyForceSatisfiesTheEquationOfMotion) {
+  expect_body_force_matches<3>(AxisAligned<3>{0.1, NeoHookean::from_young_poisson(1e7, 0.3, 1000)},
+                               in_unit_box<3>);
 }
 
 TEST(Manufactured, BarBodyForceSatisfiesTheEquationOfMotion) {

@@ -17,9 +17,9 @@ enum class VerifyCase {
 };
 VerifyCase parse_case(std::string_view name);  ///< throws InputError naming the expected cases
 std::string_view to_string(VerifyCase c);
-int dimension(VerifyCase c);
 
 struct VerifyOptions {
+  int dim = 0;  ///< 0: the case's own (axis-aligned: 2, or 3 when asked)
   KernelKind kernel = KernelKind::cpgimp;
   Integrator integrator = Integrator::cd;
   int cells = 32;        ///< cells per axis across the body's reference extent
@@ -28,6 +28,9 @@ struct VerifyOptions {
   Real amplitude = 0.1;  ///< A of the manufactured displacement [m]
   Real end_time = 0;     ///< 0: one period of the motion
 };
+
+/// The dimension a case runs in with these options.
+int dimension(VerifyCase c, const VerifyOptions& o);
 
 struct VerifyResult {
   bool ok = true;
