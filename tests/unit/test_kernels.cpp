@@ -123,50 +123,51 @@ struct KernelName {
 };
 TYPED_TEST_SUITE(KernelTest, Kernels, KernelName);
 
-TYPED_TEST(KernelTest, partition_of_unity_and_zero_gradient_sum) {
-  using Kernel = TypeParam;
+/// Call fn(s) with the weights at every sample position and half-length, traced.
+template <class Kernel, class Fn>
+void for_each_sample(Fn&& fn) {
   for (Real l : half_lengths_for<Kernel>())
     for (Real xi : sample_positions()) {
       SCOPED_TRACE(::testing::Message() << "l_p/h = " << l << ", xi = " << xi);
-      const Weights<Kernel> s = evaluate<Kernel>(xi, l);
-      Real sum_w = 0, sum_dw = 0;
-      for (int k = 0; k < Kernel::width; ++k) {
-        sum_w += s.w[k];
-        sum_dw += s.dw[k];
-      }
-      EXPECT_NEAR(sum_w, 1.0, kSumTol);
-      EXPECT_NEAR(sum_dw, 0.0, kSumTol);
+      fn(evaluate<Kernel>(xi, l), xi);
     }
+}
+
+TYPED_TEST(KernelTest, partition_of_unity_and_zero_gradient_sum) {
+  using Kernel = TypeParam;
+  for_each_sample<Kernel>([&](const Weights<Kernel>& s, [[maybe_unused]] Real xi) {
+    Real sum_w = 0, sum_dw = 0;
+    for (int k = 0; k < Kernel::width; ++k) {
+      sum_w += s.w[k];
+      sum_dw += s.dw[k];
+    }
+    EXPECT_NEAR(sum_w, 1.0, kSumTol);
+    EXPECT_NEAR(sum_dw, 0.0, kSumTol);
+  });
 }
 
 TYPED_TEST(KernelTest, weights_are_non_negative) {
   using Kernel = TypeParam;
-  for (Real l : half_lengths_for<Kernel>())
-    for (Real xi : sample_positions()) {
-      SCOPED_TRACE(::testing::Message() << "l_p/h = " << l << ", xi = " << xi);
-      const Weights<Kernel> s = evaluate<Kernel>(xi, l);
-      // Exact: evaluated on its own interval (kernels.hpp: r = xi - base in [0, 1) or [0.5, 1.5)), every
-      // branch is a square or bounded away from zero.
-      for (int k = 0; k < Kernel::width; ++k) EXPECT_GE(s.w[k], 0.0) << "node " << s.base + k;
-    }
+  for_each_sample<Kernel>([&](const Weights<Kernel>& s, [[maybe_unused]] Real xi) {
+    // Exact: evaluated on its own interval (kernels.hpp: r = xi - base in [0, 1) or [0.5, 1.5)), every
+    // branch is a square or bounded away from zero.
+    for (int k = 0; k < Kernel::width; ++k) EXPECT_GE(s.w[k], 0.0) << "node " << s.base + k;
+  });
 }
 
 TYPED_TEST(KernelTest, reproduces_linear_functions) {
   using Kernel = TypeParam;
-  for (Real l : half_lengths_for<Kernel>())
-    for (Real xi : sample_positions()) {
-      SCOPED_TRACE(::testing::Message() << "l_p/h = " << l << ", xi = " << xi);
-      const Weights<Kernel> s = evaluate<Kernel>(xi, l);
-      Real x = 0, dx = 0;
-      for (int k = 0; k < Kernel::width; ++k) {
-        x += s.w[k] * (s.base + k);
-        dx += s.dw[k] * (s.base + k);
-      }
-      // Round-off of <= 4 products of node coordinates (|x_i| <= 7) with weights or gradients bounded by 1.
-      const Real tol = 8 * Kernel::width * kEps * (1 + std::abs(xi));
-      EXPECT_NEAR(x, xi, tol);
-      EXPECT_NEAR(dx, 1.0, tol);
+  for_each_sample<Kernel>([&](const Weights<Kernel>& s, [[maybe_unused]] Real xi) {
+    Real x = 0, dx = 0;
+    for (int k = 0; k < Kernel::width; ++k) {
+      x += s.w[k] * (s.base + k);
+      dx += s.dw[k] * (s.base + k);
     }
+    // Round-off of <= 4 products of node coordinates (|x_i| <= 7) with weights or gradients bounded by 1.
+    const Real tol = 8 * Kernel::width * kEps * (1 + std::abs(xi));
+    EXPECT_NEAR(x, xi, tol);
+    EXPECT_NEAR(dx, 1.0, tol);
+  });
 }
 
 TYPED_TEST(KernelTest, node_weights_are_continuous_where_the_base_node_switches) {

@@ -38,13 +38,6 @@ struct SymTensor {
   Real operator()(int a, int b) const { return c[index(a, b)]; }
   Real& operator()(int a, int b) { return c[index(a, b)]; }
 
-  /// The symmetric part of a full tensor.
-  static SymTensor from(const Mat<Dim>& m) {
-    SymTensor s;
-    for (int a = 0; a < Dim; ++a)
-      for (int b = a; b < Dim; ++b) s(a, b) = 0.5 * (m(a, b) + m(b, a));
-    return s;
-  }
   Mat<Dim> full() const {
     Mat<Dim> m;
     for (int a = 0; a < Dim; ++a)
