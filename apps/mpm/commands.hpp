@@ -10,5 +10,6 @@ using Action = std::function<int()>;
 Action add_bench(CLI::App& app);
 Action add_verify(CLI::App& app);
 Action add_converge(CLI::App& app);
+Action add_density(CLI::App& app);
 
 }  // namespace mpm::app

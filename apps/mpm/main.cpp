@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
   const mpm::app::Action bench = mpm::app::add_bench(app);
   const mpm::app::Action verify = mpm::app::add_verify(app);
   const mpm::app::Action converge = mpm::app::add_converge(app);
+  const mpm::app::Action density = mpm::app::add_density(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -25,6 +26,7 @@ int main(int argc, char** argv) {
       if (sub->get_name() == "bench") return bench();
       if (sub->get_name() == "verify") return verify();
       if (sub->get_name() == "converge") return converge();
+      if (sub->get_name() == "density-1d") return density();
     }
   } catch (const mpm::InputError& e) {
     std::cerr << "mpm: " << e.what() << '\n';
@@ -32,6 +34,9 @@ int main(int argc, char** argv) {
   } catch (const mpm::SimulationFailure& e) {
     std::cerr << "mpm: simulation failed: " << e.what() << '\n';
     return mpm::exit_simulation_failure;
+  } catch (const mpm::ToolError& e) {
+    std::cerr << "mpm: " << e.what() << '\n';
+    return mpm::exit_tool_error;
   }
   return 0;
 }

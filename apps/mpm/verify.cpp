@@ -13,6 +13,7 @@
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
 #include "mpm/verification/study.hpp"
+#include "python_tool.hpp"
 
 namespace mpm::app {
 
@@ -132,23 +133,122 @@ Action add_verify(CLI::App& app) {
   };
 }
 
+namespace {
+/// One kernel x integrator series of a convergence study.
+struct Series {
+  KernelKind kernel;
+  Integrator integrator;
+};
+
+/// `--series linear:musl,cpgimp:cd`: kernel:integrator pairs, each named like --kernel and --integrator.
+std::vector<Series> parse_series(const std::string& text) {
+  std::vector<Series> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    const std::size_t colon = item.find(':');
+    if (colon == std::string::npos)
+      throw InputError("--series: expected kernel:integrator pairs such as cpgimp:cd, got '" + item + "'");
+    out.push_back({parse_kernel(item.substr(0, colon), "--series"),
+                   parse_integrator(item.substr(colon + 1), "--series")});
+  }
+  if (out.empty()) throw InputError("--series: expected at least one kernel:integrator pair");
+  return out;
+}
+
+/// The error rows of one series along the sweep, each with the observed order against the previous point:
+/// log(e_prev / e) / log(h_prev / h) with h ~ 1/cells, or dt ~ cfl.
+nlohmann::json sweep(VerifyCase which, VerifyOptions o, bool vary_cells, const std::vector<double>& vals) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (std::size_t k = 0; k < vals.size(); ++k) {
+    if (vary_cells)
+      o.cells = static_cast<int>(vals[k]);
+    else
+      o.cfl = vals[k];
+    const VerifyResult r = verify(which, o);
+    nlohmann::json row = to_json(which, o, r);
+    if (k > 0) {
+      const Real ratio = vary_cells ? vals[k] / vals[k - 1] : vals[k - 1] / vals[k];
+      row["order"] = std::log(rows.back()["linf"].get<double>() / r.error.linf) / std::log(ratio);
+    }
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+void write_table_csv(const std::string& file, const nlohmann::json& rows, const std::string& vary) {
+  std::ofstream os(file);
+  if (!os) throw InputError("--csv: cannot write " + file);
+  os.precision(10);
+  os << "kernel,integrator," << vary << ",linf,l1,l2,order,status,steps\n";
+  for (const nlohmann::json& row : rows)
+    os << row["kernel"].get<std::string>() << ',' << row["integrator"].get<std::string>() << ',' << row[vary]
+       << ',' << row["linf"] << ',' << row["l1"] << ',' << row["l2"] << ','
+       << (row.contains("order") ? row["order"].dump() : "") << ',' << row["status"].get<std::string>() << ','
+       << row["steps"] << '\n';
+}
+
+void print_table(const nlohmann::json& rows, const std::string& vary) {
+  std::string current;
+  for (const nlohmann::json& row : rows) {
+    const std::string series = row["kernel"].get<std::string>() + " + " + row["integrator"].get<std::string>();
+    if (series != current) {
+      current = series;
+      std::cout << row["case"].get<std::string>() << ", " << series << ", varying " << vary << "\n"
+                << std::setw(10) << vary << std::setw(14) << "L_inf" << std::setw(14) << "L1" << std::setw(14)
+                << "L2" << std::setw(9) << "order" << "  status\n";
+    }
+    std::cout << std::setw(10) << row[vary].get<double>() << std::setw(14) << row["linf"].get<double>()
+              << std::setw(14) << row["l1"].get<double>() << std::setw(14) << row["l2"].get<double>()
+              << std::setw(9);
+    if (row.contains("order"))
+      std::cout << std::fixed << std::setprecision(2) << row["order"].get<double>() << std::defaultfloat
+                << std::setprecision(6);
+    else
+      std::cout << "";
+    std::cout << "  " << row["status"].get<std::string>() << '\n';
+  }
+}
+
+/// The log-log plot of every series, drawn by the embedded python/convergence.py.
+void plot(const std::string& png, const nlohmann::json& rows, const std::string& vary, const std::string& title) {
+  const std::filesystem::path data = std::filesystem::path(png).replace_extension(".plot.json");
+  {
+    std::ofstream os(data);
+    if (!os) throw InputError("--plot: cannot write next to " + png);
+    os << rows.dump();
+  }
+  run_python("convergence", {data.string(), png, vary, title}, "--plot");
+  std::filesystem::remove(data);
+}
+}  // namespace
+
 Action add_converge(CLI::App& app) {
   auto c = std::make_shared<CaseOptions>();
   auto vary = std::make_shared<std::string>();
   auto values = std::make_shared<std::string>();
+  auto series_text = std::make_shared<std::string>();
   auto csv = std::make_shared<std::string>();
+  auto png = std::make_shared<std::string>();
+  auto title = std::make_shared<std::string>();
   CLI::App* cmd = app.add_subcommand("converge", "error table and observed orders over cells or CFL");
   c->add_to(cmd);
   cmd->add_option("--vary", *vary, "cells or cfl")->required();
   cmd->add_option("--values", *values, "comma-separated values, e.g. 8,16,32")->required();
+  cmd->add_option("--series", *series_text,
+                  "several kernel:integrator series in one study, e.g. cpgimp:cd,linear:musl "
+                  "(replaces --kernel and --integrator)");
   cmd->add_option("--csv", *csv, "write the table to this CSV file");
-  return [c, vary, values, csv]() {
+  cmd->add_option("--plot", *png, "write a log-log plot of every series to this PNG file (needs python3-matplotlib)");
+  cmd->add_option("--title", *title, "title of the plot (default: the case and what varies)");
+  return [c, vary, values, series_text, csv, png, title]() {
     if (*vary != "cells" && *vary != "cfl")
       throw InputError("--vary: expected cells or cfl, got '" + *vary + "'");
+    const bool vary_cells = *vary == "cells";
     const std::vector<double> vals = parse_values(*values);
     for (double v : vals) {  // validate every point before running any
       VerifyOptions o = c->options;
-      if (*vary == "cells") {
+      if (vary_cells) {
         if (v != std::floor(v)) throw InputError("--values: cells must be whole numbers");
         o.cells = static_cast<int>(v);
       } else {
@@ -157,55 +257,26 @@ Action add_converge(CLI::App& app) {
       validate(o);
     }
     const VerifyCase which = c->resolve();
+    const std::vector<Series> series = series_text->empty()
+                                           ? std::vector<Series>{{c->options.kernel, c->options.integrator}}
+                                           : parse_series(*series_text);
     nlohmann::json rows = nlohmann::json::array();
-    std::vector<Real> linf;
-    for (double v : vals) {
+    for (const Series& s : series) {
       VerifyOptions o = c->options;
-      if (*vary == "cells")
-        o.cells = static_cast<int>(v);
-      else
-        o.cfl = v;
-      const VerifyResult r = verify(which, o);
-      nlohmann::json row = to_json(which, o, r);
-      // Observed order between consecutive points: log(e_prev / e) / log(h_prev / h) with h ~ 1/cells
-      // (or dt ~ cfl).
-      if (!linf.empty()) {
-        const Real ratio = *vary == "cells" ? v / vals[linf.size() - 1] : vals[linf.size() - 1] / v;
-        row["order"] = std::log(linf.back() / r.error.linf) / std::log(ratio);
-      }
-      linf.push_back(r.error.linf);
-      rows.push_back(row);
+      o.kernel = s.kernel;
+      o.integrator = s.integrator;
+      for (const nlohmann::json& row : sweep(which, o, vary_cells, vals)) rows.push_back(row);
     }
-    if (!csv->empty()) {
-      std::ofstream os(*csv);
-      if (!os) throw InputError("--csv: cannot write " + *csv);
-      os.precision(10);
-      os << *vary << ",linf,l1,l2,order,status,steps\n";
-      for (const nlohmann::json& row : rows)
-        os << row[*vary] << ',' << row["linf"] << ',' << row["l1"] << ',' << row["l2"] << ','
-           << (row.contains("order") ? row["order"].dump() : "") << ',' << row["status"].get<std::string>()
-           << ',' << row["steps"] << '\n';
-    }
-    if (c->json) {
+    if (!csv->empty()) write_table_csv(*csv, rows, *vary);
+    if (!png->empty())
+      plot(*png, rows, *vary,
+           !title->empty() ? *title
+                           : std::string(to_string(which)) +
+                                 (vary_cells ? ": spatial convergence" : ": temporal convergence"));
+    if (c->json)
       std::cout << rows.dump() << '\n';
-    } else {
-      std::cout << to_string(which) << ", " << c->kernel << " + " << c->integrator << ", varying " << *vary
-                << "\n";
-      std::cout << std::setw(10) << *vary << std::setw(14) << "L_inf" << std::setw(14) << "L1"
-                << std::setw(14) << "L2" << std::setw(9) << "order"
-                << "  status\n";
-      for (const nlohmann::json& row : rows) {
-        std::cout << std::setw(10) << row[*vary].get<double>() << std::setw(14) << row["linf"].get<double>()
-                  << std::setw(14) << row["l1"].get<double>() << std::setw(14) << row["l2"].get<double>()
-                  << std::setw(9);
-        if (row.contains("order"))
-          std::cout << std::fixed << std::setprecision(2) << row["order"].get<double>() << std::defaultfloat
-                    << std::setprecision(6);
-        else
-          std::cout << "";
-        std::cout << "  " << row["status"].get<std::string>() << '\n';
-      }
-    }
+    else
+      print_table(rows, *vary);
     return 0;
   };
 }

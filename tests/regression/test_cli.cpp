@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -77,7 +79,11 @@ INSTANTIATE_TEST_SUITE_P(
         BadArgument{"converge bar-1d --vary cells --values 8", "--values: expected at least two", "--csv"},
         BadArgument{"converge bar-1d --vary cells --values 8,1", "--cells: expected at least 2", "--csv"},
         BadArgument{"converge bar-1d --vary cfl --values 0.5,1.5", "--cfl: expected a number in (0, 1]",
-                    "--csv"}));
+                    "--csv"},
+        BadArgument{"converge bar-1d --vary cells --values 8,16 --series cpgimp",
+                    "--series: expected kernel:integrator pairs such as cpgimp:cd, got 'cpgimp'", "--plot"},
+        BadArgument{"converge bar-1d --vary cells --values 8,16 --series cpgimp:cd,linear:rk4",
+                    "--series: unknown name 'rk4'", "--plot"}));
 
 TEST(Cli, ConvergeReportsObservedOrders) {
   const Outcome o = run_mpm("converge bar-1d --amplitude 0.01 --vary cells --values 8,16,32 --json");
@@ -85,6 +91,43 @@ TEST(Cli, ConvergeReportsObservedOrders) {
   // Same runs as the verification test of the bar (cpGIMP, CD): orders 1.91 and 1.76.
   for (const char* key : {"\"order\":1.9", "\"order\":1.7", "\"cells\":32", "\"status\":\"ok\""})
     EXPECT_NE(o.out.find(key), std::string::npos) << key << " missing in " << o.out;
+}
+
+std::uint32_t big_endian(const std::string& bytes, std::size_t at) {
+  std::uint32_t v = 0;
+  for (std::size_t k = 0; k < 4; ++k) v = (v << 8) | static_cast<unsigned char>(bytes[at + k]);
+  return v;
+}
+
+TEST(Cli, ConvergePlotsAndTablesEverySeries) {
+  const auto dir = std::filesystem::temp_directory_path() / ("mpm_plot_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const Outcome o = run_mpm("converge bar-1d --amplitude 0.01 --vary cells --values 8,16 --series "
+                            "cpgimp:cd,linear:usl --csv " + (dir / "t.csv").string() + " --plot " +
+                            (dir / "p.png").string());
+  ASSERT_EQ(o.status, 0) << o.err;
+  const std::string csv = slurp(dir / "t.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5) << csv;  // header + 2 series x 2 points
+  EXPECT_NE(csv.find("\ncpgimp,cd,16,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\nlinear,usl,16,"), std::string::npos) << csv;
+  // A PNG of 5.5 x 4 inches at 120 dpi: the signature, then the IHDR chunk with width and height.
+  const std::string png = slurp(dir / "p.png");
+  ASSERT_GT(png.size(), 24u);
+  EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n"));
+  EXPECT_EQ(png.substr(12, 4), "IHDR");
+  EXPECT_EQ(big_endian(png, 16), 660u);
+  EXPECT_EQ(big_endian(png, 20), 480u);
+  EXPECT_FALSE(std::filesystem::exists(dir / "p.plot.json")) << "the plot data file is temporary";
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Cli, DensityProjectionReportsItsSupport) {
+  Outcome o = run_mpm("density-1d --kernel bspline2");
+  ASSERT_EQ(o.status, 0) << o.err;
+  EXPECT_NE(o.out.find("nonzero on [-0.25, 1.25]"), std::string::npos) << o.out;
+  o = run_mpm("density-1d --cells 7");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("--cells: expected a positive multiple of 5"), std::string::npos) << o.err;
 }
 
 TEST(Cli, BenchRejectsBadKernelAndDimension) {

@@ -1,0 +1,47 @@
+// `mpm density-1d`: the projected density field of Steffen et al. 2008, Fig. 7, for one kernel.
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "mpm/verification/projected_density.hpp"
+
+namespace mpm::app {
+
+Action add_density(CLI::App& app) {
+  struct Options {
+    std::string kernel = "linear";
+    int cells = 10, ppc = 3, samples = 1400;
+    bool json = false;
+  };
+  auto o = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand(
+      "density-1d", "project a constant-density bar on [0, 1] to a grid on [-0.2, 1.2] (Steffen et al. 2008, Fig. 7)");
+  cmd->add_option("--kernel", o->kernel, "linear, ugimp, cpgimp, bspline2 or bspline3");
+  cmd->add_option("--cells", o->cells, "cells per unit length (a multiple of 5)");
+  cmd->add_option("--ppc", o->ppc, "particles per cell");
+  cmd->add_option("--samples", o->samples, "points at which the field is evaluated");
+  cmd->add_flag("--json", o->json, "print JSON with the nodal and sampled fields");
+  return [o]() {
+    const DensityProjection d = project_density_1d(parse_kernel(o->kernel, "--kernel"), o->cells, o->ppc, o->samples);
+    if (o->json) {
+      std::cout << nlohmann::json{{"kernel", o->kernel},
+                                  {"h", d.h},
+                                  {"support_lo", d.support_lo},
+                                  {"support_hi", d.support_hi},
+                                  {"l1_error", d.l1_error},
+                                  {"particle_x", d.particle_x},
+                                  {"node_x", d.node_x},
+                                  {"node_density", d.node_density},
+                                  {"sample_x", d.sample_x},
+                                  {"sample_density", d.sample_density}}
+                       .dump()
+                << '\n';
+    } else {
+      std::cout << "projected density, " << o->kernel << ", h = " << d.h << ": nonzero on [" << d.support_lo
+                << ", " << d.support_hi << "] (body [0, 1]), L1 error " << d.l1_error << '\n';
+    }
+    return 0;
+  };
+}
+
+}  // namespace mpm::app
