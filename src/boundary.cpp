@@ -26,14 +26,15 @@ KinematicConstraints<Dim>::KinematicConstraints(const BoundarySpec<Dim>& spec, c
     const bool high = face % 2 == 1;
     const int plane = high ? g.cells[axis] : 0;
     const int outward = high ? 1 : -1;
+    static constexpr const char* face_name[] = {"x-min", "x-max", "y-min", "y-max", "z-min", "z-max"};
     if (fc.type == FaceType::velocity) {
-      Group grp{{}, -1, fc.velocity};
+      Group grp{face_name[face], {}, -1, fc.velocity};
       for_all_nodes(g, [&](std::int32_t f, const IVec<Dim>& i) {
         if ((i[axis] - plane) * outward >= 0) grp.nodes.push_back(f);
       });
       groups_.push_back(std::move(grp));
     } else if (fc.type == FaceType::symmetry) {
-      Group grp{{}, axis, {}};
+      Group grp{face_name[face], {}, axis, {}};
       Mirror mir{axis, {}, {}};
       for_all_nodes(g, [&](std::int32_t f, const IVec<Dim>& i) {
         const int k = (i[axis] - plane) * outward;  // layers beyond the plane
@@ -51,7 +52,7 @@ KinematicConstraints<Dim>::KinematicConstraints(const BoundarySpec<Dim>& spec, c
   }
   const Real tol = 1e-9 * g.h;
   for (const RegionConstraint<Dim>& rc : spec.regions) {
-    Group grp{{}, -1, rc.velocity};
+    Group grp{"region " + std::to_string(&rc - spec.regions.data()), {}, -1, rc.velocity};
     for_all_nodes(g, [&](std::int32_t f, const IVec<Dim>& i) {
       const Vec<Dim> x = g.position(i);
       for (int d = 0; d < Dim; ++d)
@@ -60,6 +61,7 @@ KinematicConstraints<Dim>::KinematicConstraints(const BoundarySpec<Dim>& spec, c
     });
     groups_.push_back(std::move(grp));
   }
+  reactions_.assign(groups_.size(), Vec<Dim>::Zero());
 }
 
 template <int Dim>
@@ -114,22 +116,40 @@ void KinematicConstraints<Dim>::constrain_velocity(Grid<Dim>& grid, NodeVelocity
 }
 
 template <int Dim>
-void KinematicConstraints<Dim>::constrain_update(Grid<Dim>& grid, Real t_new, Real dt) const {
+void KinematicConstraints<Dim>::constrain_update(Grid<Dim>& grid, Real t_new, Real dt) {
   const bool difference = acceleration_ == ConstrainedAcceleration::velocity_difference;
-  for (const Group& grp : groups_) {
+  for (std::size_t g = 0; g < groups_.size(); ++g) {
+    const Group& grp = groups_[g];
     const Vec<Dim> val = value(grp, t_new);
     const int first = grp.component < 0 ? 0 : grp.component;
     const int last = grp.component < 0 ? Dim : grp.component + 1;
+    Vec<Dim> reaction = Vec<Dim>::Zero();
     for (std::int32_t n : grp.nodes) {
       GridNode<Dim>& node = grid.nodes[n];
       for (int c = first; c < last; ++c) {
+        reaction[c] += node.m * (val[c] - node.v_new[c]) / dt;
         node.v_new[c] = val[c];
         // Steffen et al. 2008, Eq. (30): the acceleration that brings the projected velocity to the
         // prescribed one.
         node.a[c] = difference ? (val[c] - node.v[c]) / dt : 0;
       }
     }
+    reactions_[g] = reaction;
   }
+}
+
+template <int Dim>
+std::vector<std::string> KinematicConstraints<Dim>::names() const {
+  std::vector<std::string> out;
+  for (const Group& grp : groups_) out.push_back(grp.name);
+  return out;
+}
+
+template <int Dim>
+std::vector<Vec<Dim>> KinematicConstraints<Dim>::velocities(Real t) const {
+  std::vector<Vec<Dim>> out;
+  for (const Group& grp : groups_) out.push_back(grp.component < 0 ? value(grp, t) : Vec<Dim>::Zero());
+  return out;
 }
 
 template class KinematicConstraints<1>;

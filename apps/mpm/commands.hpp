@@ -11,5 +11,7 @@ Action add_bench(CLI::App& app);
 Action add_verify(CLI::App& app);
 Action add_converge(CLI::App& app);
 Action add_density(CLI::App& app);
+Action add_run(CLI::App& app);
+Action add_render(CLI::App& app);
 
 }  // namespace mpm::app

@@ -11,6 +11,8 @@ int main(int argc, char** argv) {
   const mpm::app::Action verify = mpm::app::add_verify(app);
   const mpm::app::Action converge = mpm::app::add_converge(app);
   const mpm::app::Action density = mpm::app::add_density(app);
+  const mpm::app::Action run = mpm::app::add_run(app);
+  const mpm::app::Action render = mpm::app::add_render(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -27,6 +29,8 @@ int main(int argc, char** argv) {
       if (sub->get_name() == "verify") return verify();
       if (sub->get_name() == "converge") return converge();
       if (sub->get_name() == "density-1d") return density();
+      if (sub->get_name() == "run") return run();
+      if (sub->get_name() == "render") return render();
     }
   } catch (const mpm::InputError& e) {
     std::cerr << "mpm: " << e.what() << '\n';

@@ -63,6 +63,7 @@ void run_python(std::string_view name, const std::vector<std::string>& args, con
   const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   if (code == 127) throw ToolError(what + ": needs python3 (" + python + " was not found); set MPM_PYTHON");
   if (code == 3) throw ToolError(what + ": needs Debian's python3-matplotlib (apt-get install python3-matplotlib)");
+  if (code == 4) throw InputError(what + ": invalid request (see the line above)");
   if (code != 0) throw ToolError(what + ": the " + std::string(name) + " helper failed (exit " + std::to_string(code) + ")");
 }
 

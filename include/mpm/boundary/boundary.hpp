@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "mpm/core/parallel.hpp"
@@ -60,10 +61,20 @@ class KinematicConstraints {
   void constrain_velocity(Grid<Dim>& grid, NodeVelocity<Dim> field, Real t) const;
 
   /// Impose prescribed components on v_new at time t_new and set the constrained acceleration components.
-  void constrain_update(Grid<Dim>& grid, Real t_new, Real dt) const;
+  /// Records the reaction of each constraint: the force sum_i m_i (v_prescribed - v_i^*) / dt it applied.
+  void constrain_update(Grid<Dim>& grid, Real t_new, Real dt);
+
+  /// One name per constraint ("x-min", ..., "region 0", ...), the order of reactions() and velocities().
+  std::vector<std::string> names() const;
+  /// Reaction force [N] of each constraint in the last constrain_update (normal component only on symmetry
+  /// planes).
+  const std::vector<Vec<Dim>>& reactions() const { return reactions_; }
+  /// Prescribed velocity of each constraint at time t (zero on symmetry planes).
+  std::vector<Vec<Dim>> velocities(Real t) const;
 
  private:
   struct Group {
+    std::string name;
     std::vector<std::int32_t> nodes;
     int component;             ///< constrained component, or -1 for all
     VelocityFn<Dim> velocity;  ///< empty: zero
@@ -75,6 +86,7 @@ class KinematicConstraints {
   Vec<Dim> value(const Group& grp, Real t) const;
 
   std::vector<Group> groups_;
+  std::vector<Vec<Dim>> reactions_;
   std::vector<Mirror> mirrors_;
   ConstrainedAcceleration acceleration_;
 };

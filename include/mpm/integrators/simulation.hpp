@@ -35,6 +35,14 @@ class Simulation {
   const ParticleSet<Dim>& particles() const { return particles_; }
   ParticleSet<Dim>& particles() { return particles_; }
   const Grid<Dim>& grid() const { return grid_; }
+  const KinematicConstraints<Dim>& constraints() const { return constraints_; }
+  /// Body accelerations b(X_p, t^n) the last step used (empty without a body force).
+  const std::vector<Vec<Dim>>& body_acceleration() const { return body_accel_; }
+  /// Continue from a saved state: the particles are set already; this sets the clock (restarts).
+  void restore_clock(Real time, std::int64_t steps) {
+    time_ = time;
+    steps_ = steps;
+  }
   const SimulationSpec<Dim>& spec() const { return spec_; }
   /// Heap bytes held by the simulation (particles, stencils, scatter order, grid) per particle.
   double bytes_per_particle() const;

@@ -30,6 +30,15 @@ struct NeoHookean {
     return s;
   }
 
+  /// Stored energy per reference volume, W = mu/2 (tr F^T F - 3) - mu ln J + lambda/2 (ln J)^2, whose derivative
+  /// dW/dF is the first Piola-Kirchhoff stress of Wallstedt & Guilkey 2008, Eq. (54). Out-of-plane stretches are
+  /// 1 (plane strain in 2-D, uniaxial strain in 1-D), so they add 3 - Dim to tr F^T F.
+  template <int Dim>
+  Real energy_density(const Mat<Dim>& F, Real J) const {
+    const Real lnJ = std::log(J);
+    return 0.5 * mu * (F.squaredNorm() - Dim) - mu * lnJ + 0.5 * lambda * lnJ * lnJ;
+  }
+
   /// Dilatational wave speed at volume ratio J from the spatial tangent of Eq. (55):
   /// rho c^2 = (lambda + 2 (mu - lambda ln J)) / J with rho = rho0 / J.
   Real wave_speed(Real J) const {

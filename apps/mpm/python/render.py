@@ -1,0 +1,136 @@
+"""Particle pictures for `mpm render`: one PNG per output time, particles coloured by a field.
+
+Usage: python3 render.py DIR FIELD EVERY
+Reads DIR/particles.pvd and every EVERY-th dataset it lists (the last one always), and writes
+DIR/pictures/FIELD_NNNN.png (frames numbered from 0). FIELD is a point-data array name; vectors and tensors are
+coloured by magnitude, or by one component with FIELD:K (e.g. velocity:1, stress:0). Axis limits and colour range
+are the same in every frame. The .vtp files are read without VTK (raw appended data, as mpm::io::write_vtp
+writes them), so only numpy and matplotlib are needed. Exit status: 2 bad arguments or files, 3 no matplotlib,
+4 no such field (the available names go to stderr).
+"""
+import os
+import sys
+import xml.etree.ElementTree as ET
+
+try:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    from mpl_toolkits.axes_grid1 import make_axes_locatable
+except ImportError:
+    sys.stderr.write("python3-matplotlib is not installed (Debian: apt-get install python3-matplotlib)\n")
+    sys.exit(3)
+
+TYPES = {"Float64": "f8", "Float32": "f4", "Int64": "i8", "Int32": "i4", "UInt64": "u8", "UInt32": "u4",
+         "Int8": "i1", "UInt8": "u1"}
+MARKER = b'<AppendedData encoding="raw">'
+
+
+def fail(message, status=2):
+    sys.stderr.write(f"render: {message}\n")
+    sys.exit(status)
+
+
+def read_vtp(path):
+    """The arrays of a .vtp with raw appended data: {"points": (n, 3), name: (n, components)}."""
+    with open(path, "rb") as f:
+        data = f.read()
+    at = data.find(MARKER)
+    if at < 0:
+        fail(f"{path}: no raw <AppendedData> block (only raw appended .vtp files are supported)")
+    root = ET.fromstring(data[:at] + b"</VTKFile>")
+    if root.get("compressor"):
+        fail(f"{path}: compressed .vtp files are not supported")
+    order = "<" if root.get("byte_order", "LittleEndian") == "LittleEndian" else ">"
+    size_type = np.dtype(order + TYPES[root.get("header_type", "UInt32")])
+    base = data.index(b"_", at + len(MARKER)) + 1
+
+    def array(node):
+        start = base + int(node.get("offset"))
+        nbytes = int(np.frombuffer(data, size_type, 1, start)[0])
+        values = np.frombuffer(data, order + TYPES[node.get("type")], offset=start + size_type.itemsize,
+                               count=nbytes // np.dtype(TYPES[node.get("type")]).itemsize)
+        return values.reshape(-1, int(node.get("NumberOfComponents", "1")))
+
+    piece = root.find("PolyData/Piece")
+    arrays = {"points": array(piece.find("Points/DataArray"))}
+    for node in piece.findall("PointData/DataArray"):
+        arrays[node.get("Name")] = array(node)
+    return arrays
+
+
+def scalar(values, component, name):
+    """One value per point: the component asked for, or the magnitude (6 components: a symmetric tensor
+    xx yy zz xy xz yz, Frobenius norm)."""
+    if component is not None:
+        if not 0 <= component < values.shape[1]:
+            fail(f"{name} has {values.shape[1]} components; component {component} does not exist", 4)
+        return values[:, component]
+    if values.shape[1] == 1:
+        return values[:, 0]
+    weights = np.array([1, 1, 1, 2, 2, 2]) if values.shape[1] == 6 else np.ones(values.shape[1])
+    return np.sqrt((values**2) @ weights)
+
+
+def main(folder, field, every):
+    name, _, comp = field.partition(":")
+    try:
+        every, component = int(every), (int(comp) if comp else None)
+    except ValueError:
+        fail(f"EVERY ({every}) and the component in FIELD ({field}) must be integers")
+    if every < 1:
+        fail(f"EVERY must be at least 1, got {every}")
+    pvd = os.path.join(folder, "particles.pvd")
+    if not os.path.exists(pvd):
+        fail(f"{pvd} does not exist")
+    entries = [(float(d.get("timestep")), d.get("file")) for d in ET.parse(pvd).getroot().iter("DataSet")]
+    if not entries:
+        fail(f"{pvd} lists no datasets")
+    chosen = entries[::every] + ([entries[-1]] if (len(entries) - 1) % every else [])
+
+    frames = []
+    for time, file in chosen:
+        arrays = read_vtp(os.path.join(folder, file))
+        if name not in arrays or name == "points":
+            available = ", ".join(k for k in arrays if k != "points")
+            fail(f"no field '{name}' in {file}; available: {available}", 4)
+        frames.append((time, arrays["points"], scalar(arrays[name], component, name)))
+        magnitude = component is None and arrays[name].shape[1] > 1
+
+    xy = np.concatenate([p[:, :2] for _, p, _ in frames])
+    values = np.concatenate([v for _, _, v in frames])
+    lo, hi = xy.min(axis=0), xy.max(axis=0)
+    pad = 0.05 * max(hi - lo) if max(hi - lo) > 0 else 1.0
+    vmin, vmax = float(values.min()), float(values.max())
+    if vmin == vmax:
+        vmin, vmax = vmin - 0.5, vmax + 0.5
+
+    out_dir = os.path.join(folder, "pictures")
+    os.makedirs(out_dir, exist_ok=True)
+    stem = field.replace(":", "_")
+    for frame, (time, points, value) in enumerate(frames):
+        fig, ax = plt.subplots(figsize=(6, 5))
+        size = min(20.0, max(0.2, 2e4 / len(points)))
+        dots = ax.scatter(points[:, 0], points[:, 1], c=value, s=size, vmin=vmin, vmax=vmax, cmap="viridis",
+                          linewidths=0)
+        ax.set_xlim(lo[0] - pad, hi[0] + pad)
+        ax.set_ylim(lo[1] - pad, hi[1] + pad)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x")
+        ax.set_ylabel("y")
+        ax.set_title(f"{field}   t = {time:.6g}")
+        cax = make_axes_locatable(ax).append_axes("right", size="4%", pad=0.1)  # as tall as the axes
+        fig.colorbar(dots, cax=cax, label=f"|{field}|" if magnitude else field)
+        fig.tight_layout()
+        path = os.path.join(out_dir, f"{stem}_{frame:04d}.png")
+        fig.savefig(path, dpi=100)
+        plt.close(fig)
+        print(path)
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 4:
+        fail("usage: render.py DIR FIELD EVERY")
+    main(*sys.argv[1:4])

@@ -1,0 +1,56 @@
+#pragma once
+/// A generic, crash-safe checkpoint file in HDF5: named real and integer arrays, scalars and texts, stored
+/// bit-exactly. The simulation state writer and reader are built on top of it.
+///
+/// Layout of the file (HDF5 1.8-compatible, readable with h5dump):
+///   /                   attributes "format" = "mpm-checkpoint" (string), "format_version" = 1 (int64)
+///   /reals/NAME         1-D IEEE F64LE dataset (possibly of length 0)
+///   /integers/NAME      1-D STD I64LE dataset (possibly of length 0)
+///   /real_scalars/NAME  scalar IEEE F64LE dataset
+///   /integer_scalars/NAME  scalar STD I64LE dataset
+///   /texts/NAME         scalar fixed-length string dataset holding the exact bytes (NULLPAD, UTF-8);
+///                       an empty text is a dataset with a null dataspace
+/// A reader treats a missing group as holding nothing and ignores other objects at the root.
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace mpm::io {
+
+/// The `format` attribute every checkpoint carries at its root.
+inline constexpr const char* checkpoint_format = "mpm-checkpoint";
+/// The `format_version` this code writes and reads.
+inline constexpr std::int64_t checkpoint_format_version = 1;
+
+/// The contents of a checkpoint: named arrays and scalars, bit-exact. Names must be non-empty and contain
+/// no '/' (they become HDF5 link names).
+struct CheckpointData {
+  std::map<std::string, std::vector<double>> reals;        ///< e.g. "x" with Dim values per particle, flat
+  std::map<std::string, std::vector<std::int64_t>> integers;
+  std::map<std::string, double> real_scalars;             ///< e.g. "time"
+  std::map<std::string, std::int64_t> integer_scalars;    ///< e.g. "steps", "dim"
+  std::map<std::string, std::string> texts;               ///< e.g. "scene" (the scene file text), "version"
+
+  bool operator==(const CheckpointData&) const = default;  ///< value equality (note: NaN != NaN)
+};
+
+/// The prefix of the temporary files write_checkpoint() uses for FILE: "FILE.tmp-". The full temporary name
+/// is "FILE.tmp-PID-N" (PID the writing process, N a per-process counter), in the same directory as FILE so
+/// the final rename is atomic. Such a file exists only while a write is in progress, or was left behind by
+/// a writer that crashed; it is never read and may be deleted once no writer runs.
+std::filesystem::path checkpoint_temp_prefix(const std::filesystem::path& file);
+
+/// Write atomically: write FILE.tmp-PID-N, H5Fflush + close, fsync the file, rename over FILE, fsync the
+/// directory. A crash at any moment leaves either the old FILE or the new one, never a torn file.
+/// Throws mpm::InputError("checkpoint FILE: ...") naming the path when it cannot be written (the temporary
+/// file is then removed and FILE left as it was).
+void write_checkpoint(const std::filesystem::path& file, const CheckpointData& data);
+
+/// Read a checkpoint; throws mpm::InputError("checkpoint FILE: ...") naming the file and what is wrong when it
+/// is missing, not HDF5, lacks the format marker, has another format_version, or holds an object of the wrong
+/// kind in one of its groups. HDF5's own error stack printing is silenced while it runs.
+CheckpointData read_checkpoint(const std::filesystem::path& file);
+
+}  // namespace mpm::io

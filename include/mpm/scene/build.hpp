@@ -1,0 +1,20 @@
+#pragma once
+/// Turning a scene into the engine's inputs: the simulation spec and the seeded particles.
+#include "mpm/integrators/spec.hpp"
+#include "mpm/particles/particles.hpp"
+#include "mpm/scene/scene.hpp"
+
+namespace mpm {
+
+/// Grid, boundary conditions, integrator, kernel, materials, gravity, and the body force (the scene's
+/// expression plus box-face tractions carried by the outermost particle layer).
+template <int Dim>
+SimulationSpec<Dim> make_spec(const Scene& scene);
+
+/// Particles of every body in order: lattice shapes with ppc particles per cell per axis aligned to the
+/// shape's lower corner, or the rows of a particle file; initial velocity, displacement and F as given.
+/// Throws InputError naming the body when it yields no particles or a particle lies outside the grid.
+template <int Dim>
+ParticleSet<Dim> seed_bodies(const Scene& scene);
+
+}  // namespace mpm

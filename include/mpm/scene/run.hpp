@@ -1,0 +1,25 @@
+#pragma once
+/// Running a scene: the time loop with its outputs (ParaView files, history, summary, progress, checkpoints).
+#include <cstdint>
+#include <filesystem>
+
+#include "mpm/scene/scene.hpp"
+
+namespace mpm {
+
+struct RunOptions {
+  std::filesystem::path out_dir = "out";
+  int threads = 0;                    ///< 0: the scene's setting (0 there too: all cores)
+  bool quiet = false;                 ///< no progress line
+  std::int64_t checkpoint_every = 0;  ///< steps between checkpoints (out_dir/checkpoint.h5); 0: none
+  std::filesystem::path restart;      ///< a checkpoint of this scene to continue from; empty: start at t = 0
+};
+
+/// Run the scene to its end time. Writes into out_dir: particles_NNNN.vtp and particles.pvd (every
+/// output.every of simulated time, and the first and last states), history.csv (every step), summary.json,
+/// and checkpoint.h5 when asked. Input errors throw InputError before anything is written. Returns 0, or
+/// exit_simulation_failure after a numerical failure: the outputs then hold every good state, summary.json
+/// says "failed" and why, and the last checkpoint is kept.
+int run_scene(const Scene& scene, const RunOptions& options);
+
+}  // namespace mpm

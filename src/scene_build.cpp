@@ -1,0 +1,218 @@
+#include "mpm/scene/build.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "mpm/core/errors.hpp"
+#include "mpm/particles/generate.hpp"
+
+namespace mpm {
+
+namespace {
+template <int Dim>
+Vec<Dim> to_vec(const std::vector<double>& v) {
+  Vec<Dim> out;
+  for (int d = 0; d < Dim; ++d) out[d] = v[d];
+  return out;
+}
+
+template <int Dim>
+VelocityFn<Dim> velocity_of(const std::vector<ExpressionPtr>& components) {
+  return [components](Real t) {
+    const double vars[] = {t};
+    return evaluate<Vec<Dim>>(components, vars);
+  };
+}
+
+/// Traction on a box face as a body acceleration of the outermost particle layer there: force t A_p over mass
+/// rho V_p with A_p = s^(Dim-1), V_p = s^Dim, s the particle spacing.
+template <int Dim>
+struct TractionLoad {
+  int axis;
+  Real plane;         ///< coordinate of the loaded face
+  Real layer;         ///< particles whose reference centre is within this distance of the plane are loaded
+  Vec<Dim> lo, hi;    ///< the box
+  Real inv_rho_s;     ///< 1 / (rho s)
+  std::vector<ExpressionPtr> traction;
+
+  bool loads(const Vec<Dim>& X) const {
+    if (std::abs(X[axis] - plane) > layer) return false;
+    for (int d = 0; d < Dim; ++d)
+      if (d != axis && (X[d] < lo[d] || X[d] > hi[d])) return false;
+    return true;
+  }
+};
+
+/// F = I + grad u by fourth-order central differences of the displacement expressions (when the scene gives u
+/// but not F): error O(eps^4) ~ 1e-13 relative for smooth u.
+template <int Dim>
+Mat<Dim> gradient_of_displacement(const std::vector<ExpressionPtr>& u, const Vec<Dim>& X, Real length) {
+  const Real eps = 1e-3 * length;
+  Mat<Dim> F = Mat<Dim>::Identity();
+  for (int b = 0; b < Dim; ++b) {
+    auto at = [&](Real shift) {
+      Vec<Dim> Y = X;
+      Y[b] += shift;
+      return evaluate<Vec<Dim>>(u, std::span<const double>(Y.data(), Dim));
+    };
+    F.col(b) += (8 * (at(eps) - at(-eps)) - (at(2 * eps) - at(-2 * eps))) / (12 * eps);
+  }
+  return F;
+}
+
+template <int Dim>
+void read_particle_file(const SceneBody& b, const NeoHookean& mat, std::uint16_t material, ParticleSet<Dim>& p) {
+  std::ifstream is(b.file);
+  std::string line;
+  int line_no = 0;
+  while (std::getline(is, line)) {
+    ++line_no;
+    if (line.empty() || line[0] == '#') continue;
+    std::stringstream ss(line);
+    std::vector<double> row;
+    std::string cell;
+    bool numeric = true;
+    while (std::getline(ss, cell, ',')) {
+      try {
+        std::size_t used = 0;
+        row.push_back(std::stod(cell, &used));
+        if (cell.find_first_not_of(" \t\r", used) != std::string::npos) numeric = false;
+      } catch (const std::exception&) {
+        numeric = false;
+      }
+    }
+    if (!numeric && line_no == 1) continue;  // a header line
+    if (!numeric || row.size() != static_cast<std::size_t>(Dim + 1))
+      throw InputError(b.file.string() + ":" + std::to_string(line_no) + ": expected " + std::to_string(Dim + 1) +
+                       " comma-separated numbers (position then volume)");
+    const Real V = row[Dim];
+    if (!(V > 0)) throw InputError(b.file.string() + ":" + std::to_string(line_no) + ": volume must be positive");
+    Vec<Dim> x;
+    for (int d = 0; d < Dim; ++d) x[d] = row[d];
+    p.add(x, Vec<Dim>::Zero(), mat.rho0 * V, V, Vec<Dim>::Constant(0.5 * std::pow(V, 1.0 / Dim)), material);
+  }
+}
+}  // namespace
+
+template <int Dim>
+SimulationSpec<Dim> make_spec(const Scene& sc) {
+  SimulationSpec<Dim> spec;
+  spec.grid_lo = to_vec<Dim>(sc.grid_lo);
+  spec.h = sc.h;
+  for (int d = 0; d < Dim; ++d) spec.cells[d] = sc.cells[d];
+  spec.integrator = sc.integrator;
+  spec.kernel = sc.kernel;
+  spec.gimp_length = sc.gimp_length;
+  for (const SceneMaterial& m : sc.materials) spec.materials.push_back(m.law);
+  spec.boundary.acceleration = sc.constrained_acceleration;
+  for (int f = 0; f < 2 * Dim; ++f) {
+    const SceneFace& face = sc.faces[f];
+    FaceCondition<Dim>& fc = spec.boundary.faces[f];
+    switch (face.kind) {
+      case SceneFace::Kind::free:
+        fc.type = FaceType::free;
+        break;
+      case SceneFace::Kind::fixed:
+        fc.type = FaceType::velocity;  // an empty velocity function is zero
+        break;
+      case SceneFace::Kind::symmetry:
+        fc.type = FaceType::symmetry;
+        break;
+      case SceneFace::Kind::velocity:
+        fc.type = FaceType::velocity;
+        fc.velocity = velocity_of<Dim>(face.velocity);
+        break;
+    }
+  }
+  spec.gravity = to_vec<Dim>(sc.gravity);
+  spec.dt = sc.dt;
+  spec.cfl = sc.cfl;
+
+  std::vector<TractionLoad<Dim>> tractions;
+  for (const SceneTraction& t : sc.tractions) {
+    const SceneBody& b = sc.bodies[t.body];
+    const Real s = sc.h / b.ppc;
+    const int axis = t.face / 2;
+    tractions.push_back({axis, t.face % 2 ? b.hi[axis] : b.lo[axis], 0.5 * s * (1 + 1e-9), to_vec<Dim>(b.lo),
+                         to_vec<Dim>(b.hi), 1 / (sc.materials[b.material].law.rho0 * s), t.traction});
+  }
+  if (!sc.body_force.empty() || !tractions.empty()) {
+    spec.body_force = [body = sc.body_force, tractions](const Vec<Dim>& X, Real t) {
+      Vec<Dim> b = Vec<Dim>::Zero();
+      double vars[Dim + 1];
+      for (int d = 0; d < Dim; ++d) vars[d] = X[d];
+      vars[Dim] = t;
+      if (!body.empty()) b = evaluate<Vec<Dim>>(body, vars);
+      for (const TractionLoad<Dim>& tr : tractions)
+        if (tr.loads(X)) b += tr.inv_rho_s * evaluate<Vec<Dim>>(tr.traction, std::span<const double>(&vars[Dim], 1));
+      return b;
+    };
+  }
+  validate(spec);
+  return spec;
+}
+
+template <int Dim>
+ParticleSet<Dim> seed_bodies(const Scene& sc) {
+  ParticleSet<Dim> p;
+  const Vec<Dim> grid_lo = to_vec<Dim>(sc.grid_lo), grid_hi = to_vec<Dim>(sc.grid_hi);
+  for (std::size_t k = 0; k < sc.bodies.size(); ++k) {
+    const SceneBody& b = sc.bodies[k];
+    const NeoHookean& mat = sc.materials[b.material].law;
+    const auto material = static_cast<std::uint16_t>(b.material);
+    const std::size_t first = p.size();
+    const Real spacing = sc.h / b.ppc;
+    switch (b.shape) {
+      case SceneBody::Shape::box:
+        fill_box<Dim>(p, to_vec<Dim>(b.lo), to_vec<Dim>(b.hi), spacing, mat.rho0, material);
+        break;
+      case SceneBody::Shape::disk:
+      case SceneBody::Shape::ring: {
+        const Vec<Dim> c = to_vec<Dim>(b.center);
+        const Real r_in = b.inner_radius, r_out = b.radius;
+        fill_box<Dim>(p, c.array() - r_out, c.array() + r_out, spacing, mat.rho0, material, {},
+                      [&](const Vec<Dim>& x) {
+                        const Real r = (x - c).norm();
+                        return r <= r_out && r >= r_in;
+                      });
+        break;
+      }
+      case SceneBody::Shape::file:
+        read_particle_file<Dim>(b, mat, material, p);
+        break;
+    }
+    const std::string name = "bodies[" + std::to_string(k) + "] (" + b.name + ")";
+    if (p.size() == first) throw InputError(sc.file.string() + ": " + name + ": the body has no particles");
+    for (std::size_t i = first; i < p.size(); ++i) {
+      const Vec<Dim> X = p.X[i];
+      for (int d = 0; d < Dim; ++d)
+        if (!(X[d] >= grid_lo[d] && X[d] <= grid_hi[d]))
+          throw InputError(sc.file.string() + ": " + name + ": particle " + std::to_string(i - first) +
+                           " lies outside the grid");
+      const std::span<const double> at(X.data(), Dim);
+      if (!b.displacement.empty()) {
+        p.x[i] = X + evaluate<Vec<Dim>>(b.displacement, at);
+        if (!b.deformation.empty()) {
+          for (int r = 0; r < Dim; ++r)
+            for (int c = 0; c < Dim; ++c) p.F[i](r, c) = (*b.deformation[r * Dim + c])(at);
+        } else {
+          p.F[i] = gradient_of_displacement<Dim>(b.displacement, X, sc.h);
+        }
+        if (sc.kernel == KernelKind::cpgimp)
+          for (int d = 0; d < Dim; ++d) p.l[i][d] = p.l0[i][d] * p.F[i](d, d);  // Eq. (63)
+      }
+      if (!b.velocity.empty()) p.v[i] = evaluate<Vec<Dim>>(b.velocity, std::span<const double>(X.data(), Dim));
+    }
+  }
+  return p;
+}
+
+template SimulationSpec<1> make_spec<1>(const Scene&);
+template SimulationSpec<2> make_spec<2>(const Scene&);
+template SimulationSpec<3> make_spec<3>(const Scene&);
+template ParticleSet<1> seed_bodies<1>(const Scene&);
+template ParticleSet<2> seed_bodies<2>(const Scene&);
+template ParticleSet<3> seed_bodies<3>(const Scene&);
+
+}  // namespace mpm

@@ -1,0 +1,449 @@
+// Reading scene files (TOML, through toml++): strict keys, typed values, physical validation.
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "mpm/core/errors.hpp"
+#include "mpm/scene/scene.hpp"
+
+namespace mpm {
+
+namespace {
+
+/// Where a value came from, for error messages: "FILE:LINE: key.path".
+struct Locator {
+  std::string file;
+  [[noreturn]] void fail(const toml::node* node, const std::string& key, const std::string& what) const {
+    std::string where = file;
+    if (node && node->source().begin.line > 0) where += ":" + std::to_string(node->source().begin.line);
+    throw InputError(where + ": " + key + ": " + what);
+  }
+};
+
+std::string join(const std::vector<std::string>& names) {
+  std::string s;
+  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+std::string describe(const toml::node& n) {
+  std::ostringstream os;
+  if (n.is_string())
+    os << '\'' << n.value<std::string>().value_or("") << '\'';
+  else if (n.is_table())
+    os << "a table";
+  else if (n.is_array())
+    os << "an array";
+  else
+    n.visit([&](auto&& v) { os << v; });
+  return os.str();
+}
+
+/// Reads one TOML table; remembers which keys were used so that unknown keys (typos) are errors.
+class Section {
+ public:
+  Section(const toml::table& t, std::string path, const Locator& loc, std::vector<std::string> allowed)
+      : t_(t), path_(std::move(path)), loc_(loc), allowed_(std::move(allowed)) {
+    for (auto&& [k, v] : t_) {
+      const std::string key(k.str());
+      if (std::find(allowed_.begin(), allowed_.end(), key) == allowed_.end())
+        loc_.fail(&v, key_of(key), "unknown key (expected one of " + join(allowed_) + ")");
+    }
+  }
+
+  std::string key_of(const std::string& k) const { return path_.empty() ? k : path_ + "." + k; }
+  const toml::node* get(const std::string& k) const { return t_.get(k); }
+  bool has(const std::string& k) const { return t_.contains(k); }
+  [[noreturn]] void fail(const std::string& k, const std::string& what) const {
+    const toml::node* n = get(k);
+    loc_.fail(n ? n : &t_, key_of(k), what);
+  }
+
+  double number(const std::string& k, double fallback) const {
+    const toml::node* n = get(k);
+    if (!n) return fallback;
+    if (!n->is_number()) fail(k, "expected a number, got " + describe(*n));
+    return n->value<double>().value();
+  }
+  double required_number(const std::string& k) const {
+    if (!has(k)) fail(k, "missing (a number is required)");
+    return number(k, 0);
+  }
+  double positive(const std::string& k, double fallback) const {
+    const double v = number(k, fallback);
+    if (!(v > 0) && has(k)) fail(k, "expected a positive number, got " + describe(*get(k)));
+    return v;
+  }
+  int integer(const std::string& k, int fallback) const {
+    const toml::node* n = get(k);
+    if (!n) return fallback;
+    if (!n->is_integer()) fail(k, "expected an integer, got " + describe(*n));
+    return static_cast<int>(n->value<std::int64_t>().value());
+  }
+  std::string text(const std::string& k, const std::string& fallback) const {
+    const toml::node* n = get(k);
+    if (!n) return fallback;
+    if (!n->is_string()) fail(k, "expected a string, got " + describe(*n));
+    return n->value<std::string>().value();
+  }
+  std::string choice(const std::string& k, const std::string& fallback, const std::vector<std::string>& options) const {
+    const std::string v = text(k, fallback);
+    if (std::find(options.begin(), options.end(), v) == options.end())
+      fail(k, "expected one of " + join(options) + ", got '" + v + "'");
+    return v;
+  }
+  const toml::array& array(const std::string& k, std::size_t n, const std::string& what) const {
+    const toml::node* node = get(k);
+    if (!node || !node->is_array() || (n > 0 && node->as_array()->size() != n))
+      fail(k, "expected " + what + (node ? ", got " + describe(*node) : ""));
+    return *node->as_array();
+  }
+  std::vector<double> numbers(const std::string& k, std::size_t n) const {
+    const toml::array& a = array(k, n, "an array of " + std::to_string(n) + " numbers");
+    std::vector<double> out;
+    for (const toml::node& e : a) {
+      if (!e.is_number()) fail(k, "expected an array of " + std::to_string(n) + " numbers, got " + describe(e) + " in it");
+      out.push_back(e.value<double>().value());
+    }
+    return out;
+  }
+  /// An array of n components, each a number or an expression string over `vars`.
+  std::vector<ExpressionPtr> expressions(const std::string& k, std::size_t n, const std::vector<std::string>& vars,
+                                         const std::map<std::string, double>& constants) const {
+    const std::string what = "an array of " + std::to_string(n) + " numbers or expression strings of " +
+                             (vars.empty() ? std::string("nothing") : join(vars));
+    const toml::array& a = array(k, n, what);
+    std::vector<ExpressionPtr> out;
+    for (std::size_t c = 0; c < a.size(); ++c) {
+      const toml::node& e = *a.get(c);
+      std::string src;
+      if (e.is_number()) {
+        std::ostringstream os;
+        os.precision(17);
+        os << e.value<double>().value();
+        src = os.str();
+      } else if (e.is_string()) {
+        src = e.value<std::string>().value();
+      } else {
+        fail(k, "expected " + what + ", got " + describe(e) + " in it");
+      }
+      std::string where = loc_.file;
+      if (e.source().begin.line > 0) where += ":" + std::to_string(e.source().begin.line);
+      out.push_back(std::make_shared<Expression>(src, vars, constants, where + ": " + key_of(k) + "[" + std::to_string(c) + "]"));
+    }
+    return out;
+  }
+  const toml::table* table(const std::string& k) const {
+    const toml::node* n = get(k);
+    if (!n) return nullptr;
+    if (!n->is_table()) fail(k, "expected a table, got " + describe(*n));
+    return n->as_table();
+  }
+  /// An array of tables ([[k]]).
+  std::vector<const toml::table*> tables(const std::string& k) const {
+    std::vector<const toml::table*> out;
+    const toml::node* n = get(k);
+    if (!n) return out;
+    if (!n->is_array_of_tables()) fail(k, "expected one or more [[" + key_of(k) + "]] tables");
+    for (const toml::node& e : *n->as_array()) out.push_back(e.as_table());
+    return out;
+  }
+
+ private:
+  const toml::table& t_;
+  std::string path_;
+  const Locator& loc_;
+  std::vector<std::string> allowed_;
+};
+
+const std::vector<std::string> position_vars[] = {{"x"}, {"x", "y"}, {"x", "y", "z"}};
+const std::vector<std::string> reference_vars[] = {{"X"}, {"X", "Y"}, {"X", "Y", "Z"}};
+const std::vector<std::string> reference_time_vars[] = {{"X", "t"}, {"X", "Y", "t"}, {"X", "Y", "Z", "t"}};
+const std::vector<std::string> time_var{"t"};
+
+/// Apply one --set key.path=value to the document.
+void apply_override(toml::table& doc, const std::string& assignment) {
+  const std::size_t eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError("--set: expected key.path=value, got '" + assignment + "'");
+  const std::string path = assignment.substr(0, eq), value = assignment.substr(eq + 1);
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + value);
+  } catch (const toml::parse_error&) {
+    parsed.insert_or_assign("v", value);  // a bare word: take it as a string
+  }
+  std::vector<std::string> keys;
+  std::stringstream ss(path);
+  for (std::string k; std::getline(ss, k, '.');) keys.push_back(k);
+  toml::node* at = &doc;
+  for (std::size_t i = 0; i + 1 < keys.size(); ++i) {
+    const std::string& k = keys[i];
+    if (toml::array* arr = at->as_array()) {
+      std::size_t idx = 0;
+      try {
+        idx = std::stoul(k);
+      } catch (const std::exception&) {
+        throw InputError("--set " + path + ": '" + k + "' indexes an array and must be a number");
+      }
+      if (idx >= arr->size()) throw InputError("--set " + path + ": index " + k + " is past the end of the array");
+      at = arr->get(idx);
+    } else if (toml::table* tab = at->as_table()) {
+      if (!tab->contains(k)) tab->insert(k, toml::table{});
+      at = tab->get(k);
+    } else {
+      throw InputError("--set " + path + ": '" + k + "' is not a table or array");
+    }
+  }
+  toml::table* tab = at->as_table();
+  if (!tab) throw InputError("--set " + path + ": the parent of '" + keys.back() + "' is not a table");
+  tab->insert_or_assign(keys.back(), *parsed.get("v"));
+}
+
+void read_simulation(const Section& s, Scene& sc) {
+  sc.dim = s.integer("dimension", 2);
+  if (sc.dim < 1 || sc.dim > 3) s.fail("dimension", "expected 1, 2 or 3");
+  sc.end_time = s.required_number("end_time");
+  if (!(sc.end_time > 0)) s.fail("end_time", "expected a positive time [s]");
+  sc.integrator = parse_integrator(s.choice("integrator", "usl", {"usf", "usl", "cd", "musl"}));
+  sc.kernel = parse_kernel(s.choice("kernel", "cpgimp", {"linear", "ugimp", "cpgimp", "bspline2", "bspline3"}));
+  sc.gimp_length = s.number("gimp_length", 0);
+  if (sc.gimp_length < 0) s.fail("gimp_length", "expected a non-negative length [m]");
+  if (sc.gimp_length > 0 && sc.kernel != KernelKind::ugimp) s.fail("gimp_length", "applies to kernel = \"ugimp\" only");
+  if (s.has("dt") == s.has("cfl")) s.fail(s.has("dt") ? "dt" : "cfl", "give exactly one of dt [s] and cfl");
+  sc.dt = s.number("dt", 0);
+  sc.cfl = s.number("cfl", 0);
+  if (s.has("dt") && !(sc.dt > 0)) s.fail("dt", "expected a positive time step [s]");
+  if (s.has("cfl") && !(sc.cfl > 0 && sc.cfl <= 1)) s.fail("cfl", "expected a number in (0, 1]");
+  sc.threads = s.integer("threads", 0);
+  if (sc.threads < 0) s.fail("threads", "expected 0 (all cores) or a positive count");
+  const std::string plane = s.choice("plane", "strain", {"strain"});
+  if (s.has("plane") && sc.dim != 2) s.fail("plane", "applies to 2-D scenes only");
+}
+
+void read_grid(const Section& s, Scene& sc, const Locator& loc) {
+  const auto n = static_cast<std::size_t>(sc.dim);
+  sc.grid_lo = s.numbers("lo", n);
+  sc.grid_hi = s.numbers("hi", n);
+  const toml::array& cells = s.array("cells", n, "an array of " + std::to_string(n) + " positive integers");
+  for (const toml::node& c : cells) {
+    if (!c.is_integer() || c.value<std::int64_t>().value() < 1)
+      s.fail("cells", "expected an array of " + std::to_string(n) + " positive integers, got " + describe(c) + " in it");
+    sc.cells.push_back(static_cast<int>(c.value<std::int64_t>().value()));
+  }
+  for (std::size_t d = 0; d < n; ++d) {
+    if (!(sc.grid_hi[d] > sc.grid_lo[d])) s.fail("hi", "expected hi > lo on every axis");
+    const double h = (sc.grid_hi[d] - sc.grid_lo[d]) / sc.cells[d];
+    if (d == 0) sc.h = h;
+    if (std::abs(h - sc.h) > 1e-9 * sc.h)
+      s.fail("cells", "cells must be square: (hi - lo)/cells is " + std::to_string(sc.h) + " on x but " +
+                          std::to_string(h) + " on axis " + std::to_string(d));
+  }
+  const std::string accel =
+      s.choice("constrained_acceleration", "zero", {"zero", "velocity-difference"});
+  sc.constrained_acceleration =
+      accel == "zero" ? ConstrainedAcceleration::zero : ConstrainedAcceleration::velocity_difference;
+  sc.faces.assign(2 * n, SceneFace{});
+  const toml::table* faces = s.table("faces");
+  if (!faces) return;
+  const std::vector<std::string> names(face_names.begin(), face_names.begin() + 2 * sc.dim);
+  const Section f(*faces, s.key_of("faces"), loc, names);
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const toml::node* node = f.get(names[k]);
+    if (!node) continue;
+    SceneFace& face = sc.faces[k];
+    if (node->is_string()) {
+      const std::string kind = f.choice(names[k], "free", {"free", "fixed", "symmetry"});
+      face.kind = kind == "free" ? SceneFace::Kind::free
+                                 : (kind == "fixed" ? SceneFace::Kind::fixed : SceneFace::Kind::symmetry);
+    } else if (node->is_table()) {
+      const Section v(*node->as_table(), f.key_of(names[k]), loc, {"velocity"});
+      if (!v.has("velocity")) v.fail("velocity", "missing (an array of prescribed velocity components)");
+      face.kind = SceneFace::Kind::velocity;
+      face.velocity = v.expressions("velocity", n, time_var, sc.constants);
+    } else {
+      f.fail(names[k], "expected \"free\", \"fixed\", \"symmetry\" or { velocity = [...] }");
+    }
+  }
+}
+
+void read_material(const Section& s, Scene& sc) {
+  SceneMaterial m;
+  m.name = s.text("name", "");
+  if (m.name.empty()) s.fail("name", "missing (each material needs a name bodies refer to)");
+  for (const SceneMaterial& other : sc.materials)
+    if (other.name == m.name) s.fail("name", "material '" + m.name + "' is defined twice");
+  s.choice("model", "neo-hookean", {"neo-hookean"});
+  const double rho = s.required_number("density");
+  if (!(rho > 0)) s.fail("density", "expected a positive density [kg/m^3]");
+  const bool young = s.has("E") || s.has("nu"), lame = s.has("lambda") || s.has("mu");
+  if (young == lame) s.fail(young ? "lambda" : "E", "give either E and nu, or lambda and mu");
+  if (young) {
+    const double E = s.required_number("E"), nu = s.required_number("nu");
+    if (!(E > 0)) s.fail("E", "expected a positive Young's modulus [Pa]");
+    if (!(nu > -1 && nu < 0.5)) s.fail("nu", "expected a Poisson ratio in (-1, 0.5)");
+    m.law = NeoHookean::from_young_poisson(E, nu, rho);
+  } else {
+    const double lambda = s.required_number("lambda"), mu = s.required_number("mu");
+    if (!(mu > 0)) s.fail("mu", "expected a positive shear modulus [Pa]");
+    if (!(lambda + 2 * mu / 3 > 0)) s.fail("lambda", "expected lambda + 2 mu / 3 > 0 (positive bulk modulus)");
+    m.law = NeoHookean{lambda, mu, rho};
+  }
+  sc.materials.push_back(m);
+}
+
+bool inside_grid(const Scene& sc, const std::vector<double>& lo, const std::vector<double>& hi) {
+  for (int d = 0; d < sc.dim; ++d)
+    if (lo[d] < sc.grid_lo[d] - 1e-12 || hi[d] > sc.grid_hi[d] + 1e-12) return false;
+  return true;
+}
+
+void read_body(const Section& s, Scene& sc, std::size_t index) {
+  const auto n = static_cast<std::size_t>(sc.dim);
+  SceneBody b;
+  b.name = s.text("name", "body " + std::to_string(index));
+  const std::string shape = s.choice("shape", "box", {"box", "disk", "sphere", "ring", "file"});
+  if (shape == "box") {
+    b.shape = SceneBody::Shape::box;
+    b.lo = s.numbers("lo", n);
+    b.hi = s.numbers("hi", n);
+    for (std::size_t d = 0; d < n; ++d)
+      if (!(b.hi[d] > b.lo[d])) s.fail("hi", "expected hi > lo on every axis");
+    if (!inside_grid(sc, b.lo, b.hi)) s.fail("lo", "the box must lie inside the grid");
+  } else if (shape == "file") {
+    b.shape = SceneBody::Shape::file;
+    b.file = s.text("file", "");
+    if (b.file.empty()) s.fail("file", "missing (a CSV file of positions and volumes)");
+    if (b.file.is_relative()) b.file = sc.file.parent_path() / b.file;
+    if (!std::filesystem::exists(b.file)) s.fail("file", "cannot open " + b.file.string());
+  } else {
+    if ((shape == "disk" && sc.dim != 2) || (shape == "sphere" && sc.dim != 3))
+      s.fail("shape", "\"disk\" is for 2-D scenes, \"sphere\" for 3-D");
+    if (shape == "ring" && sc.dim == 1) s.fail("shape", "\"ring\" needs a 2-D or 3-D scene");
+    b.shape = shape == "ring" ? SceneBody::Shape::ring : SceneBody::Shape::disk;
+    b.center = s.numbers("center", n);
+    b.radius = s.required_number("radius");
+    if (!(b.radius > 0)) s.fail("radius", "expected a positive radius [m]");
+    if (b.shape == SceneBody::Shape::ring) {
+      b.inner_radius = s.required_number("inner_radius");
+      if (!(b.inner_radius >= 0 && b.inner_radius < b.radius))
+        s.fail("inner_radius", "expected 0 <= inner_radius < radius");
+    }
+    std::vector<double> lo = b.center, hi = b.center;
+    for (std::size_t d = 0; d < n; ++d) lo[d] -= b.radius, hi[d] += b.radius;
+    if (!inside_grid(sc, lo, hi)) s.fail("radius", "the " + shape + " must lie inside the grid");
+  }
+  b.ppc = s.integer("ppc", 2);
+  if (b.ppc < 1) s.fail("ppc", "expected at least 1 particle per cell per axis");
+  const std::string material = s.text("material", sc.materials.size() == 1 ? sc.materials[0].name : "");
+  if (material.empty()) s.fail("material", "missing (the name of a [[materials]] entry)");
+  auto found = std::find_if(sc.materials.begin(), sc.materials.end(),
+                            [&](const SceneMaterial& m) { return m.name == material; });
+  if (found == sc.materials.end()) s.fail("material", "no material named '" + material + "'");
+  b.material = static_cast<std::size_t>(found - sc.materials.begin());
+  if (s.has("velocity")) b.velocity = s.expressions("velocity", n, position_vars[n - 1], sc.constants);
+  if (s.has("displacement"))
+    b.displacement = s.expressions("displacement", n, reference_vars[n - 1], sc.constants);
+  if (s.has("deformation_gradient")) {
+    if (!s.has("displacement")) s.fail("deformation_gradient", "needs the matching initial displacement");
+    b.deformation = s.expressions("deformation_gradient", n * n, reference_vars[n - 1], sc.constants);
+  }
+  sc.bodies.push_back(std::move(b));
+}
+
+void read_loads(const Section& s, Scene& sc, const Locator& loc) {
+  const auto n = static_cast<std::size_t>(sc.dim);
+  sc.gravity = s.has("gravity") ? s.numbers("gravity", n) : std::vector<double>(n, 0.0);
+  if (s.has("body_force")) sc.body_force = s.expressions("body_force", n, reference_time_vars[n - 1], sc.constants);
+  const std::vector<const toml::table*> tractions = s.tables("traction");
+  for (std::size_t k = 0; k < tractions.size(); ++k) {
+    const Section t(*tractions[k], s.key_of("traction[" + std::to_string(k) + "]"), loc, {"body", "face", "traction"});
+    SceneTraction tr;
+    const std::string body = t.text("body", "");
+    auto found = std::find_if(sc.bodies.begin(), sc.bodies.end(), [&](const SceneBody& b) { return b.name == body; });
+    if (found == sc.bodies.end()) t.fail("body", "no body named '" + body + "'");
+    if (found->shape != SceneBody::Shape::box) t.fail("body", "tractions apply to box bodies only");
+    tr.body = static_cast<std::size_t>(found - sc.bodies.begin());
+    const std::vector<std::string> names(face_names.begin(), face_names.begin() + 2 * sc.dim);
+    const std::string face = t.choice("face", "", names);
+    tr.face = static_cast<int>(std::find(names.begin(), names.end(), face) - names.begin());
+    tr.traction = t.expressions("traction", n, time_var, sc.constants);
+    sc.tractions.push_back(std::move(tr));
+  }
+}
+
+}  // namespace
+
+Scene read_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
+  Scene sc;
+  sc.file = file;
+  const Locator loc{file.string()};
+  {
+    std::ifstream is(file);
+    if (!is) throw InputError(file.string() + ": cannot open the scene file");
+    std::stringstream ss;
+    ss << is.rdbuf();
+    sc.text = ss.str();
+  }
+  toml::table doc;
+  try {
+    doc = toml::parse(sc.text, file.string());
+  } catch (const toml::parse_error& e) {
+    throw InputError(file.string() + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
+  }
+  for (const std::string& o : overrides) apply_override(doc, o);
+
+  const Section top(doc, "", loc, {"simulation", "output", "constants", "grid", "materials", "bodies", "loads", "check"});
+  if (const toml::table* c = top.table("constants")) {
+    for (auto&& [k, v] : *c) {
+      const std::string name(k.str());
+      if (!v.is_number()) loc.fail(&v, "constants." + name, "expected a number, got " + describe(v));
+      if (name == "t" || name == "x" || name == "y" || name == "z" || name == "X" || name == "Y" || name == "Z" || name == "pi")
+        loc.fail(&v, "constants." + name, "'" + name + "' is reserved for a variable or pi");
+      sc.constants[name] = v.value<double>().value();
+    }
+  }
+  const toml::table* sim = top.table("simulation");
+  if (!sim) top.fail("simulation", "missing [simulation] table (dimension, end_time, integrator, kernel, dt or cfl)");
+  read_simulation(Section(*sim, "simulation", loc,
+                          {"dimension", "end_time", "integrator", "kernel", "gimp_length", "dt", "cfl", "threads", "plane"}),
+                  sc);
+  if (const toml::table* out = top.table("output")) {
+    const Section s(*out, "output", loc, {"every"});
+    sc.output_every = s.number("every", 0);
+    if (sc.output_every < 0) s.fail("every", "expected a non-negative interval [s] (0: first and last state only)");
+  }
+  const toml::table* grid = top.table("grid");
+  if (!grid) top.fail("grid", "missing [grid] table (lo, hi, cells, faces)");
+  read_grid(Section(*grid, "grid", loc, {"lo", "hi", "cells", "faces", "constrained_acceleration"}), sc, loc);
+  const std::vector<const toml::table*> materials = top.tables("materials");
+  if (materials.empty()) top.fail("materials", "missing: at least one [[materials]] table is needed");
+  for (std::size_t k = 0; k < materials.size(); ++k)
+    read_material(Section(*materials[k], "materials[" + std::to_string(k) + "]", loc,
+                          {"name", "model", "E", "nu", "lambda", "mu", "density"}),
+                  sc);
+  const std::vector<const toml::table*> bodies = top.tables("bodies");
+  if (bodies.empty()) top.fail("bodies", "missing: at least one [[bodies]] table is needed");
+  for (std::size_t k = 0; k < bodies.size(); ++k)
+    read_body(Section(*bodies[k], "bodies[" + std::to_string(k) + "]", loc,
+                      {"name", "shape", "lo", "hi", "center", "radius", "inner_radius", "file", "ppc", "material",
+                       "velocity", "displacement", "deformation_gradient"}),
+              sc, k);
+  if (const toml::table* loads = top.table("loads"))
+    read_loads(Section(*loads, "loads", loc, {"gravity", "body_force", "traction"}), sc, loc);
+  else
+    sc.gravity.assign(static_cast<std::size_t>(sc.dim), 0.0);
+  if (const toml::table* check = top.table("check")) {
+    const Section s(*check, "check", loc, {"displacement"});
+    if (!s.has("displacement")) s.fail("displacement", "missing (the exact displacement, expressions of X, Y, Z, t)");
+    sc.exact_displacement = s.expressions("displacement", static_cast<std::size_t>(sc.dim),
+                                          reference_time_vars[sc.dim - 1], sc.constants);
+  }
+  return sc;
+}
+
+}  // namespace mpm
