@@ -89,7 +89,13 @@ class SceneRun {
  public:
   SceneRun(const Scene& sc, const RunOptions& o)
       : sc_(sc), o_(o), spec_(make_spec<Dim>(sc)), sim_(spec_, seed_bodies<Dim>(sc)) {
-    if (!o.restart.empty()) restore(io::read_checkpoint(o.restart));
+    if (o.restart.empty()) return;
+    try {
+      restore(io::read_checkpoint(o.restart));
+    } catch (const InputError& e) {  // name the option: "checkpoint FILE: not an HDF5 file" alone is unclear
+      const std::string what = e.what();
+      throw InputError(what.rfind("--restart", 0) == 0 ? what : "--restart: " + what);
+    }
   }
 
   int run() {
@@ -102,8 +108,9 @@ class SceneRun {
       write_history_row();
     }
     std::string failure;
+    const std::int64_t stop_at = o_.stop_after > 0 ? sim_.steps() + o_.stop_after : -1;
     try {
-      while (sim_.time() < sc_.end_time * (1 - 1e-14)) {
+      while (sim_.time() < sc_.end_time * (1 - 1e-14) && sim_.steps() != stop_at) {
         const std::vector<Vec<Dim>> v_before = sim_.particles().v;
         sim_.step(sc_.end_time - sim_.time());
         account_work(v_before);
@@ -116,12 +123,13 @@ class SceneRun {
     } catch (const SimulationFailure& e) {
       failure = e.what();
     }
+    const bool stopped = failure.empty() && sim_.steps() == stop_at && sim_.time() < sc_.end_time * (1 - 1e-14);
     if (failure.empty()) {
-      if (frames_ == 0 || last_frame_time_ < sim_.time()) write_frame();
-      if (o_.checkpoint_every > 0) write_checkpoint();
+      if (!stopped && (frames_ == 0 || last_frame_time_ < sim_.time())) write_frame();
+      if (o_.checkpoint_every > 0 || stopped) write_checkpoint();
     }
     history_.flush();
-    write_summary(failure, std::chrono::duration<double>(Clock::now() - wall_start).count());
+    write_summary(failure, stopped, std::chrono::duration<double>(Clock::now() - wall_start).count());
     if (!failure.empty()) {
       std::cerr << "mpm: simulation failed: " << failure << '\n';
       return exit_simulation_failure;
@@ -256,8 +264,8 @@ class SceneRun {
     last_frame_time_ = sim_.time();
   }
 
-  void write_summary(const std::string& failure, double wall) {
-    nlohmann::json j{{"status", failure.empty() ? "ok" : "failed"},
+  void write_summary(const std::string& failure, bool stopped, double wall) {
+    nlohmann::json j{{"status", !failure.empty() ? "failed" : (stopped ? "stopped" : "ok")},
                      {"scene", sc_.file.string()},
                      {"dimension", Dim},
                      {"integrator", to_string(sc_.integrator)},

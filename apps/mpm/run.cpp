@@ -26,8 +26,11 @@ Action add_run(CLI::App& app) {
   cmd->add_flag("--quiet", o->run.quiet, "no progress line");
   cmd->add_option("--checkpoint-every", o->run.checkpoint_every, "write OUT/checkpoint.h5 every this many steps");
   cmd->add_option("--restart", o->restart, "continue from a checkpoint written by this scene");
+  cmd->add_option("--stop-after", o->run.stop_after,
+                  "stop after this many steps, writing OUT/checkpoint.h5 to continue from with --restart");
   return [o]() {
     if (o->run.threads < 0) throw InputError("--threads: expected a non-negative count");
+    if (o->run.stop_after < 0) throw InputError("--stop-after: expected a non-negative step count");
     if (o->run.checkpoint_every < 0) throw InputError("--checkpoint-every: expected a non-negative step count");
     if (!o->restart.empty() && !std::filesystem::exists(o->restart))
       throw InputError("--restart: no checkpoint at " + o->restart);

@@ -13,6 +13,7 @@ struct RunOptions {
   bool quiet = false;                 ///< no progress line
   std::int64_t checkpoint_every = 0;  ///< steps between checkpoints (out_dir/checkpoint.h5); 0: none
   std::filesystem::path restart;      ///< a checkpoint of this scene to continue from; empty: start at t = 0
+  std::int64_t stop_after = 0;        ///< stop after this many steps of this run (with a checkpoint); 0: run to the end
 };
 
 /// Run the scene to its end time. Writes into out_dir: particles_NNNN.vtp and particles.pvd (every
