@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -280,6 +281,30 @@ displacement = ["A*sin(pi*X)*cos(w*t)", "A*sin(pi*Y)*sin(w*t)"]
   for (const char* norm : {"linf", "l1", "l2"})
     EXPECT_NEAR(s["error"][norm].get<double>() / v[norm].get<double>(), 1.0, 1e-12) << norm;
   EXPECT_NEAR(v["linf"].get<double>(), 1.71e-2, 1e-4);  // the 8-cell value of the convergence test
+  fs::remove_all(dir);
+}
+
+TEST(SceneRun, RenderDrawsEveryKthFrameAndTheLast) {
+  const fs::path dir = scratch("render");
+  ASSERT_EQ(run(disks + " --quiet --set simulation.end_time=0.5 --out " + dir.string(), dir / "log"), 0);
+  const auto render = [&](const std::string& args) {
+    const std::string cmd = std::string(MPM_BINARY) + " render " + dir.string() + " " + args + " >" +
+                            (dir / "render.log").string() + " 2>&1";
+    const int raw = std::system(cmd.c_str());
+    return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  };
+  ASSERT_EQ(render("--field velocity --every 2"), 0) << slurp(dir / "render.log");
+  // Frames at t = 0, 0.1, ..., 0.5: every second one (0, 2, 4) and the last (5).
+  std::vector<std::string> pictures;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir / "pictures")) {
+    pictures.push_back(e.path().filename().string());
+    EXPECT_EQ(slurp(e.path()).substr(0, 8), std::string("\x89PNG\r\n\x1a\n")) << e.path();
+  }
+  std::sort(pictures.begin(), pictures.end());
+  EXPECT_EQ(pictures, (std::vector<std::string>{"velocity_0000.png", "velocity_0002.png", "velocity_0004.png",
+                                                "velocity_0005.png"}));
+  EXPECT_EQ(render("--field temperature"), 2) << slurp(dir / "render.log");
+  EXPECT_NE(slurp(dir / "render.log").find("velocity"), std::string::npos) << "lists the available fields";
   fs::remove_all(dir);
 }
 

@@ -2,7 +2,7 @@
 
 Usage: python3 render.py DIR FIELD EVERY
 Reads DIR/particles.pvd and every EVERY-th dataset it lists (the last one always), and writes
-DIR/pictures/FIELD_NNNN.png (frames numbered from 0). FIELD is a point-data array name; vectors and tensors are
+DIR/pictures/FIELD_NNNN.png (NNNN: the index of the dataset in the .pvd, as in particles_NNNN.vtp). FIELD is a point-data array name; vectors and tensors are
 coloured by magnitude, or by one component with FIELD:K (e.g. velocity:1, stress:0). Axis limits and colour range
 are the same in every frame. The .vtp files are read without VTK (raw appended data, as mpm::io::write_vtp
 writes them), so only numpy and matplotlib are needed. Exit status: 2 bad arguments or files, 3 no matplotlib,
@@ -88,7 +88,8 @@ def main(folder, field, every):
     entries = [(float(d.get("timestep")), d.get("file")) for d in ET.parse(pvd).getroot().iter("DataSet")]
     if not entries:
         fail(f"{pvd} lists no datasets")
-    chosen = entries[::every] + ([entries[-1]] if (len(entries) - 1) % every else [])
+    indices = list(range(0, len(entries), every)) + ([len(entries) - 1] if (len(entries) - 1) % every else [])
+    chosen = [entries[i] for i in indices]
 
     frames = []
     for time, file in chosen:
@@ -110,7 +111,7 @@ def main(folder, field, every):
     out_dir = os.path.join(folder, "pictures")
     os.makedirs(out_dir, exist_ok=True)
     stem = field.replace(":", "_")
-    for frame, (time, points, value) in enumerate(frames):
+    for frame, (time, points, value) in zip(indices, frames):
         fig, ax = plt.subplots(figsize=(6, 5))
         size = min(20.0, max(0.2, 2e4 / len(points)))
         dots = ax.scatter(points[:, 0], points[:, 1], c=value, s=size, vmin=vmin, vmax=vmax, cmap="viridis",
