@@ -39,7 +39,10 @@ Expression::Expression(const std::string& text, const std::vector<std::string>& 
   } catch (const mu::Parser::exception_type& err) {
     std::string names;
     for (const std::string& v : variables) names += (names.empty() ? "" : ", ") + v;
-    throw InputError(where + ": cannot evaluate '" + text + "': " + err.GetMsg() +
+    const std::string reason = err.GetCode() == mu::ecUNASSIGNABLE_TOKEN
+                                   ? "unknown name '" + err.GetToken() + "'"
+                                   : err.GetMsg();
+    throw InputError(where + ": cannot evaluate '" + text + "': " + reason +
                      " (variables: " + (names.empty() ? "none" : names) + "; constants: pi" +
                      (constants.empty() ? "" : " and [constants]") + ")");
   }

@@ -61,13 +61,16 @@ Mat<Dim> gradient_of_displacement(const std::vector<ExpressionPtr>& u, const Vec
   return F;
 }
 
+/// The rows of a particle file; a bad row throws "FILE:LINE: row of KEY: ..." (`key` names the scene key).
 template <int Dim>
-void read_particle_file(const SceneBody& b, const NeoHookean& mat, std::uint16_t material, ParticleSet<Dim>& p) {
+void read_particle_file(const SceneBody& b, const std::string& key, const NeoHookean& mat, std::uint16_t material,
+                        ParticleSet<Dim>& p) {
   std::ifstream is(b.file);
   std::string line;
   int line_no = 0;
   while (std::getline(is, line)) {
     ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();  // a file with Windows line ends
     if (line.empty() || line[0] == '#') continue;
     std::stringstream ss(line);
     std::vector<double> row;
@@ -83,11 +86,12 @@ void read_particle_file(const SceneBody& b, const NeoHookean& mat, std::uint16_t
       }
     }
     if (!numeric && line_no == 1) continue;  // a header line
+    const std::string where = b.file.string() + ":" + std::to_string(line_no) + ": row of " + key + ": ";
     if (!numeric || row.size() != static_cast<std::size_t>(Dim + 1))
-      throw InputError(b.file.string() + ":" + std::to_string(line_no) + ": expected " + std::to_string(Dim + 1) +
-                       " comma-separated numbers (position then volume)");
+      throw InputError(where + "expected " + std::to_string(Dim + 1) +
+                       " comma-separated numbers (position then volume), got '" + line + "'");
     const Real V = row[Dim];
-    if (!(V > 0)) throw InputError(b.file.string() + ":" + std::to_string(line_no) + ": volume must be positive");
+    if (!(V > 0 && std::isfinite(V))) throw InputError(where + "volume must be a positive number");
     Vec<Dim> x;
     for (int d = 0; d < Dim; ++d) x[d] = row[d];
     p.add(x, Vec<Dim>::Zero(), mat.rho0 * V, V, Vec<Dim>::Constant(0.5 * std::pow(V, 1.0 / Dim)), material);
@@ -179,7 +183,7 @@ ParticleSet<Dim> seed_bodies(const Scene& sc) {
         break;
       }
       case SceneBody::Shape::file:
-        read_particle_file<Dim>(b, mat, material, p);
+        read_particle_file<Dim>(b, "bodies[" + std::to_string(k) + "].file in " + sc.file.string(), mat, material, p);
         break;
     }
     const std::string name = "bodies[" + std::to_string(k) + "] (" + b.name + ")";

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -14,13 +15,25 @@ namespace mpm {
 
 namespace {
 
-/// Where a value came from, for error messages: "FILE:LINE: key.path".
+/// Where a value came from, for error messages: "FILE:LINE: key.path", or "FILE: key.path (from --set ...)" for
+/// a value given on the command line.
 struct Locator {
   std::string file;
+  std::vector<std::pair<std::string, std::string>> overrides;  ///< key path set by --set, and the assignment
+
+  std::string where(const toml::node* node, const std::string& key) const {
+    if (node && node->source().begin.line > 0)
+      return file + ":" + std::to_string(node->source().begin.line) + ": " + key;
+    auto under = [](const std::string& a, const std::string& b) {  // a is b or lies inside it
+      return a.size() > b.size() ? a.compare(0, b.size(), b) == 0 && (a[b.size()] == '.' || a[b.size()] == '[')
+                                 : a == b;
+    };
+    for (const auto& [set_key, assignment] : overrides)
+      if (under(key, set_key) || under(set_key, key)) return file + ": " + key + " (from --set " + assignment + ")";
+    return file + ": " + key;
+  }
   [[noreturn]] void fail(const toml::node* node, const std::string& key, const std::string& what) const {
-    std::string where = file;
-    if (node && node->source().begin.line > 0) where += ":" + std::to_string(node->source().begin.line);
-    throw InputError(where + ": " + key + ": " + what);
+    throw InputError(where(node, key) + ": " + what);
   }
 };
 
@@ -37,7 +50,7 @@ std::string describe(const toml::node& n) {
   else if (n.is_table())
     os << "a table";
   else if (n.is_array())
-    os << "an array";
+    os << "an array of " << n.as_array()->size();
   else
     n.visit([&](auto&& v) { os << v; });
   return os.str();
@@ -51,7 +64,8 @@ class Section {
     for (auto&& [k, v] : t_) {
       const std::string key(k.str());
       if (std::find(allowed_.begin(), allowed_.end(), key) == allowed_.end())
-        loc_.fail(&v, key_of(key), "unknown key (expected one of " + join(allowed_) + ")");
+        loc_.fail(&v, key_of(key), std::string(v.is_table() ? "unknown table" : "unknown key") + " (expected one of " +
+                                       join(allowed_) + ")");
     }
   }
 
@@ -60,13 +74,14 @@ class Section {
   bool has(const std::string& k) const { return t_.contains(k); }
   [[noreturn]] void fail(const std::string& k, const std::string& what) const {
     const toml::node* n = get(k);
-    loc_.fail(n ? n : &t_, key_of(k), what);
+    loc_.fail(n ? n : (path_.empty() ? nullptr : &t_), key_of(k), what);  // the document's line 1 would mislead
   }
 
   double number(const std::string& k, double fallback) const {
     const toml::node* n = get(k);
     if (!n) return fallback;
     if (!n->is_number()) fail(k, "expected a number, got " + describe(*n));
+    if (!std::isfinite(n->value<double>().value())) fail(k, "expected a finite number, got " + describe(*n));
     return n->value<double>().value();
   }
   double required_number(const std::string& k) const {
@@ -82,7 +97,10 @@ class Section {
     const toml::node* n = get(k);
     if (!n) return fallback;
     if (!n->is_integer()) fail(k, "expected an integer, got " + describe(*n));
-    return static_cast<int>(n->value<std::int64_t>().value());
+    const std::int64_t v = n->value<std::int64_t>().value();
+    if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
+      fail(k, "expected an integer, got " + describe(*n) + " (out of range)");
+    return static_cast<int>(v);
   }
   std::string text(const std::string& k, const std::string& fallback) const {
     const toml::node* n = get(k);
@@ -106,7 +124,8 @@ class Section {
     const toml::array& a = array(k, n, "an array of " + std::to_string(n) + " numbers");
     std::vector<double> out;
     for (const toml::node& e : a) {
-      if (!e.is_number()) fail(k, "expected an array of " + std::to_string(n) + " numbers, got " + describe(e) + " in it");
+      if (!e.is_number() || !std::isfinite(e.value<double>().value()))
+        fail(k, "expected an array of " + std::to_string(n) + " finite numbers, got " + describe(e) + " in it");
       out.push_back(e.value<double>().value());
     }
     return out;
@@ -131,9 +150,7 @@ class Section {
       } else {
         fail(k, "expected " + what + ", got " + describe(e) + " in it");
       }
-      std::string where = loc_.file;
-      if (e.source().begin.line > 0) where += ":" + std::to_string(e.source().begin.line);
-      out.push_back(std::make_shared<Expression>(src, vars, constants, where + ": " + key_of(k) + "[" + std::to_string(c) + "]"));
+      out.push_back(std::make_shared<Expression>(src, vars, constants, loc_.where(&e, key_of(k) + "[" + std::to_string(c) + "]")));
     }
     return out;
   }
@@ -165,8 +182,9 @@ const std::vector<std::string> reference_vars[] = {{"X"}, {"X", "Y"}, {"X", "Y",
 const std::vector<std::string> reference_time_vars[] = {{"X", "t"}, {"X", "Y", "t"}, {"X", "Y", "Z", "t"}};
 const std::vector<std::string> time_var{"t"};
 
-/// Apply one --set key.path=value to the document.
-void apply_override(toml::table& doc, const std::string& assignment) {
+/// Apply one --set key.path=value to the document; returns the key path as error messages write it
+/// ("bodies[0].radius" for bodies.0.radius).
+std::string apply_override(toml::table& doc, const std::string& assignment) {
   const std::size_t eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
     throw InputError("--set: expected key.path=value, got '" + assignment + "'");
@@ -181,6 +199,7 @@ void apply_override(toml::table& doc, const std::string& assignment) {
   std::stringstream ss(path);
   for (std::string k; std::getline(ss, k, '.');) keys.push_back(k);
   toml::node* at = &doc;
+  std::string key_path;
   for (std::size_t i = 0; i + 1 < keys.size(); ++i) {
     const std::string& k = keys[i];
     if (toml::array* arr = at->as_array()) {
@@ -192,9 +211,11 @@ void apply_override(toml::table& doc, const std::string& assignment) {
       }
       if (idx >= arr->size()) throw InputError("--set " + path + ": index " + k + " is past the end of the array");
       at = arr->get(idx);
+      key_path += "[" + k + "]";
     } else if (toml::table* tab = at->as_table()) {
       if (!tab->contains(k)) tab->insert(k, toml::table{});
       at = tab->get(k);
+      key_path += (key_path.empty() ? "" : ".") + k;
     } else {
       throw InputError("--set " + path + ": '" + k + "' is not a table or array");
     }
@@ -202,6 +223,7 @@ void apply_override(toml::table& doc, const std::string& assignment) {
   toml::table* tab = at->as_table();
   if (!tab) throw InputError("--set " + path + ": the parent of '" + keys.back() + "' is not a table");
   tab->insert_or_assign(keys.back(), *parsed.get("v"));
+  return key_path + (key_path.empty() ? "" : ".") + keys.back();
 }
 
 void read_simulation(const Section& s, Scene& sc) {
@@ -231,7 +253,8 @@ void read_grid(const Section& s, Scene& sc, const Locator& loc) {
   sc.grid_hi = s.numbers("hi", n);
   const toml::array& cells = s.array("cells", n, "an array of " + std::to_string(n) + " positive integers");
   for (const toml::node& c : cells) {
-    if (!c.is_integer() || c.value<std::int64_t>().value() < 1)
+    if (!c.is_integer() || c.value<std::int64_t>().value() < 1 ||
+        c.value<std::int64_t>().value() > std::numeric_limits<int>::max())
       s.fail("cells", "expected an array of " + std::to_string(n) + " positive integers, got " + describe(c) + " in it");
     sc.cells.push_back(static_cast<int>(c.value<std::int64_t>().value()));
   }
@@ -296,10 +319,20 @@ void read_material(const Section& s, Scene& sc) {
   sc.materials.push_back(m);
 }
 
-bool inside_grid(const Scene& sc, const std::vector<double>& lo, const std::vector<double>& hi) {
+/// Empty when [lo, hi] lies inside the grid, else "lo" or "hi" (the side that leaves it).
+std::string outside_grid(const Scene& sc, const std::vector<double>& lo, const std::vector<double>& hi) {
   for (int d = 0; d < sc.dim; ++d)
-    if (lo[d] < sc.grid_lo[d] - 1e-12 || hi[d] > sc.grid_hi[d] + 1e-12) return false;
-  return true;
+    if (lo[d] < sc.grid_lo[d] - 1e-12) return "lo";
+  for (int d = 0; d < sc.dim; ++d)
+    if (hi[d] > sc.grid_hi[d] + 1e-12) return "hi";
+  return "";
+}
+
+/// The grid's extent for messages, e.g. "[0, 1] x [0, 2]".
+std::string grid_extent(const Scene& sc) {
+  std::ostringstream os;
+  for (int d = 0; d < sc.dim; ++d) os << (d ? " x [" : "[") << sc.grid_lo[d] << ", " << sc.grid_hi[d] << "]";
+  return os.str();
 }
 
 void read_body(const Section& s, Scene& sc, std::size_t index) {
@@ -313,7 +346,8 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
     b.hi = s.numbers("hi", n);
     for (std::size_t d = 0; d < n; ++d)
       if (!(b.hi[d] > b.lo[d])) s.fail("hi", "expected hi > lo on every axis");
-    if (!inside_grid(sc, b.lo, b.hi)) s.fail("lo", "the box must lie inside the grid");
+    const std::string side = outside_grid(sc, b.lo, b.hi);
+    if (!side.empty()) s.fail(side, "the box must lie inside the grid " + grid_extent(sc));
   } else if (shape == "file") {
     b.shape = SceneBody::Shape::file;
     b.file = s.text("file", "");
@@ -335,7 +369,8 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
     }
     std::vector<double> lo = b.center, hi = b.center;
     for (std::size_t d = 0; d < n; ++d) lo[d] -= b.radius, hi[d] += b.radius;
-    if (!inside_grid(sc, lo, hi)) s.fail("radius", "the " + shape + " must lie inside the grid");
+    if (!outside_grid(sc, lo, hi).empty())
+      s.fail("radius", "the " + shape + " (center +- radius) must lie inside the grid " + grid_extent(sc));
   }
   b.ppc = s.integer("ppc", 2);
   if (b.ppc < 1) s.fail("ppc", "expected at least 1 particle per cell per axis");
@@ -343,7 +378,11 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
   if (material.empty()) s.fail("material", "missing (the name of a [[materials]] entry)");
   auto found = std::find_if(sc.materials.begin(), sc.materials.end(),
                             [&](const SceneMaterial& m) { return m.name == material; });
-  if (found == sc.materials.end()) s.fail("material", "no material named '" + material + "'");
+  if (found == sc.materials.end()) {
+    std::vector<std::string> names;
+    for (const SceneMaterial& m : sc.materials) names.push_back(m.name);
+    s.fail("material", "no material named '" + material + "' (defined: " + join(names) + ")");
+  }
   b.material = static_cast<std::size_t>(found - sc.materials.begin());
   if (s.has("velocity")) b.velocity = s.expressions("velocity", n, position_vars[n - 1], sc.constants);
   if (s.has("displacement"))
@@ -363,6 +402,7 @@ void read_loads(const Section& s, Scene& sc, const Locator& loc) {
   for (std::size_t k = 0; k < tractions.size(); ++k) {
     const Section t(*tractions[k], s.key_of("traction[" + std::to_string(k) + "]"), loc, {"body", "face", "traction"});
     SceneTraction tr;
+    if (!t.has("body")) t.fail("body", "missing (the name of the loaded box body)");
     const std::string body = t.text("body", "");
     auto found = std::find_if(sc.bodies.begin(), sc.bodies.end(), [&](const SceneBody& b) { return b.name == body; });
     if (found == sc.bodies.end()) t.fail("body", "no body named '" + body + "'");
@@ -381,10 +421,10 @@ void read_loads(const Section& s, Scene& sc, const Locator& loc) {
 Scene read_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
   Scene sc;
   sc.file = file;
-  const Locator loc{file.string()};
+  Locator loc{file.string(), {}};
   {
     std::ifstream is(file);
-    if (!is) throw InputError(file.string() + ": cannot open the scene file");
+    if (!is || !std::filesystem::is_regular_file(file)) throw InputError(file.string() + ": cannot open the scene file");
     std::stringstream ss;
     ss << is.rdbuf();
     sc.text = ss.str();
@@ -395,7 +435,7 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
   } catch (const toml::parse_error& e) {
     throw InputError(file.string() + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
   }
-  for (const std::string& o : overrides) apply_override(doc, o);
+  for (const std::string& o : overrides) loc.overrides.emplace_back(apply_override(doc, o), o);
 
   const Section top(doc, "", loc, {"simulation", "output", "constants", "grid", "materials", "bodies", "loads", "check"});
   if (const toml::table* c = top.table("constants")) {

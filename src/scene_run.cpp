@@ -63,7 +63,6 @@ class Progress {
     const double elapsed = std::chrono::duration<double>(now - start_).count();
     if (elapsed < 2 || std::chrono::duration<double>(now - last_).count() < 0.5) return;
     last_ = now;
-    ++steps_seen_;
     const double fraction = (t - t0_) / (t_end_ - t0_);
     const double rate = static_cast<double>(step - first_step_) / elapsed;
     const double eta = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0;
@@ -80,7 +79,7 @@ class Progress {
   bool quiet_;
   Real t0_, t_end_;
   Clock::time_point start_, last_;
-  std::int64_t first_step_ = 0, steps_seen_ = 0;
+  std::int64_t first_step_ = 0;
   bool printed_ = false;
 };
 
