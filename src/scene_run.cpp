@@ -280,8 +280,10 @@ class SceneRun {
     if (!o_.restart.empty()) j["restarted_from"] = o_.restart.string();
     if (has_check())
       j["error"] = {{"linf", failure.empty() ? error_.linf : 1.0}, {"l1", error_.l1()}, {"l2", error_.l2()}};
-    const Totals<Dim> t = totals(sim_.particles(), spec_.materials);
-    j["energy"] = {{"kinetic", t.kinetic}, {"strain", t.strain}, {"external_work", external_work_}};
+    if (failure.empty()) {  // after a failure the particle state is not valid: no energies from it
+      const Totals<Dim> t = totals(sim_.particles(), spec_.materials);
+      j["energy"] = {{"kinetic", t.kinetic}, {"strain", t.strain}, {"external_work", external_work_}};
+    }
     std::ofstream(o_.out_dir / "summary.json") << j.dump(2) << '\n';
   }
 

@@ -284,6 +284,31 @@ displacement = ["A*sin(pi*X)*cos(w*t)", "A*sin(pi*Y)*sin(w*t)"]
   fs::remove_all(dir);
 }
 
+TEST(SceneRun, NumericalFailureExits1KeepingTheGoodOutputsAndTheLastCheckpoint) {
+  // USL with linear shape functions goes unstable on the colliding disks (measured: det F < 0 at step 154,
+  // t = 2.27); the run stops there with status 1 and every output up to the last good state.
+  const fs::path dir = scratch("failure");
+  ASSERT_EQ(run(disks + " --quiet --checkpoint-every 50 --set simulation.integrator=usl --out " + dir.string(),
+                dir / "log"),
+            1);
+  const std::string log = slurp(dir / "log");
+  EXPECT_NE(log.find("mpm: simulation failed: step 154"), std::string::npos) << log;
+  const nlohmann::json summary = nlohmann::json::parse(slurp(dir / "summary.json"));
+  EXPECT_EQ(summary["status"], "failed");
+  EXPECT_NE(summary["failure"].get<std::string>().find("det F"), std::string::npos);
+  EXPECT_EQ(summary["steps"], 153);
+  std::vector<std::string> h;
+  const std::vector<std::vector<double>> rows = read_csv(dir / "history.csv", h);
+  EXPECT_EQ(rows.size(), 154u);  // steps 0 to 153
+  EXPECT_EQ(mpm::io::read_checkpoint(dir / "checkpoint.h5").integer_scalars.at("steps"), 150);
+  // Frames at the first steps at or after t = 0, 0.1, ..., 2.2; the failed state is not written.
+  const std::string pvd = slurp(dir / "particles.pvd");
+  std::size_t datasets = 0;
+  for (std::size_t at = pvd.find("<DataSet"); at != std::string::npos; at = pvd.find("<DataSet", at + 1)) ++datasets;
+  EXPECT_EQ(datasets, 23u);
+  fs::remove_all(dir);
+}
+
 TEST(SceneRun, RenderDrawsEveryKthFrameAndTheLast) {
   const fs::path dir = scratch("render");
   ASSERT_EQ(run(disks + " --quiet --set simulation.end_time=0.5 --out " + dir.string(), dir / "log"), 0);
