@@ -127,11 +127,12 @@ void KinematicConstraints<Dim>::constrain_update(Grid<Dim>& grid, Real t_new, Re
     for (std::int32_t n : grp.nodes) {
       GridNode<Dim>& node = grid.nodes[n];
       for (int c = first; c < last; ++c) {
-        reaction[c] += node.m * (val[c] - node.v_new[c]) / dt;
         node.v_new[c] = val[c];
         // Steffen et al. 2008, Eq. (30): the acceleration that brings the projected velocity to the
         // prescribed one.
-        node.a[c] = difference ? (val[c] - node.v[c]) / dt : 0;
+        const Real a = difference ? (val[c] - node.v[c]) / dt : 0;
+        reaction[c] += node.m * (a - node.a[c]);  // the force that turns the free acceleration into a
+        node.a[c] = a;
       }
     }
     reactions_[g] = reaction;

@@ -30,8 +30,8 @@ VelocityFn<Dim> velocity_of(const std::vector<ExpressionPtr>& components) {
 template <int Dim>
 struct TractionLoad {
   int axis;
-  Real plane;         ///< coordinate of the loaded face
-  Real layer;         ///< particles whose reference centre is within this distance of the plane are loaded
+  Real plane;         ///< reference coordinate of the particle layer next to the loaded face
+  Real layer;         ///< particles whose reference centre is within this distance of it are loaded
   Vec<Dim> lo, hi;    ///< the box
   Real inv_rho_s;     ///< 1 / (rho s)
   std::vector<ExpressionPtr> traction;
@@ -138,8 +138,11 @@ SimulationSpec<Dim> make_spec(const Scene& sc) {
     const SceneBody& b = sc.bodies[t.body];
     const Real s = sc.h / b.ppc;
     const int axis = t.face / 2;
-    tractions.push_back({axis, t.face % 2 ? b.hi[axis] : b.lo[axis], 0.5 * s * (1 + 1e-9), to_vec<Dim>(b.lo),
-                         to_vec<Dim>(b.hi), 1 / (sc.materials[b.material].law.rho0 * s), t.traction});
+    // The outermost lattice layer at the face: fill_box seeds layers at lo + (k + 1/2) s, k < n.
+    const Real layers = std::floor((b.hi[axis] - b.lo[axis]) / s + 1e-9);
+    const Real outermost = t.face % 2 ? b.lo[axis] + (layers - 0.5) * s : b.lo[axis] + 0.5 * s;
+    tractions.push_back({axis, outermost, 0.25 * s, to_vec<Dim>(b.lo), to_vec<Dim>(b.hi),
+                         1 / (sc.materials[b.material].law.rho0 * s), t.traction});
   }
   if (!sc.body_force.empty() || !tractions.empty()) {
     spec.body_force = [body = sc.body_force, tractions](const Vec<Dim>& X, Real t) {

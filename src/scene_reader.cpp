@@ -2,6 +2,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -176,6 +177,21 @@ class Section {
   const Locator& loc_;
   std::vector<std::string> allowed_;
 };
+
+/// A constant's name must be a muParser identifier.
+bool valid_name(const std::string& name) {
+  if (name.empty() || !std::isalpha(static_cast<unsigned char>(name[0]))) return false;
+  return std::all_of(name.begin(), name.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+}
+
+/// Variables, pi, and the functions expressions may call.
+bool reserved_name(const std::string& name) {
+  static const std::set<std::string> reserved{
+      "t",    "x",     "y",     "z",    "X",    "Y",    "Z",     "pi",    "sin",  "cos",  "tan", "asin", "acos",
+      "atan", "sinh",  "cosh",  "tanh", "asinh", "acosh", "atanh", "log2", "log10", "log", "ln",  "exp",  "sqrt",
+      "sign", "rint",  "abs",   "min",  "max",  "sum",  "avg",   "pow"};
+  return reserved.count(name) > 0;
+}
 
 const std::vector<std::string> position_vars[] = {{"x"}, {"x", "y"}, {"x", "y", "z"}};
 const std::vector<std::string> reference_vars[] = {{"X"}, {"X", "Y"}, {"X", "Y", "Z"}};
@@ -442,8 +458,10 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
     for (auto&& [k, v] : *c) {
       const std::string name(k.str());
       if (!v.is_number()) loc.fail(&v, "constants." + name, "expected a number, got " + describe(v));
-      if (name == "t" || name == "x" || name == "y" || name == "z" || name == "X" || name == "Y" || name == "Z" || name == "pi")
-        loc.fail(&v, "constants." + name, "'" + name + "' is reserved for a variable or pi");
+      if (!valid_name(name))
+        loc.fail(&v, "constants." + name, "expected a name of letters, digits and '_' that starts with a letter");
+      if (reserved_name(name))
+        loc.fail(&v, "constants." + name, "'" + name + "' is reserved for a variable, pi or a function");
       sc.constants[name] = v.value<double>().value();
     }
   }
@@ -460,6 +478,9 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
   const toml::table* grid = top.table("grid");
   if (!grid) top.fail("grid", "missing [grid] table (lo, hi, cells, faces)");
   read_grid(Section(*grid, "grid", loc, {"lo", "hi", "cells", "faces", "constrained_acceleration"}), sc, loc);
+  if (sc.gimp_length > sc.h)  // Steffen et al. 2008, Sec. 4.1: the smoothing length lies in (0, h]
+    Section(*sim, "simulation", loc, {"dimension", "end_time", "integrator", "kernel", "gimp_length", "dt", "cfl", "threads", "plane"})
+        .fail("gimp_length", "expected a smoothing length in (0, h] with h = " + std::to_string(sc.h) + " the cell size");
   const std::vector<const toml::table*> materials = top.tables("materials");
   if (materials.empty()) top.fail("materials", "missing: at least one [[materials]] table is needed");
   for (std::size_t k = 0; k < materials.size(); ++k)

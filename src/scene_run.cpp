@@ -87,7 +87,7 @@ template <int Dim, class Kernel>
 class SceneRun {
  public:
   SceneRun(const Scene& sc, const RunOptions& o)
-      : sc_(sc), o_(o), spec_(make_spec<Dim>(sc)), sim_(spec_, seed_bodies<Dim>(sc)) {
+      : sc_(sc), o_(o), spec_(make_spec<Dim>(sc)), sim_(make_simulation(sc, spec_)) {
     if (o.restart.empty()) return;
     try {
       restore(io::read_checkpoint(o.restart));
@@ -137,6 +137,17 @@ class SceneRun {
   }
 
  private:
+  /// The engine checks the particles it is given (inside the grid, positive mass, GIMP sizes); name the scene.
+  static Simulation<Dim, Kernel> make_simulation(const Scene& sc, const SimulationSpec<Dim>& spec) {
+    try {
+      return Simulation<Dim, Kernel>(spec, seed_bodies<Dim>(sc));
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      if (what.rfind(sc.file.string(), 0) == 0) throw;
+      throw InputError(sc.file.string() + ": " + what);
+    }
+  }
+
   bool has_check() const { return !sc_.exact_displacement.empty(); }
   Real next_output_time() const { return static_cast<Real>(frames_) * sc_.output_every; }
 

@@ -278,7 +278,11 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"UndefinedConstant", {{"\"0.1 * x\"", "\"v0 * x\""}}, "bodies[0].velocity[1]",
                  {"cannot evaluate 'v0 * x'", "unknown name 'v0'", "constants: pi)"}, 25},
         BadScene{"ConstantWithReservedName", {{"", "[constants]\nt = 1.0\n"}}, "constants.t",
-                 {"'t' is reserved for a variable or pi"}, 35},
+                 {"'t' is reserved for a variable, pi or a function"}, 35},
+        BadScene{"ConstantNamedLikeAFunction", {{"", "[constants]\nsin = 2.0\n"}}, "constants.sin",
+                 {"'sin' is reserved for a variable, pi or a function"}, 35},
+        BadScene{"ConstantWithAnInvalidName", {{"", "[constants]\na-b = 2.0\n"}}, "constants.a-b",
+                 {"expected a name of letters, digits and '_' that starts with a letter"}, 35},
         // [loads]
         BadScene{"TractionOnDisk", {{"", traction_on("disk", "x-max")}}, "loads.traction[0].body",
                  {"tractions apply to box bodies only"}, 36},

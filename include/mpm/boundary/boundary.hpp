@@ -61,7 +61,8 @@ class KinematicConstraints {
   void constrain_velocity(Grid<Dim>& grid, NodeVelocity<Dim> field, Real t) const;
 
   /// Impose prescribed components on v_new at time t_new and set the constrained acceleration components.
-  /// Records the reaction of each constraint: the force sum_i m_i (v_prescribed - v_i^*) / dt it applied.
+  /// Records the reaction of each constraint, the force it applied: sum_i m_i (a_i - a_i^free) over its nodes,
+  /// with a_i the constrained acceleration the particles receive (zero, or Eq. 30).
   void constrain_update(Grid<Dim>& grid, Real t_new, Real dt);
 
   /// One name per constraint ("x-min", ..., "region 0", ...), the order of reactions() and velocities().
