@@ -50,17 +50,21 @@ Action add_render(CLI::App& app) {
     std::string dir;
     std::string field = "velocity";
     int every = 1;
+    std::string plane = "xy";
   };
   auto o = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand("render", "draw PNG pictures of a 2-D run's particles (needs python3-matplotlib)");
+  CLI::App* cmd = app.add_subcommand("render", "draw PNG pictures of a run's particles in a coordinate plane (needs python3-matplotlib)");
   cmd->add_option("dir", o->dir, "the output folder of `mpm run`")->required();
   cmd->add_option("--field", o->field, "field to colour by, e.g. velocity, J, stress:0 (a component)");
   cmd->add_option("--every", o->every, "draw every K-th output (the last is always drawn)");
+  cmd->add_option("--plane", o->plane, "coordinate plane to draw: xy (default), xz or yz (3-D runs: a projection)");
   return [o]() {
     if (o->every < 1) throw InputError("--every: expected a positive integer");
+    if (o->plane != "xy" && o->plane != "xz" && o->plane != "yz")
+      throw InputError("--plane: expected xy, xz or yz, got '" + o->plane + "'");
     if (!std::filesystem::exists(std::filesystem::path(o->dir) / "particles.pvd"))
       throw InputError("render: no particles.pvd in " + o->dir + " (run `mpm run SCENE --out " + o->dir + "` first)");
-    run_python("render", {o->dir, o->field, std::to_string(o->every)}, "mpm render");
+    run_python("render", {o->dir, o->field, std::to_string(o->every), o->plane}, "mpm render");
     return 0;
   };
 }

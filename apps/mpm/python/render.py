@@ -1,6 +1,6 @@
 """Particle pictures for `mpm render`: one PNG per output time, particles coloured by a field.
 
-Usage: python3 render.py DIR FIELD EVERY
+Usage: python3 render.py DIR FIELD EVERY [PLANE]   (PLANE: xy, xz or yz; default xy)
 Reads DIR/particles.pvd and every EVERY-th dataset it lists (the last one always), and writes
 DIR/pictures/FIELD_NNNN.png (NNNN: the index of the dataset in the .pvd, as in particles_NNNN.vtp). FIELD is a point-data array name; vectors and tensors are
 coloured by magnitude, or by one component with FIELD:K (e.g. velocity:1, stress:0). Axis limits and colour range
@@ -74,7 +74,7 @@ def scalar(values, component, name):
     return np.sqrt((values**2) @ weights)
 
 
-def main(folder, field, every):
+def main(folder, field, every, plane="xy"):
     name, _, comp = field.partition(":")
     try:
         every, component = int(every), (int(comp) if comp else None)
@@ -100,7 +100,10 @@ def main(folder, field, every):
         frames.append((time, arrays["points"], scalar(arrays[name], component, name)))
         magnitude = component is None and arrays[name].shape[1] > 1
 
-    xy = np.concatenate([p[:, :2] for _, p, _ in frames])
+    if plane not in ("xy", "xz", "yz"):
+        fail(f"PLANE must be xy, xz or yz, got {plane}")
+    axes = ["xyz".index(plane[0]), "xyz".index(plane[1])]
+    xy = np.concatenate([p[:, axes] for _, p, _ in frames])
     values = np.concatenate([v for _, _, v in frames])
     lo, hi = xy.min(axis=0), xy.max(axis=0)
     pad = 0.05 * max(hi - lo) if max(hi - lo) > 0 else 1.0
@@ -114,13 +117,13 @@ def main(folder, field, every):
     for frame, (time, points, value) in zip(indices, frames):
         fig, ax = plt.subplots(figsize=(6, 5))
         size = min(20.0, max(0.2, 2e4 / len(points)))
-        dots = ax.scatter(points[:, 0], points[:, 1], c=value, s=size, vmin=vmin, vmax=vmax, cmap="viridis",
+        dots = ax.scatter(points[:, axes[0]], points[:, axes[1]], c=value, s=size, vmin=vmin, vmax=vmax, cmap="viridis",
                           linewidths=0)
         ax.set_xlim(lo[0] - pad, hi[0] + pad)
         ax.set_ylim(lo[1] - pad, hi[1] + pad)
         ax.set_aspect("equal")
-        ax.set_xlabel("x")
-        ax.set_ylabel("y")
+        ax.set_xlabel(plane[0])
+        ax.set_ylabel(plane[1])
         ax.set_title(f"{field}   t = {time:.6g}")
         cax = make_axes_locatable(ax).append_axes("right", size="4%", pad=0.1)  # as tall as the axes
         fig.colorbar(dots, cax=cax, label=f"|{field}|" if magnitude else field)
@@ -132,6 +135,6 @@ def main(folder, field, every):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 4:
+    if len(sys.argv) not in (4, 5):
         fail("usage: render.py DIR FIELD EVERY")
-    main(*sys.argv[1:4])
+    main(*sys.argv[1:5])
