@@ -26,7 +26,6 @@ class Expression {
 
   /// The value at the given variable values (in the order of `variables`).
   double operator()(std::span<const double> values) const;
-  const std::string& text() const { return text_; }
 
  private:
   struct Evaluator;
