@@ -66,34 +66,46 @@ KinematicConstraints<Dim>::KinematicConstraints(const BoundarySpec<Dim>& spec, c
 
 template <int Dim>
 void KinematicConstraints<Dim>::fold_and_mirror(Grid<Dim>& grid, NodeFields fields) const {
-  auto apply = [&](auto&& op) {
-    for (const Mirror& mir : mirrors_)
-      for (std::size_t k = 0; k < mir.ghost.size(); ++k) op(mir, mir.ghost[k], mir.real[k], true);
-    for (auto it = mirrors_.rbegin(); it != mirrors_.rend(); ++it)
-      for (std::size_t k = 0; k < it->ghost.size(); ++k) op(*it, it->ghost[k], it->real[k], false);
-  };
-  if (fields == NodeFields::mass_momentum) {
-    apply([&](const Mirror& mir, std::int32_t gh, std::int32_t re, bool fold) {
-      GridNode<Dim>& ghost = grid.nodes[gh];
-      GridNode<Dim>& real = grid.nodes[re];
-      if (fold) {
-        real.m += ghost.m;
-        real.v += reflect<Dim>(ghost.v, mir.axis);
-      } else {
-        ghost.m = real.m;
-        ghost.v = reflect<Dim>(real.v, mir.axis);
-      }
-    });
-  } else {
-    apply([&](const Mirror& mir, std::int32_t gh, std::int32_t re, bool fold) {
-      GridNode<Dim>& ghost = grid.nodes[gh];
-      GridNode<Dim>& real = grid.nodes[re];
-      if (fold)
-        real.a += reflect<Dim>(ghost.a, mir.axis);
-      else
-        ghost.a = reflect<Dim>(real.a, mir.axis);
-    });
+  if (fields == NodeFields::force) return fold_and_mirror(grid, &GridNode<Dim>::a);
+  for (const Mirror& mir : mirrors_)
+    for (std::size_t k = 0; k < mir.ghost.size(); ++k) grid.nodes[mir.real[k]].m += grid.nodes[mir.ghost[k]].m;
+  for (auto it = mirrors_.rbegin(); it != mirrors_.rend(); ++it)
+    for (std::size_t k = 0; k < it->ghost.size(); ++k) grid.nodes[it->ghost[k]].m = grid.nodes[it->real[k]].m;
+  fold_and_mirror(grid, &GridNode<Dim>::v);
+}
+
+template <int Dim>
+void KinematicConstraints<Dim>::fold_and_mirror(Grid<Dim>& grid, NodeVelocity<Dim> field) const {
+  for (const Mirror& mir : mirrors_)
+    for (std::size_t k = 0; k < mir.ghost.size(); ++k)
+      grid.nodes[mir.real[k]].*field += reflect<Dim>(grid.nodes[mir.ghost[k]].*field, mir.axis);
+  mirror(grid, field);
+}
+
+template <int Dim>
+void KinematicConstraints<Dim>::mirror(Grid<Dim>& grid, NodeVelocity<Dim> field) const {
+  // In reverse order, so a corner ghost takes its value from a node another plane has already mirrored.
+  for (auto it = mirrors_.rbegin(); it != mirrors_.rend(); ++it)
+    for (std::size_t k = 0; k < it->ghost.size(); ++k)
+      grid.nodes[it->ghost[k]].*field = reflect<Dim>(grid.nodes[it->real[k]].*field, it->axis);
+}
+
+template <int Dim>
+void KinematicConstraints<Dim>::mark_mirrored(std::vector<std::uint8_t>& mask) const {
+  for (const Mirror& mir : mirrors_)
+    for (std::int32_t g : mir.ghost) mask[g] = 1;
+}
+
+template <int Dim>
+std::vector<typename KinematicConstraints<Dim>::Component> KinematicConstraints<Dim>::components() const {
+  std::vector<Component> out;
+  for (std::size_t g = 0; g < groups_.size(); ++g) {
+    const Group& grp = groups_[g];
+    for (std::int32_t n : grp.nodes)
+      for (int c = 0; c < Dim; ++c)
+        if (grp.component < 0 || grp.component == c) out.push_back({n, c, static_cast<int>(g)});
   }
+  return out;
 }
 
 template <int Dim>

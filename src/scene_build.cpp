@@ -63,7 +63,7 @@ Mat<Dim> gradient_of_displacement(const std::vector<ExpressionPtr>& u, const Vec
 
 /// The rows of a particle file; a bad row throws "FILE:LINE: row of KEY: ..." (`key` names the scene key).
 template <int Dim>
-void read_particle_file(const SceneBody& b, const std::string& key, const NeoHookean& mat, std::uint16_t material,
+void read_particle_file(const SceneBody& b, const std::string& key, Real density, std::uint16_t material,
                         ParticleSet<Dim>& p) {
   std::ifstream is(b.file);
   std::string line;
@@ -94,25 +94,17 @@ void read_particle_file(const SceneBody& b, const std::string& key, const NeoHoo
     if (!(V > 0 && std::isfinite(V))) throw InputError(where + "volume must be a positive number");
     Vec<Dim> x;
     for (int d = 0; d < Dim; ++d) x[d] = row[d];
-    p.add(x, Vec<Dim>::Zero(), mat.rho0 * V, V, Vec<Dim>::Constant(0.5 * std::pow(V, 1.0 / Dim)), material);
+    p.add(x, Vec<Dim>::Zero(), density * V, V, Vec<Dim>::Constant(0.5 * std::pow(V, 1.0 / Dim)), material);
   }
 }
-}  // namespace
-
+/// The grid faces' conditions.
 template <int Dim>
-SimulationSpec<Dim> make_spec(const Scene& sc) {
-  SimulationSpec<Dim> spec;
-  spec.grid_lo = to_vec<Dim>(sc.grid_lo);
-  spec.h = sc.h;
-  for (int d = 0; d < Dim; ++d) spec.cells[d] = sc.cells[d];
-  spec.integrator = sc.integrator;
-  spec.kernel = sc.kernel;
-  spec.gimp_length = sc.gimp_length;
-  for (const SceneMaterial& m : sc.materials) spec.materials.push_back(m.law);
-  spec.boundary.acceleration = sc.constrained_acceleration;
+BoundarySpec<Dim> boundary_of(const Scene& sc) {
+  BoundarySpec<Dim> boundary;
+  boundary.acceleration = sc.constrained_acceleration;
   for (int f = 0; f < 2 * Dim; ++f) {
     const SceneFace& face = sc.faces[f];
-    FaceCondition<Dim>& fc = spec.boundary.faces[f];
+    FaceCondition<Dim>& fc = boundary.faces[f];
     switch (face.kind) {
       case SceneFace::Kind::free:
         fc.type = FaceType::free;
@@ -129,6 +121,21 @@ SimulationSpec<Dim> make_spec(const Scene& sc) {
         break;
     }
   }
+  return boundary;
+}
+}  // namespace
+
+template <int Dim>
+SimulationSpec<Dim> make_spec(const Scene& sc) {
+  SimulationSpec<Dim> spec;
+  spec.grid_lo = to_vec<Dim>(sc.grid_lo);
+  spec.h = sc.h;
+  for (int d = 0; d < Dim; ++d) spec.cells[d] = sc.cells[d];
+  spec.integrator = sc.integrator;
+  spec.kernel = sc.kernel;
+  spec.gimp_length = sc.gimp_length;
+  for (const SceneMaterial& m : sc.materials) spec.materials.push_back(m.law);
+  spec.boundary = boundary_of<Dim>(sc);
   spec.gravity = to_vec<Dim>(sc.gravity);
   spec.dt = sc.dt;
   spec.cfl = sc.cfl;
@@ -142,7 +149,7 @@ SimulationSpec<Dim> make_spec(const Scene& sc) {
     const Real layers = std::floor((b.hi[axis] - b.lo[axis]) / s + 1e-9);
     const Real outermost = t.face % 2 ? b.lo[axis] + (layers - 0.5) * s : b.lo[axis] + 0.5 * s;
     tractions.push_back({axis, outermost, 0.25 * s, to_vec<Dim>(b.lo), to_vec<Dim>(b.hi),
-                         1 / (sc.materials[b.material].law.rho0 * s), t.traction});
+                         1 / (sc.materials[b.material].density * s), t.traction});
   }
   if (!sc.body_force.empty() || !tractions.empty()) {
     spec.body_force = [body = sc.body_force, tractions](const Vec<Dim>& X, Real t) {
@@ -166,19 +173,19 @@ ParticleSet<Dim> seed_bodies(const Scene& sc) {
   const Vec<Dim> grid_lo = to_vec<Dim>(sc.grid_lo), grid_hi = to_vec<Dim>(sc.grid_hi);
   for (std::size_t k = 0; k < sc.bodies.size(); ++k) {
     const SceneBody& b = sc.bodies[k];
-    const NeoHookean& mat = sc.materials[b.material].law;
+    const Real density = sc.materials[b.material].density;
     const auto material = static_cast<std::uint16_t>(b.material);
     const std::size_t first = p.size();
     const Real spacing = sc.h / b.ppc;
     switch (b.shape) {
       case SceneBody::Shape::box:
-        fill_box<Dim>(p, to_vec<Dim>(b.lo), to_vec<Dim>(b.hi), spacing, mat.rho0, material);
+        fill_box<Dim>(p, to_vec<Dim>(b.lo), to_vec<Dim>(b.hi), spacing, density, material);
         break;
       case SceneBody::Shape::disk:
       case SceneBody::Shape::ring: {
         const Vec<Dim> c = to_vec<Dim>(b.center);
         const Real r_in = b.inner_radius, r_out = b.radius;
-        fill_box<Dim>(p, c.array() - r_out, c.array() + r_out, spacing, mat.rho0, material, {},
+        fill_box<Dim>(p, c.array() - r_out, c.array() + r_out, spacing, density, material, {},
                       [&](const Vec<Dim>& x) {
                         const Real r = (x - c).norm();
                         return r <= r_out && r >= r_in;
@@ -186,7 +193,7 @@ ParticleSet<Dim> seed_bodies(const Scene& sc) {
         break;
       }
       case SceneBody::Shape::file:
-        read_particle_file<Dim>(b, "bodies[" + std::to_string(k) + "].file in " + sc.file.string(), mat, material, p);
+        read_particle_file<Dim>(b, "bodies[" + std::to_string(k) + "].file in " + sc.file.string(), density, material, p);
         break;
     }
     const std::string name = "bodies[" + std::to_string(k) + "] (" + b.name + ")";
@@ -215,9 +222,41 @@ ParticleSet<Dim> seed_bodies(const Scene& sc) {
   return p;
 }
 
+template <int Dim>
+ImplicitSpec<Dim> make_implicit_spec(const Scene& sc) {
+  ImplicitSpec<Dim> spec;
+  spec.grid_lo = to_vec<Dim>(sc.grid_lo);
+  spec.h = sc.h;
+  for (int d = 0; d < Dim; ++d) spec.cells[d] = sc.cells[d];
+  spec.kernel = sc.kernel;
+  spec.geometry = sc.geometry;
+  const SceneImplicit& im = sc.implicit_step;
+  spec.formulation = im.formulation;
+  spec.solver = im.solver;
+  spec.theta = im.theta;
+  spec.newton = im.newton;
+  spec.jacobi = im.jacobi;
+  spec.step = {sc.cfl, sc.dt, im.step_factor, im.start_factor, im.growth, im.max_retries};
+  for (const SceneMaterial& m : sc.materials) spec.materials.push_back(m.rate_law);
+  spec.boundary = boundary_of<Dim>(sc);
+  for (const SceneRigidBody& r : sc.rigid_bodies) {
+    ParticleSet<Dim> points;
+    const Real spacing = sc.h / r.ppc;
+    fill_box<Dim>(points, to_vec<Dim>(r.lo), to_vec<Dim>(r.hi), spacing, 1.0, 0);
+    RigidBody<Dim> body{r.name, points.x, Vec<Dim>::Constant(0.5 * spacing), velocity_of<Dim>(r.velocity)};
+    for (int d = 0; d < Dim; ++d) body.imposes[d] = r.imposes[d];
+    spec.rigid_bodies.push_back(std::move(body));
+  }
+  spec.gravity = to_vec<Dim>(sc.gravity);
+  validate(spec, sc.file.string());
+  return spec;
+}
+
 template SimulationSpec<1> make_spec<1>(const Scene&);
 template SimulationSpec<2> make_spec<2>(const Scene&);
 template SimulationSpec<3> make_spec<3>(const Scene&);
+template ImplicitSpec<2> make_implicit_spec<2>(const Scene&);
+template ImplicitSpec<3> make_implicit_spec<3>(const Scene&);
 template ParticleSet<1> seed_bodies<1>(const Scene&);
 template ParticleSet<2> seed_bodies<2>(const Scene&);
 template ParticleSet<3> seed_bodies<3>(const Scene&);

@@ -247,7 +247,10 @@ void read_simulation(const Section& s, Scene& sc) {
   if (sc.dim < 1 || sc.dim > 3) s.fail("dimension", "expected 1, 2 or 3");
   sc.end_time = s.required_number("end_time");
   if (!(sc.end_time > 0)) s.fail("end_time", "expected a positive time [s]");
-  sc.integrator = parse_integrator(s.choice("integrator", "usl", {"usf", "usl", "cd", "musl"}));
+  const std::string integrator = s.choice("integrator", "usl", {"usf", "usl", "cd", "musl", "implicit"});
+  sc.implicit = integrator == "implicit";
+  if (!sc.implicit) sc.integrator = parse_integrator(integrator);
+  if (sc.implicit && sc.dim == 1) s.fail("integrator", "the implicit integrator needs a 2-D or 3-D scene");
   sc.kernel = parse_kernel(s.choice("kernel", "cpgimp", {"linear", "ugimp", "cpgimp", "bspline2", "bspline3"}));
   sc.gimp_length = s.number("gimp_length", 0);
   if (sc.gimp_length < 0) s.fail("gimp_length", "expected a non-negative length [m]");
@@ -259,8 +262,10 @@ void read_simulation(const Section& s, Scene& sc) {
   if (s.has("cfl") && !(sc.cfl > 0 && sc.cfl <= 1)) s.fail("cfl", "expected a number in (0, 1]");
   sc.threads = s.integer("threads", 0);
   if (sc.threads < 0) s.fail("threads", "expected 0 (all cores) or a positive count");
-  const std::string plane = s.choice("plane", "strain", {"strain"});
-  if (s.has("plane") && sc.dim != 2) s.fail("plane", "applies to 2-D scenes only");
+  sc.geometry = parse_geometry(s.choice("geometry", "plane-strain", {"plane-strain", "plane-stress", "axisymmetric"}), "");
+  if (s.has("geometry") && sc.dim != 2) s.fail("geometry", "applies to 2-D scenes only");
+  if (sc.geometry != Geometry::plane_strain && !sc.implicit)
+    s.fail("geometry", "plane stress and axisymmetry need integrator = \"implicit\" (rate-form materials)");
 }
 
 void read_grid(const Section& s, Scene& sc, const Locator& loc) {
@@ -316,9 +321,48 @@ void read_material(const Section& s, Scene& sc) {
   if (m.name.empty()) s.fail("name", "missing (each material needs a name bodies refer to)");
   for (const SceneMaterial& other : sc.materials)
     if (other.name == m.name) s.fail("name", "material '" + m.name + "' is defined twice");
-  s.choice("model", "neo-hookean", {"neo-hookean"});
+  const std::string model = s.choice("model", "neo-hookean", {"neo-hookean", "hypoelastic", "von-mises"});
+  m.model = model == "neo-hookean" ? SceneMaterial::Model::neo_hookean
+            : model == "hypoelastic" ? SceneMaterial::Model::hypoelastic
+                                     : SceneMaterial::Model::von_mises;
   const double rho = s.required_number("density");
   if (!(rho > 0)) s.fail("density", "expected a positive density [kg/m^3]");
+  m.density = rho;
+  if (m.model != SceneMaterial::Model::neo_hookean) {
+    if (sc.implicit == false) s.fail("model", "rate-form materials (hypoelastic, von-mises) need integrator = \"implicit\"");
+    for (const char* k : {"lambda", "mu"})
+      if (s.has(k)) s.fail(k, "give E and nu for the " + model + " model");
+    const double E = s.required_number("E"), nu = s.required_number("nu");
+    if (!(E > 0)) s.fail("E", "expected a positive Young's modulus [Pa]");
+    if (!(nu > -1 && nu < 0.5)) s.fail("nu", "expected a Poisson ratio in (-1, 0.5)");
+    ElastoPlastic& law = m.rate_law;
+    law.E = E;
+    law.nu = nu;
+    law.rho0 = rho;
+    law.specific_heat = s.number("specific_heat", 0);
+    if (law.specific_heat < 0) s.fail("specific_heat", "expected a non-negative specific heat [J/(kg K)]");
+    law.plastic = m.model == SceneMaterial::Model::von_mises;
+    if (law.plastic) {
+      law.law.yield = s.required_number("yield_strength");
+      law.law.hardening = s.number("hardening", 0);
+      law.law.limit = s.number("limit_strength", std::numeric_limits<double>::infinity());
+      law.law.softening = s.number("softening", 0);
+      law.law.residual = s.number("residual_strength", 0);
+      try {
+        validate(law.law, "law");
+      } catch (const InputError& e) {  // "law.KEY: what": report it at the key as written in the file
+        const std::string what = e.what();
+        const std::size_t dot = what.find('.'), colon = what.find(": ");
+        s.fail(what.substr(dot + 1, colon - dot - 1), what.substr(colon + 2));
+      }
+    } else {
+      for (const char* k : {"yield_strength", "hardening", "limit_strength", "softening", "residual_strength"})
+        if (s.has(k)) s.fail(k, "applies to model = \"von-mises\" only");
+    }
+    sc.materials.push_back(m);
+    return;
+  }
+  if (sc.implicit) s.fail("model", "the implicit integrator needs a rate-form material: \"hypoelastic\" or \"von-mises\"");
   const bool young = s.has("E") || s.has("nu"), lame = s.has("lambda") || s.has("mu");
   if (young == lame) s.fail(young ? "lambda" : "E", "give either E and nu, or lambda and mu");
   if (young) {
@@ -432,6 +476,72 @@ void read_loads(const Section& s, Scene& sc, const Locator& loc) {
   }
 }
 
+void read_implicit(const Section& s, Scene& sc) {
+  SceneImplicit& im = sc.implicit_step;
+  im.theta = s.number("theta", 1);
+  if (!(im.theta >= 0 && im.theta <= 1)) s.fail("theta", "expected a number in [0, 1] (0 explicit, 1 fully implicit)");
+  im.formulation = parse_formulation(s.choice("formulation", "momentum", {"velocity", "momentum"}), "");
+  im.solver = parse_solver(s.choice("solver", "newton-gmres", {"newton-gmres", "newton-cg", "cg"}), "");
+  if (im.solver != ImplicitSolver::newton_gmres && im.formulation != Formulation::velocity)
+    s.fail("solver", "CG needs the symmetric velocity formulation (formulation = \"velocity\")");
+  implicit::NewtonSettings& n = im.newton;
+  n.newton_tolerance = s.number("newton_tolerance", 1e-5);
+  n.linear_tolerance = s.number("linear_tolerance", 1e-3);
+  n.derivative_step = s.number("derivative_step", 1e-5);
+  n.restart = s.integer("restart", 20);
+  n.max_newton = s.integer("max_newton", 50);
+  n.max_krylov = s.integer("max_krylov", 500);
+  n.line_search = s.choice("line_search", "on", {"on", "off"}) == "on";
+  n.max_backtracks = s.integer("max_backtracks", 10);
+  n.forcing = s.choice("forcing", "constant", {"constant", "eisenstat-walker"}) == "constant"
+                  ? implicit::Forcing::constant
+                  : implicit::Forcing::eisenstat_walker;
+  im.jacobi = s.choice("preconditioner", "none", {"none", "jacobi"}) == "jacobi";
+  try {
+    implicit::validate(n, "");
+  } catch (const InputError& e) {  // "KEY: what": report it at the key as written in the file
+    const std::string what = e.what();
+    const std::size_t colon = what.find(": ");
+    s.fail(what.substr(0, colon), what.substr(colon + 2));
+  }
+  im.step_factor = s.positive("step_factor", 1);
+  im.start_factor = s.positive("start_factor", 1);
+  im.growth = s.number("growth", 1.2);
+  if (!(im.growth >= 1)) s.fail("growth", "expected a step growth factor >= 1");
+  im.max_retries = s.integer("max_retries", 8);
+  if (im.max_retries < 0) s.fail("max_retries", "expected a non-negative count");
+  if (im.theta == 0 && im.step_factor > 1)
+    s.fail("step_factor", "theta = 0 is explicit (stable up to the CFL step): expected step_factor <= 1");
+}
+
+void read_rigid_body(const Section& s, Scene& sc, std::size_t index) {
+  const auto n = static_cast<std::size_t>(sc.dim);
+  SceneRigidBody r;
+  r.name = s.text("name", "rigid " + std::to_string(index));
+  s.choice("shape", "box", {"box"});
+  r.lo = s.numbers("lo", n);
+  r.hi = s.numbers("hi", n);
+  for (std::size_t d = 0; d < n; ++d)
+    if (!(r.hi[d] > r.lo[d])) s.fail("hi", "expected hi > lo on every axis");
+  const std::string side = outside_grid(sc, r.lo, r.hi);
+  if (!side.empty()) s.fail(side, "the rigid body must lie inside the grid " + grid_extent(sc));
+  r.ppc = s.integer("ppc", 2);
+  if (r.ppc < 1) s.fail("ppc", "expected at least 1 point per cell per axis");
+  if (!s.has("velocity")) s.fail("velocity", "missing (the prescribed velocity, numbers or expressions of t)");
+  r.velocity = s.expressions("velocity", n, time_var, sc.constants);
+  r.imposes.assign(n, !s.has("contact_axes"));
+  if (s.has("contact_axes")) {
+    static const std::vector<std::string> axes{"x", "y", "z"};
+    const toml::array& a = s.array("contact_axes", 0, "an array of axis names (\"x\", \"y\", \"z\")");
+    for (const toml::node& e : a) {
+      const auto axis = std::find(axes.begin(), axes.begin() + sc.dim, e.value<std::string>().value_or(""));
+      if (axis == axes.begin() + sc.dim) s.fail("contact_axes", "expected axis names of this dimension, got " + describe(e));
+      r.imposes[static_cast<std::size_t>(axis - axes.begin())] = true;
+    }
+  }
+  sc.rigid_bodies.push_back(std::move(r));
+}
+
 }  // namespace
 
 Scene read_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
@@ -453,7 +563,7 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
   }
   for (const std::string& o : overrides) loc.overrides.emplace_back(apply_override(doc, o), o);
 
-  const Section top(doc, "", loc, {"simulation", "output", "constants", "grid", "materials", "bodies", "loads", "check"});
+  const Section top(doc, "", loc, {"simulation", "output", "constants", "grid", "materials", "bodies", "rigid_bodies", "implicit", "loads", "check"});
   if (const toml::table* c = top.table("constants")) {
     for (auto&& [k, v] : *c) {
       const std::string name(k.str());
@@ -465,10 +575,12 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
       sc.constants[name] = v.value<double>().value();
     }
   }
+  const std::vector<std::string> simulation_keys{"dimension", "end_time", "integrator", "kernel", "gimp_length",
+                                                 "dt", "cfl", "threads", "geometry"};
   const toml::table* sim = top.table("simulation");
   if (!sim) top.fail("simulation", "missing [simulation] table (dimension, end_time, integrator, kernel, dt or cfl)");
   read_simulation(Section(*sim, "simulation", loc,
-                          {"dimension", "end_time", "integrator", "kernel", "gimp_length", "dt", "cfl", "threads", "plane"}),
+                          simulation_keys),
                   sc);
   if (const toml::table* out = top.table("output")) {
     const Section s(*out, "output", loc, {"every"});
@@ -479,13 +591,22 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
   if (!grid) top.fail("grid", "missing [grid] table (lo, hi, cells, faces)");
   read_grid(Section(*grid, "grid", loc, {"lo", "hi", "cells", "faces", "constrained_acceleration"}), sc, loc);
   if (sc.gimp_length > sc.h)  // Steffen et al. 2008, Sec. 4.1: the smoothing length lies in (0, h]
-    Section(*sim, "simulation", loc, {"dimension", "end_time", "integrator", "kernel", "gimp_length", "dt", "cfl", "threads", "plane"})
+    Section(*sim, "simulation", loc, simulation_keys)
         .fail("gimp_length", "expected a smoothing length in (0, h] with h = " + std::to_string(sc.h) + " the cell size");
+  if (const toml::table* im = top.table("implicit")) {
+    if (!sc.implicit) top.fail("implicit", "the [implicit] table needs integrator = \"implicit\" in [simulation]");
+    read_implicit(Section(*im, "implicit", loc,
+                          {"theta", "formulation", "solver", "newton_tolerance", "linear_tolerance", "derivative_step",
+                           "restart", "max_newton", "max_krylov", "line_search", "max_backtracks", "forcing",
+                           "preconditioner", "step_factor", "start_factor", "growth", "max_retries"}),
+                  sc);
+  }
   const std::vector<const toml::table*> materials = top.tables("materials");
   if (materials.empty()) top.fail("materials", "missing: at least one [[materials]] table is needed");
   for (std::size_t k = 0; k < materials.size(); ++k)
     read_material(Section(*materials[k], "materials[" + std::to_string(k) + "]", loc,
-                          {"name", "model", "E", "nu", "lambda", "mu", "density"}),
+                          {"name", "model", "E", "nu", "lambda", "mu", "density", "specific_heat", "yield_strength",
+                           "hardening", "limit_strength", "softening", "residual_strength"}),
                   sc);
   const std::vector<const toml::table*> bodies = top.tables("bodies");
   if (bodies.empty()) top.fail("bodies", "missing: at least one [[bodies]] table is needed");
@@ -494,10 +615,23 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
                       {"name", "shape", "lo", "hi", "center", "radius", "inner_radius", "file", "ppc", "material",
                        "velocity", "displacement", "deformation_gradient"}),
               sc, k);
+  const std::vector<const toml::table*> rigid = top.tables("rigid_bodies");
+  if (!rigid.empty() && !sc.implicit) top.fail("rigid_bodies", "rigid bodies need integrator = \"implicit\"");
+  for (std::size_t k = 0; k < rigid.size(); ++k)
+    read_rigid_body(Section(*rigid[k], "rigid_bodies[" + std::to_string(k) + "]", loc,
+                            {"name", "shape", "lo", "hi", "ppc", "velocity", "contact_axes"}),
+                    sc, k);
   if (const toml::table* loads = top.table("loads"))
     read_loads(Section(*loads, "loads", loc, {"gravity", "body_force", "traction"}), sc, loc);
   else
     sc.gravity.assign(static_cast<std::size_t>(sc.dim), 0.0);
+  if (sc.implicit) {
+    if (!sc.body_force.empty() || !sc.tractions.empty())
+      top.fail("loads", "the implicit integrator takes gravity only (no body_force or traction yet)");
+    if (top.has("check")) top.fail("check", "[check] applies to the explicit integrators only");
+    for (const SceneBody& b : sc.bodies)
+      if (!b.displacement.empty()) top.fail("bodies", "rate-form materials start undeformed: no initial displacement");
+  }
   if (const toml::table* check = top.table("check")) {
     const Section s(*check, "check", loc, {"displacement"});
     if (!s.has("displacement")) s.fail("displacement", "missing (the exact displacement, expressions of X, Y, Z, t)");

@@ -11,10 +11,9 @@
 
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
-#include "mpm/integrators/simulation.hpp"
 #include "mpm/io/checkpoint.hpp"
 #include "mpm/io/vtk.hpp"
-#include "mpm/scene/build.hpp"
+#include "scene_engines.hpp"
 #include "mpm/verification/error_norms.hpp"
 
 namespace mpm {
@@ -22,6 +21,8 @@ namespace mpm {
 namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+using scene_engines::flat;
+using scene_engines::unflat;
 
 /// The scene's [check] block as an exact solution for ErrorNorms.
 template <int Dim>
@@ -35,23 +36,12 @@ struct ExactFromScene {
   }
 };
 
-/// Energies and momentum of the particles (kinetic 1/2 m v^2, stored energy V0 W(F) of Eq. 54's potential).
+/// Energies and momentum of the particles: kinetic 1/2 m v^2 and the engine's strain (or internal) energy.
 template <int Dim>
 struct Totals {
   Real kinetic = 0, strain = 0;
   Vec<Dim> momentum = Vec<Dim>::Zero();
 };
-
-template <int Dim>
-Totals<Dim> totals(const ParticleSet<Dim>& p, const std::vector<NeoHookean>& materials) {
-  Totals<Dim> t;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    t.kinetic += 0.5 * p.m[i] * p.v[i].squaredNorm();
-    t.strain += p.V0[i] * materials[p.material[i]].template energy_density<Dim>(p.F[i], p.F[i].determinant());
-    t.momentum += p.m[i] * p.v[i];
-  }
-  return t;
-}
 
 /// Progress on stderr for runs longer than about two seconds: percent, step, time, steps per second, ETA.
 class Progress {
@@ -83,11 +73,10 @@ class Progress {
   bool printed_ = false;
 };
 
-template <int Dim, class Kernel>
+template <int Dim, class Engine>
 class SceneRun {
  public:
-  SceneRun(const Scene& sc, const RunOptions& o)
-      : sc_(sc), o_(o), spec_(make_spec<Dim>(sc)), sim_(make_simulation(sc, spec_)) {
+  SceneRun(const Scene& sc, const RunOptions& o) : sc_(sc), o_(o), engine_(sc), sim_(engine_.sim()) {
     if (o.restart.empty()) return;
     try {
       restore(io::read_checkpoint(o.restart));
@@ -137,17 +126,6 @@ class SceneRun {
   }
 
  private:
-  /// The engine checks the particles it is given (inside the grid, positive mass, GIMP sizes); name the scene.
-  static Simulation<Dim, Kernel> make_simulation(const Scene& sc, const SimulationSpec<Dim>& spec) {
-    try {
-      return Simulation<Dim, Kernel>(spec, seed_bodies<Dim>(sc));
-    } catch (const InputError& e) {
-      const std::string what = e.what();
-      if (what.rfind(sc.file.string(), 0) == 0) throw;
-      throw InputError(sc.file.string() + ": " + what);
-    }
-  }
-
   bool has_check() const { return !sc_.exact_displacement.empty(); }
   Real next_output_time() const { return static_cast<Real>(frames_) * sc_.output_every; }
 
@@ -179,7 +157,7 @@ class SceneRun {
     static constexpr const char* axis[] = {"x", "y", "z"};
     history_ << "step,time,kinetic_energy,strain_energy,total_energy,external_work";
     for (int d = 0; d < Dim; ++d) history_ << ",momentum_" << axis[d];
-    for (const std::string& name : sim_.constraints().names())
+    for (const std::string& name : engine_.reaction_names())
       for (int d = 0; d < Dim; ++d) history_ << ",reaction_" << name << "_" << axis[d];
     history_ << '\n';
   }
@@ -201,11 +179,11 @@ class SceneRun {
   }
 
   void write_history_row() {
-    const Totals<Dim> t = totals(sim_.particles(), spec_.materials);
+    const Totals<Dim> t = totals();
     history_ << sim_.steps() << ',' << sim_.time() << ',' << t.kinetic << ',' << t.strain << ','
              << t.kinetic + t.strain << ',' << external_work_;
     for (int d = 0; d < Dim; ++d) history_ << ',' << t.momentum[d];
-    for (const Vec<Dim>& r : sim_.constraints().reactions())
+    for (const Vec<Dim>& r : engine_.reactions())
       for (int d = 0; d < Dim; ++d) history_ << ',' << r[d];
     history_ << '\n';
   }
@@ -214,17 +192,14 @@ class SceneRun {
   /// velocities) plus the work of the moving constraints (reaction times prescribed velocity).
   void account_work(const std::vector<Vec<Dim>>& v_before) {
     const ParticleSet<Dim>& p = sim_.particles();
-    const std::vector<Vec<Dim>>& b = sim_.body_acceleration();
     const Real dt = sim_.time() - previous_time_;
     previous_time_ = sim_.time();
     Real power = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      Vec<Dim> accel = spec_.gravity;
-      if (!b.empty()) accel += b[i];
-      power += p.m[i] * accel.dot(0.5 * (v_before[i] + p.v[i]));
-    }
-    const std::vector<Vec<Dim>> walls = sim_.constraints().velocities(sim_.time());
-    for (std::size_t g = 0; g < walls.size(); ++g) power += sim_.constraints().reactions()[g].dot(walls[g]);
+    for (std::size_t i = 0; i < p.size(); ++i)
+      power += p.m[i] * engine_.load_acceleration(i).dot(0.5 * (v_before[i] + p.v[i]));
+    const std::vector<Vec<Dim>> walls = engine_.reaction_velocities(sim_.time());
+    const std::vector<Vec<Dim>> reactions = engine_.reactions();
+    for (std::size_t g = 0; g < walls.size(); ++g) power += reactions[g].dot(walls[g]);
     external_work_ += dt * power;
   }
 
@@ -238,7 +213,6 @@ class SceneRun {
     io::PointField deformation{"F", 9, std::vector<double>(9 * n, 0.0)};
     io::PointField J{"J", 1, {}}, volume{"volume", 1, {}}, mass{"mass", 1, {}}, material{"material", 1, {}};
     io::PointField error{"error", 1, {}};
-    static constexpr int voigt[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
     for (std::size_t i = 0; i < n; ++i) {
       const Real Ji = p.F[i].determinant();
       for (int d = 0; d < Dim; ++d) {
@@ -246,13 +220,7 @@ class SceneRun {
         velocity.values[3 * i + d] = p.v[i][d];
         displacement.values[3 * i + d] = p.x[i][d] - p.X[i][d];
       }
-      for (int k = 0; k < 6; ++k) {
-        const int a = voigt[k][0], c = voigt[k][1];
-        if (a < Dim && c < Dim)
-          stress.values[6 * i + k] = p.sigma[i](a, c);
-        else if (a == c)  // out-of-plane normal stress with unit stretch: lambda ln J / J (Eq. 55)
-          stress.values[6 * i + k] = spec_.materials[p.material[i]].lambda * std::log(Ji) / Ji;
-      }
+      engine_.stress(i, &stress.values[6 * i]);
       for (int a = 0; a < 3; ++a)
         for (int c = 0; c < 3; ++c)
           deformation.values[9 * i + 3 * a + c] = (a < Dim && c < Dim) ? p.F[i](a, c) : (a == c ? 1.0 : 0.0);
@@ -266,6 +234,7 @@ class SceneRun {
     }
     std::vector<io::PointField> fields{velocity, displacement, stress, deformation, J, volume, mass, material};
     if (has_check()) fields.push_back(error);
+    engine_.add_fields(fields);
     std::ostringstream name;
     name << "particles_" << std::setw(4) << std::setfill('0') << frames_ << ".vtp";
     io::write_vtp(o_.out_dir / name.str(), points, fields);
@@ -278,7 +247,7 @@ class SceneRun {
     nlohmann::json j{{"status", !failure.empty() ? "failed" : (stopped ? "stopped" : "ok")},
                      {"scene", sc_.file.string()},
                      {"dimension", Dim},
-                     {"integrator", to_string(sc_.integrator)},
+                     {"integrator", sc_.implicit ? std::string_view("implicit") : to_string(sc_.integrator)},
                      {"kernel", to_string(sc_.kernel)},
                      {"steps", sim_.steps()},
                      {"time", sim_.time()},
@@ -288,30 +257,18 @@ class SceneRun {
                      {"frames", frames_},
                      {"threads", num_threads()}};
     if (!failure.empty()) j["failure"] = failure;
+    engine_.summarize(j);
     if (!o_.restart.empty()) j["restarted_from"] = o_.restart.string();
     if (has_check())
       j["error"] = {{"linf", failure.empty() ? error_.linf : 1.0}, {"l1", error_.l1()}, {"l2", error_.l2()}};
     if (failure.empty()) {  // after a failure the particle state is not valid: no energies from it
-      const Totals<Dim> t = totals(sim_.particles(), spec_.materials);
+      const Totals<Dim> t = totals();
       j["energy"] = {{"kinetic", t.kinetic}, {"strain", t.strain}, {"external_work", external_work_}};
     }
     std::ofstream(o_.out_dir / "summary.json") << j.dump(2) << '\n';
   }
 
   // Checkpoints: the particle arrays, the clock and the run's accumulators, bit for bit.
-  template <class V>
-  static std::vector<double> flat(const std::vector<V>& a) {
-    std::vector<double> out;
-    for (const V& v : a) out.insert(out.end(), v.data(), v.data() + v.size());
-    return out;
-  }
-  template <class V>
-  static void unflat(const std::vector<double>& in, std::vector<V>& a, const std::string& name) {
-    const std::size_t per = static_cast<std::size_t>(V::SizeAtCompileTime);
-    if (in.size() != a.size() * per) throw InputError("checkpoint: array '" + name + "' has the wrong size");
-    for (std::size_t i = 0; i < a.size(); ++i) std::copy(in.begin() + i * per, in.begin() + (i + 1) * per, a[i].data());
-  }
-
   void write_checkpoint() {
     const ParticleSet<Dim>& p = sim_.particles();
     io::CheckpointData c;
@@ -323,6 +280,7 @@ class SceneRun {
     c.reals = {{"x", flat(p.x)}, {"X", flat(p.X)}, {"v", flat(p.v)}, {"F", flat(p.F)}, {"m", p.m}, {"V0", p.V0},
                {"l0", flat(p.l0)}, {"l", flat(p.l)}};
     c.integers["material"] = std::vector<std::int64_t>(p.material.begin(), p.material.end());
+    engine_.save(c);
     io::write_checkpoint(o_.out_dir / "checkpoint.h5", c);
   }
 
@@ -346,14 +304,8 @@ class SceneRun {
     p.m = array("m");
     p.V0 = array("V0");
     const std::vector<std::int64_t>& mat = scalar(c.integers, "material");
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      p.material[i] = static_cast<std::uint16_t>(mat.at(i));
-      // Volume and stress follow from F exactly as the step computes them (Eqs 13 and 55).
-      const Real J = p.F[i].determinant();
-      p.V[i] = p.V0[i] * J;
-      p.sigma[i] = spec_.materials.at(p.material[i]).template stress<Dim>(p.F[i], J);
-    }
-    sim_.restore_clock(scalar(c.real_scalars, "time"), scalar(c.integer_scalars, "steps"));
+    for (std::size_t i = 0; i < p.size(); ++i) p.material[i] = static_cast<std::uint16_t>(mat.at(i));
+    engine_.load(c, where);
     previous_time_ = sim_.time();
     external_work_ = scalar(c.real_scalars, "external_work");
     last_frame_time_ = scalar(c.real_scalars, "last_frame_time");
@@ -363,10 +315,21 @@ class SceneRun {
     error_.samples = scalar(c.integer_scalars, "error_samples");
   }
 
+  Totals<Dim> totals() const {
+    const ParticleSet<Dim>& p = sim_.particles();
+    Totals<Dim> t;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      t.kinetic += 0.5 * p.m[i] * p.v[i].squaredNorm();
+      t.momentum += p.m[i] * p.v[i];
+    }
+    t.strain = engine_.strain_energy();
+    return t;
+  }
+
   const Scene& sc_;
   const RunOptions& o_;
-  SimulationSpec<Dim> spec_;
-  Simulation<Dim, Kernel> sim_;
+  Engine engine_;
+  decltype(engine_.sim())& sim_;
   io::PvdSeries series_{""};
   std::ofstream history_;
   std::int64_t frames_ = 0;
@@ -378,7 +341,11 @@ class SceneRun {
 
 template <int Dim>
 int run_in(const Scene& sc, const RunOptions& o) {
-  return with_kernel(sc.kernel, [&]<class Kernel>() { return SceneRun<Dim, Kernel>(sc, o).run(); });
+  return with_kernel(sc.kernel, [&]<class Kernel>() {
+    if constexpr (Dim >= 2)
+      if (sc.implicit) return SceneRun<Dim, scene_engines::Implicit<Dim, Kernel>>(sc, o).run();
+    return SceneRun<Dim, scene_engines::Explicit<Dim, Kernel>>(sc, o).run();
+  });
 }
 }  // namespace
 

@@ -213,7 +213,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"CflAboveOne", {{"cfl = 0.4", "cfl = 1.5"}}, "simulation.cfl", {"expected a number in (0, 1]"}, 7},
         BadScene{"CflZero", {{"cfl = 0.4", "cfl = 0"}}, "simulation.cfl", {"expected a number in (0, 1]"}, 7},
         BadScene{"UnknownIntegrator", {{"\"musl\"", "\"rk4\""}}, "simulation.integrator",
-                 {"expected one of usf, usl, cd, musl, got 'rk4'"}, 5},
+                 {"expected one of usf, usl, cd, musl, implicit, got 'rk4'"}, 5},
         BadScene{"UnknownKernel", {{"\"linear\"", "\"cubic\""}}, "simulation.kernel",
                  {"expected one of linear, ugimp, cpgimp, bspline2, bspline3, got 'cubic'"}, 6},
         BadScene{"KernelIsANumber", {{"\"linear\"", "3"}}, "simulation.kernel", {"expected a string, got 3"}, 6},

@@ -56,6 +56,21 @@ class KinematicConstraints {
   /// ghost with the reflected mirror node: the grid then holds the fields of the body and its mirror image,
   /// so ghosts carry the negated normal velocity of their mirror node (Steffen et al. 2008, Sec. 3.4.2).
   void fold_and_mirror(Grid<Dim>& grid, NodeFields fields) const;
+  /// The same for one vector field of the nodes (momentum, force, a re-projected momentum).
+  void fold_and_mirror(Grid<Dim>& grid, NodeVelocity<Dim> field) const;
+  /// Overwrite symmetry-plane ghost nodes with the reflected field of their mirror node (no fold).
+  void mirror(Grid<Dim>& grid, NodeVelocity<Dim> field) const;
+  /// Set mask[n] = 1 for every ghost node that copies a mirror node (mask sized to the grid).
+  void mark_mirrored(std::vector<std::uint8_t>& mask) const;
+
+  /// One constrained velocity component of one node; `group` indexes names() and velocities().
+  struct Component {
+    std::int32_t node;
+    int component;
+    int group;
+  };
+  /// Every constrained (node, component), group by group.
+  std::vector<Component> components() const;
 
   /// Impose prescribed components on a node velocity field (&GridNode::v or &GridNode::v_new) at time t.
   void constrain_velocity(Grid<Dim>& grid, NodeVelocity<Dim> field, Real t) const;

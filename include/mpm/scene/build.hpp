@@ -1,5 +1,6 @@
 #pragma once
 /// Turning a scene into the engine's inputs: the simulation spec and the seeded particles.
+#include "mpm/implicit/spec.hpp"
 #include "mpm/integrators/spec.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/scene/scene.hpp"
@@ -10,6 +11,10 @@ namespace mpm {
 /// expression plus box-face tractions carried by the outermost particle layer).
 template <int Dim>
 SimulationSpec<Dim> make_spec(const Scene& scene);
+
+/// The implicit integrator's inputs: grid, faces, [implicit] settings, rate-form materials, rigid bodies, gravity.
+template <int Dim>
+ImplicitSpec<Dim> make_implicit_spec(const Scene& scene);
 
 /// Particles of every body in order: lattice shapes with ppc particles per cell per axis aligned to the
 /// shape's lower corner, or the rows of a particle file; initial velocity, displacement and F as given.

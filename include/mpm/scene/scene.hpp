@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mpm/boundary/boundary.hpp"
+#include "mpm/implicit/spec.hpp"
 #include "mpm/integrators/spec.hpp"
 #include "mpm/materials/neo_hookean.hpp"
 #include "mpm/scene/expression.hpp"
@@ -19,9 +20,34 @@ struct SceneFace {
   std::vector<ExpressionPtr> velocity;  ///< one expression of t per component (kind == velocity)
 };
 
+/// A material: Neo-Hookean (explicit integrators), or a rate-form hypoelastic / von Mises law (the implicit
+/// integrator, Sulsky & Kaul 2004).
 struct SceneMaterial {
+  enum class Model { neo_hookean, hypoelastic, von_mises } model = Model::neo_hookean;
   std::string name;
-  NeoHookean law;
+  double density = 0;     ///< [kg/m^3]
+  NeoHookean law;         ///< model == neo_hookean
+  ElastoPlastic rate_law;  ///< hypoelastic or von_mises
+};
+
+/// A rigid box of material points moving at a prescribed velocity v(t) (implicit integrator).
+struct SceneRigidBody {
+  std::string name;
+  std::vector<double> lo, hi;            ///< box corners [m]
+  int ppc = 2;                           ///< points per cell per axis
+  std::vector<ExpressionPtr> velocity;   ///< expressions of t
+  std::vector<bool> imposes;             ///< per axis: the body imposes this velocity component
+};
+
+/// The [implicit] table: the theta-blended Newton-Krylov step of Sulsky & Kaul 2004.
+struct SceneImplicit {
+  double theta = 1;
+  Formulation formulation = Formulation::momentum;
+  ImplicitSolver solver = ImplicitSolver::newton_gmres;
+  implicit::NewtonSettings newton;
+  bool jacobi = false;
+  double step_factor = 1, start_factor = 1, growth = 1.2;
+  int max_retries = 8;
 };
 
 /// A body of particles: a box, a disk (sphere in 3-D), a ring (annulus; spherical shell in 3-D), or a CSV file
@@ -57,6 +83,8 @@ struct Scene {
   int dim = 2;
   double end_time = 0;
   Integrator integrator = Integrator::usl;
+  bool implicit = false;  ///< integrator = "implicit": the [implicit] table applies
+  Geometry geometry = Geometry::plane_strain;
   KernelKind kernel = KernelKind::linear;
   double gimp_length = 0;
   double dt = 0, cfl = 0;  ///< exactly one is positive
@@ -74,6 +102,8 @@ struct Scene {
 
   std::vector<SceneMaterial> materials;
   std::vector<SceneBody> bodies;
+  std::vector<SceneRigidBody> rigid_bodies;
+  SceneImplicit implicit_step;
 
   // [loads]
   std::vector<double> gravity;

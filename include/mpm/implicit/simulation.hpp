@@ -1,0 +1,141 @@
+#pragma once
+/// Implicit MPM (Sulsky & Kaul 2004): a theta-blended step whose nodal velocities (or momenta) solve the
+/// discrete momentum equation by matrix-free Newton-Krylov, with hypoelastic and von Mises materials, rigid
+/// bodies, plane strain, plane stress and axisymmetry. theta = 0 gives the explicit method of the same
+/// formulation, so explicit and implicit runs compare like with like.
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "mpm/boundary/boundary.hpp"
+#include "mpm/grid/grid.hpp"
+#include "mpm/implicit/spec.hpp"
+#include "mpm/particles/particles.hpp"
+#include "mpm/shape/kernels.hpp"
+#include "mpm/shape/stencil.hpp"
+#include "mpm/transfer/scatter_order.hpp"
+
+namespace mpm {
+
+/// Material state the rate-form constitutive models carry on each particle, beside the ParticleSet.
+struct ElastoPlasticState {
+  std::vector<SymTensor<3>> sigma;  ///< Cauchy stress with the out-of-plane (zz or hoop) component [Pa]
+  std::vector<Real> eps_bar;        ///< equivalent plastic strain (Sulsky & Kaul 2004, Eq. 2.1.18)
+  std::vector<Real> temperature;    ///< temperature rise from plastic work (Eq. 2.3.5) [K]
+  std::vector<Real> energy;         ///< internal energy of the particle (Eq. 2.2.16) [J, per unit thickness or radian]
+  std::vector<Real> stretch3;       ///< out-of-plane stretch: 1 (plane strain), F_zz (plane stress), r/R (axisymmetric)
+
+  void resize(std::size_t n) {
+    sigma.assign(n, SymTensor<3>{});
+    eps_bar.assign(n, 0);
+    temperature.assign(n, 0);
+    energy.assign(n, 0);
+    stretch3.assign(n, 1);
+  }
+};
+
+/// Work counters of a run, reported in summary.json.
+struct ImplicitCounters {
+  std::int64_t newton_iterations = 0;
+  std::int64_t krylov_iterations = 0;
+  std::int64_t residual_evaluations = 0;
+  std::int64_t backtracks = 0;     ///< line-search step halvings
+  std::int64_t retries = 0;        ///< time steps retried with half the step
+};
+
+template <int Dim, class Kernel>
+class ImplicitSimulation {
+ public:
+  /// Validate the spec and the particles (InputError on bad input). In axisymmetric runs the particles' masses
+  /// and volumes are areas times density and areas; they become per-radian values (times r).
+  ImplicitSimulation(const ImplicitSpec<Dim>& spec, ParticleSet<Dim> particles);
+
+  /// Advance one step of min(next_dt(), max_dt), halving and retrying when the solve fails. Throws
+  /// SimulationFailure when the retries run out or a particle leaves the grid.
+  void step(Real max_dt = std::numeric_limits<Real>::infinity());
+  void run_until(Real t_end);
+
+  Real time() const { return time_; }
+  std::int64_t steps() const { return steps_; }
+  /// The explicit reference step (fixed at t = 0) and the step the next call will try.
+  Real explicit_dt() const { return explicit_dt_; }
+  Real next_dt() const { return dt_; }
+
+  const ParticleSet<Dim>& particles() const { return particles_; }
+  ParticleSet<Dim>& particles() { return particles_; }
+  const ElastoPlasticState& state() const { return state_; }
+  ElastoPlasticState& state() { return state_; }
+  const KinematicConstraints<Dim>& constraints() const { return constraints_; }
+  const ImplicitSpec<Dim>& spec() const { return spec_; }
+  const ImplicitCounters& counters() const { return counters_; }
+  /// Force [N per unit thickness or per radian] each grid-face constraint (in constraints().names() order)
+  /// and each rigid body applied to the material over the last step.
+  const std::vector<Vec<Dim>>& face_reactions() const { return face_reactions_; }
+  const std::vector<Vec<Dim>>& rigid_reactions() const { return rigid_reactions_; }
+  /// Displacement of each rigid body since t = 0 [m].
+  const std::vector<Vec<Dim>>& rigid_displacements() const { return rigid_displacement_; }
+  /// Newton iterations of the last step (0 for theta = 0).
+  int last_newton_iterations() const { return last_newton_; }
+
+  /// Continue from a saved state (particles and material state set already): the clock, step size and counters.
+  void restore(Real time, std::int64_t steps, Real dt, const ImplicitCounters& counters,
+               const std::vector<Vec<Dim>>& rigid_displacement);
+
+ private:
+  using StencilT = Stencil<Dim, Kernel>;
+  class Residual;
+  struct Trial {  // particle state computed by one residual evaluation
+    std::vector<SymTensor<3>> sigma;
+    std::vector<Real> eps_bar, work, energy, stretch3;
+    std::vector<Mat<Dim>> grad_v;
+    std::vector<Vec<Dim>> v;  // momentum formulation: v_p^L of Eq. (3.2.6)
+    std::vector<std::uint8_t> ok;
+  };
+
+  bool try_step(Real dt);
+  void project(Real dt);
+  void build_dofs(Real t_new);
+  void scatter_momentum(const std::vector<Vec<Dim>>& v_p, NodeVelocity<Dim> field);
+  void scatter_force(const std::vector<SymTensor<3>>& sigma, std::vector<Vec<Dim>>& f);
+  void node_velocity_from(const Eigen::VectorXd& x);
+  bool evaluate(const Eigen::VectorXd& x, Real dt, Eigen::VectorXd& r);
+  void accept(Real dt);
+  void compute_reactions(Real dt);
+  Real wave_speed_limit() const;
+
+  ImplicitSpec<Dim> spec_;
+  ParticleSet<Dim> particles_;
+  ElastoPlasticState state_;
+  Grid<Dim> grid_;
+  KinematicConstraints<Dim> constraints_;
+  NodeLayout<Dim> layout_;
+  Real min_node_mass_ = 0;
+  Real modulus_ = 0;  // the largest Young's modulus: residual scale Y h^Dim dt (Sec. 3.2.2)
+  std::vector<StencilT> stencils_;
+  std::vector<std::int32_t> strip_;
+  ScatterOrder order_;
+  std::vector<std::vector<StencilT>> rigid_stencils_;
+  // Nodes: internal force at t^k, external force, and the trial internal force of the last evaluation.
+  std::vector<Vec<Dim>> f_k_, f_ext_, f_trial_, stiffness_;
+  std::vector<Vec<Dim>> v_star_;  // momentum formulation: P_i^L / m_i
+  // Unknowns: free (node, component) pairs; constrained ones with their value and owner (face group or rigid body).
+  std::vector<std::int32_t> dof_node_;
+  std::vector<std::int8_t> dof_comp_;
+  struct Fixed {
+    std::int32_t node;
+    int component;
+    int owner;  // face group index, or groups + rigid body index
+    Real value;
+  };
+  std::vector<Fixed> fixed_;
+  std::vector<std::uint8_t> mirrored_;  // ghost nodes that copy a mirror node
+  Trial trial_;
+  Eigen::VectorXd last_x_;
+  ImplicitCounters counters_;
+  std::vector<Vec<Dim>> face_reactions_, rigid_reactions_, rigid_displacement_;
+  Real explicit_dt_ = 0, dt_ = 0, time_ = 0;
+  std::int64_t steps_ = 0;
+  int last_newton_ = 0;
+};
+
+}  // namespace mpm

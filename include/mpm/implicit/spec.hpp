@@ -1,0 +1,93 @@
+#pragma once
+/// Plain parameter structs of an implicit (or theta = 0 explicit) simulation in the formulation of Sulsky & Kaul
+/// 2004, validated in full before anything is built.
+#include <array>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mpm/boundary/boundary.hpp"
+#include "mpm/core/types.hpp"
+#include "mpm/implicit/newton_krylov.hpp"
+#include "mpm/integrators/spec.hpp"
+#include "mpm/materials/elastoplastic.hpp"
+
+namespace mpm {
+
+/// How a 2-D model stands for a 3-D body: plane strain (eps_zz = 0), plane stress (sigma_zz = 0), or a body of
+/// revolution about x = 0 with (x, y) = (r, z) (hoop strain rate v_r / r; masses and volumes per radian).
+enum class Geometry { plane_strain, plane_stress, axisymmetric };
+
+/// The unknown of the implicit equations: nodal velocity (symmetric system, Sulsky & Kaul 2004 Eq. 2.4.11) or
+/// nodal momentum (non-symmetric, Sec. 3.2.1, Eqs 3.2.3-3.2.7).
+enum class Formulation { velocity, momentum };
+
+/// Newton-CG (Algs 1 and 3), Newton-GMRES (Algs 1 and 4), or one linear CG solve (Alg. 2) of the system
+/// linearised at the start of the step (exact for small-strain linear elasticity).
+enum class ImplicitSolver { newton_cg, newton_gmres, linear_cg };
+
+/// The time step: the explicit reference step is cfl h / max_p (c_p + |v_p|) at t = 0 (or the fixed dt); the
+/// step starts at start_factor times it and grows by `growth` per step up to step_factor times it (the
+/// footnotes of Sulsky & Kaul 2004, Tables 1-6). A step whose Newton solve fails, or that would invert a
+/// material point (the Lagrangian limit of Sec. 3.2.7), is retried with half the step up to max_retries times.
+struct StepControl {
+  Real cfl = 0.5;           ///< Courant number of the explicit reference step
+  Real dt = 0;              ///< fixed explicit reference step [s] instead of the CFL number (0: use cfl)
+  Real step_factor = 1;     ///< target step / explicit step
+  Real start_factor = 1;    ///< first step / explicit step (capped at step_factor)
+  Real growth = 1.2;        ///< step ratio between consecutive steps while below the target
+  int max_retries = 8;      ///< halvings allowed for one step
+};
+
+template <int Dim>
+constexpr std::array<bool, Dim> filled(bool value) {
+  std::array<bool, Dim> a{};
+  a.fill(value);
+  return a;
+}
+
+/// A rigid body: material points moving at a prescribed velocity that impose it on every node they touch
+/// (no-slip contact through the single velocity field, Sulsky & Kaul 2004 Secs 3.1.1 and 3.2.7).
+template <int Dim>
+struct RigidBody {
+  std::string name;
+  std::vector<Vec<Dim>> points;  ///< material point positions at t = 0 [m]
+  Vec<Dim> half_length = Vec<Dim>::Zero();  ///< GIMP half-lengths of its points [m]
+  VelocityFn<Dim> velocity;      ///< v(t) [m/s]
+  /// Components the body imposes: all (no-slip contact, the default), or some (free slip along the others).
+  std::array<bool, Dim> imposes = filled<Dim>(true);
+};
+
+template <int Dim>
+struct ImplicitSpec {
+  Vec<Dim> grid_lo = Vec<Dim>::Zero();  ///< position of the first node [m]
+  Real h = 0;                           ///< cell width [m]
+  IVec<Dim> cells{};                    ///< cells per axis
+  KernelKind kernel = KernelKind::linear;
+  Geometry geometry = Geometry::plane_strain;  ///< 2-D only
+  Formulation formulation = Formulation::momentum;
+  ImplicitSolver solver = ImplicitSolver::newton_gmres;
+  /// mu of Sulsky & Kaul 2004, Eq. (2.4.1): 0 explicit, 1 fully implicit.
+  Real theta = 1;
+  implicit::NewtonSettings newton;
+  /// Precondition the Krylov solves with the diagonal of the mass plus elastic stiffness (not in the paper).
+  bool jacobi = false;
+  StepControl step;
+  std::vector<ElastoPlastic> materials;
+  BoundarySpec<Dim> boundary;
+  std::vector<RigidBody<Dim>> rigid_bodies;
+  Vec<Dim> gravity = Vec<Dim>::Zero();  ///< [m/s^2]
+};
+
+Geometry parse_geometry(std::string_view name, std::string_view key);
+Formulation parse_formulation(std::string_view name, std::string_view key);
+ImplicitSolver parse_solver(std::string_view name, std::string_view key);
+std::string_view to_string(Geometry g);
+std::string_view to_string(Formulation f);
+std::string_view to_string(ImplicitSolver s);
+
+/// Throw InputError with a clear message for the first invalid field; `where` prefixes every message.
+template <int Dim>
+void validate(const ImplicitSpec<Dim>& spec, const std::string& where = "");
+
+}  // namespace mpm

@@ -1,0 +1,9 @@
+// Explicit instantiation of the 2-D implicit simulation for every kernel.
+#include "implicit_simulation_impl.hpp"
+
+namespace mpm {
+template class ImplicitSimulation<2, LinearKernel>;
+template class ImplicitSimulation<2, GimpKernel>;
+template class ImplicitSimulation<2, QuadraticBSplineKernel>;
+template class ImplicitSimulation<2, CubicBSplineKernel>;
+}  // namespace mpm

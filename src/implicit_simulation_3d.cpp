@@ -1,0 +1,9 @@
+// Explicit instantiation of the 3-D implicit simulation for every kernel.
+#include "implicit_simulation_impl.hpp"
+
+namespace mpm {
+template class ImplicitSimulation<3, LinearKernel>;
+template class ImplicitSimulation<3, GimpKernel>;
+template class ImplicitSimulation<3, QuadraticBSplineKernel>;
+template class ImplicitSimulation<3, CubicBSplineKernel>;
+}  // namespace mpm

@@ -1,0 +1,523 @@
+#pragma once
+// Implementation of ImplicitSimulation<Dim, Kernel>; included by the per-dimension instantiation files.
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "mpm/core/errors.hpp"
+#include "mpm/core/parallel.hpp"
+#include "mpm/implicit/simulation.hpp"
+
+namespace mpm {
+
+namespace implicit_detail {
+using Mat3 = Eigen::Matrix3d;
+
+inline Mat3 full(const SymTensor<3>& s) { return s.full(); }
+inline SymTensor<3> packed(const Mat3& m) {
+  SymTensor<3> s;
+  for (int a = 0; a < 3; ++a)
+    for (int b = a; b < 3; ++b) s(a, b) = m(a, b);
+  return s;
+}
+/// Embed a Dim x Dim tensor in the upper-left of a 3 x 3 one.
+template <int Dim>
+Mat3 embed(const Mat<Dim>& m) {
+  Mat3 out = Mat3::Zero();
+  out.template topLeftCorner<Dim, Dim>() = m;
+  return out;
+}
+}  // namespace implicit_detail
+
+/// The discrete momentum equation of one step as a NonlinearProblem over the free nodal unknowns.
+template <int Dim, class Kernel>
+class ImplicitSimulation<Dim, Kernel>::Residual final : public implicit::NonlinearProblem {
+ public:
+  Residual(ImplicitSimulation& sim, Real dt) : sim_(sim), dt_(dt) {}
+  Eigen::Index size() const override { return static_cast<Eigen::Index>(sim_.dof_node_.size()); }
+  bool residual(const Eigen::VectorXd& x, Eigen::VectorXd& r) override { return sim_.evaluate(x, dt_, r); }
+  bool precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z) override {
+    if (!sim_.spec_.jacobi) return false;
+    z = r.cwiseQuotient(diagonal_);
+    return true;
+  }
+  /// Diagonal of the scaled Jacobian with the elastic stiffness diagonal K_ii (Jacobi preconditioner):
+  /// velocity unknowns m_i + theta dt^2 K_ii, momentum unknowns 1 + theta dt^2 K_ii / m_i.
+  void build_diagonal(Real scale) {
+    const Real w = sim_.spec_.theta * dt_ * dt_;
+    diagonal_.resize(size());
+    for (Eigen::Index k = 0; k < size(); ++k) {
+      const std::int32_t n = sim_.dof_node_[k];
+      const Real m = sim_.grid_.nodes[n].m, K = sim_.stiffness_[n][sim_.dof_comp_[k]];
+      diagonal_[k] = (sim_.spec_.formulation == Formulation::velocity ? m + w * K : 1 + w * K / m) / scale;
+    }
+  }
+
+ private:
+  ImplicitSimulation& sim_;
+  Real dt_;
+  Eigen::VectorXd diagonal_;
+};
+
+template <int Dim, class Kernel>
+ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spec, ParticleSet<Dim> particles)
+    : spec_((validate(spec), spec)),
+      particles_(std::move(particles)),
+      grid_(GridGeometry<Dim>{spec.grid_lo, spec.h, spec.cells, Kernel::ghost}),
+      constraints_(spec.boundary, grid_.geometry),
+      layout_(grid_.geometry) {
+  ParticleSet<Dim>& p = particles_;
+  const GridGeometry<Dim>& g = grid_.geometry;
+  if (p.size() == 0) throw InputError("particles: the simulation has no particles");
+  state_.resize(p.size());
+  const bool axisymmetric = Dim == 2 && spec_.geometry == Geometry::axisymmetric;
+  Real min_mass = std::numeric_limits<Real>::max();
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const std::string at = "particle " + std::to_string(i);
+    if (!g.contains(p.x[i])) throw InputError(at + " lies outside the grid");
+    if (!(p.m[i] > 0) || !(p.V0[i] > 0)) throw InputError(at + ": mass and volume must be positive");
+    if (p.material[i] >= spec_.materials.size()) throw InputError(at + ": material index has no material");
+    if (!(p.F[i] - Mat<Dim>::Identity()).isZero(0))
+      throw InputError(at + ": the rate-form materials start undeformed (F = I)");
+    if (axisymmetric) {
+      if (!(p.X[i][0] > 0)) throw InputError(at + ": axisymmetric particles need radius x > 0");
+      p.m[i] *= p.X[i][0];  // per radian: m_p = rho r_p A_p
+      p.V0[i] *= p.X[i][0];
+    }
+    p.V[i] = p.V0[i];
+    min_mass = std::min(min_mass, p.m[i]);
+  }
+  min_node_mass_ = 1e-14 * min_mass;
+  for (const ElastoPlastic& m : spec_.materials) modulus_ = std::max(modulus_, m.E);
+  for (const RigidBody<Dim>& body : spec_.rigid_bodies)
+    for (const Vec<Dim>& x : body.points)
+      if (!g.contains(x)) throw InputError("rigid body '" + body.name + "': a point lies outside the grid");
+  rigid_stencils_.resize(spec_.rigid_bodies.size());
+  rigid_displacement_.assign(spec_.rigid_bodies.size(), Vec<Dim>::Zero());
+  rigid_reactions_.assign(spec_.rigid_bodies.size(), Vec<Dim>::Zero());
+  face_reactions_.assign(constraints_.names().size(), Vec<Dim>::Zero());
+  mirrored_.assign(grid_.size(), 0);
+  constraints_.mark_mirrored(mirrored_);
+  const std::size_t nodes = grid_.size();
+  f_k_.assign(nodes, Vec<Dim>::Zero());
+  f_ext_.assign(nodes, Vec<Dim>::Zero());
+  f_trial_.assign(nodes, Vec<Dim>::Zero());
+  v_star_.assign(nodes, Vec<Dim>::Zero());
+  stiffness_.assign(nodes, Vec<Dim>::Zero());
+  // The explicit reference step: fixed, or the CFL condition on the dilatational wave speed.
+  explicit_dt_ = spec_.step.dt > 0 ? spec_.step.dt : spec_.step.cfl * spec_.h / wave_speed_limit();
+  dt_ = explicit_dt_ * std::min(spec_.step.start_factor, spec_.step.step_factor);
+}
+
+template <int Dim, class Kernel>
+Real ImplicitSimulation<Dim, Kernel>::wave_speed_limit() const {
+  const ParticleSet<Dim>& p = particles_;
+  Real speed = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    speed = std::max(speed, spec_.materials[p.material[i]].wave_speed(p.m[i] / p.V[i]) + p.v[i].norm());
+  return speed;
+}
+
+template <int Dim, class Kernel>
+void ImplicitSimulation<Dim, Kernel>::restore(Real time, std::int64_t steps, Real dt, const ImplicitCounters& counters,
+                                              const std::vector<Vec<Dim>>& rigid_displacement) {
+  time_ = time;
+  steps_ = steps;
+  dt_ = dt;
+  counters_ = counters;
+  rigid_displacement_ = rigid_displacement;
+}
+
+template <int Dim, class Kernel>
+void ImplicitSimulation<Dim, Kernel>::run_until(Real t_end) {
+  while (time_ < t_end * (1 - 1e-14)) step(t_end - time_);
+}
+
+template <int Dim, class Kernel>
+void ImplicitSimulation<Dim, Kernel>::step(Real max_dt) {
+  Real dt = std::min(dt_, max_dt);
+  bool halved = false;
+  for (int retry = 0; !try_step(dt); ++retry) {
+    if (retry == spec_.step.max_retries) {
+      std::ostringstream os;
+      os.precision(9);
+      os << "step " << steps_ + 1 << ", t = " << time_ << ": the implicit solve failed with dt = " << dt << " after "
+         << retry << " halvings of the step";
+      throw SimulationFailure(os.str());
+    }
+    ++counters_.retries;
+    dt *= 0.5;
+    halved = true;
+  }
+  time_ += dt;
+  ++steps_;
+  // Grow toward the target step (Sulsky & Kaul 2004, footnotes of Tables 1-6), from the halved step after a retry.
+  if (halved) dt_ = dt;
+  dt_ = std::min(spec_.step.step_factor * explicit_dt_, dt_ * spec_.step.growth);
+}
+
+// One step (Sulsky & Kaul 2004, Secs 2.3-2.4): project the particles, solve the theta-blended momentum
+// equation for the free nodal unknowns, then update the particles from the converged solution.
+template <int Dim, class Kernel>
+bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
+  project(dt);
+  build_dofs(time_ + dt);
+  const bool momentum = spec_.formulation == Formulation::momentum;
+  // Initial guess: the projected velocity (or momentum) at t^k.
+  Eigen::VectorXd x(static_cast<Eigen::Index>(dof_node_.size()));
+  for (std::size_t k = 0; k < dof_node_.size(); ++k) {
+    const GridNode<Dim>& node = grid_.nodes[dof_node_[k]];
+    x[static_cast<Eigen::Index>(k)] = (momentum ? node.m : 1.0) * node.v[dof_comp_[k]];
+  }
+  Residual problem(*this, dt);
+  const Real scale = modulus_ * std::pow(spec_.h, Dim) * dt;  // Sulsky & Kaul 2004, Sec. 3.2.2
+  Eigen::VectorXd r;
+  last_newton_ = 0;
+  if (spec_.theta == 0) {
+    // Explicit: the unknowns follow from the forces at t^k (Eq. 2.4.4); one evaluation updates the stress.
+    for (std::size_t k = 0; k < dof_node_.size(); ++k) {
+      const std::int32_t n = dof_node_[k];
+      const int c = dof_comp_[k];
+      const Real m = grid_.nodes[n].m;
+      x[static_cast<Eigen::Index>(k)] += dt * (f_k_[n][c] + f_ext_[n][c]) / (momentum ? 1.0 : m);
+    }
+    ++counters_.residual_evaluations;
+    if (!evaluate(x, dt, r)) return false;
+  } else if (spec_.solver == ImplicitSolver::linear_cg) {
+    // One CG solve (Alg. 2) of A s = -F(x0), A s = F(x0 + s) - F(x0).
+    Eigen::VectorXd r0;
+    if (!evaluate(x, dt, r0)) return false;
+    const Eigen::VectorXd x0 = x;
+    Eigen::VectorXd s = Eigen::VectorXd::Zero(x.size()), rs;
+    bool ok = true;
+    const auto apply = [&](const Eigen::VectorXd& v, Eigen::VectorXd& Av) {
+      ok = ok && evaluate(x0 + v, dt, rs);
+      Av = rs - r0;
+    };
+    if (spec_.jacobi) problem.build_diagonal(scale);
+    const auto pre = [&](const Eigen::VectorXd& v, Eigen::VectorXd& z) { problem.precondition(v, z); };
+    const implicit::LinearStats ls =
+        implicit::conjugate_gradient(apply, -r0, s, spec_.newton.linear_tolerance, spec_.newton.max_krylov,
+                                     spec_.jacobi ? std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>(pre)
+                                                  : std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>{});
+    counters_.krylov_iterations += ls.iterations;
+    counters_.residual_evaluations += ls.iterations + 2;
+    x = x0 + s;
+    if (!ok || !evaluate(x, dt, r)) return false;
+    last_newton_ = 1;
+    ++counters_.newton_iterations;
+  } else {
+    if (spec_.jacobi) problem.build_diagonal(scale);
+    implicit::NewtonSettings settings = spec_.newton;
+    settings.krylov = spec_.solver == ImplicitSolver::newton_cg ? implicit::Krylov::cg : implicit::Krylov::gmres;
+    settings.precondition = spec_.jacobi;
+    const implicit::SolveStats stats = implicit::solve(problem, x, settings);
+    counters_.newton_iterations += stats.newton_iterations;
+    counters_.krylov_iterations += stats.krylov_iterations;
+    counters_.residual_evaluations += stats.residual_evaluations;
+    counters_.backtracks += stats.backtracks;
+    last_newton_ = stats.newton_iterations;
+    if (!stats.converged) return false;
+    // The trial state must be that of the solution, not of the last perturbed evaluation.
+    if (x.size() != last_x_.size() || x != last_x_) {
+      ++counters_.residual_evaluations;
+      if (!evaluate(x, dt, r)) return false;
+    }
+  }
+  for (std::uint8_t ok : trial_.ok)
+    if (!ok) return false;
+  compute_reactions(dt);
+  accept(dt);
+  return true;
+}
+
+// Initialisation phase (Sulsky & Kaul 2004, Sec. 2.3.1): lumped mass (Eq. 2.2.12), momentum (Eq. 2.2.14 /
+// 3.2.3), internal force at t^k (Eq. 2.4.6) and external force; rigid-body stencils at their positions.
+template <int Dim, class Kernel>
+void ImplicitSimulation<Dim, Kernel>::project(Real dt) {
+  if (build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, strip_))
+    order_.build(strip_, ScatterOrder::strip_count<Dim, Kernel::width>(grid_.geometry));
+  const ParticleSet<Dim>& p = particles_;
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
+    GridNode<Dim>& node = grid_.nodes[n];
+    node.m = 0;
+    node.v.setZero();
+  });
+  order_.for_each([&](std::int32_t i) {
+    const Real m_p = p.m[i];
+    const Vec<Dim> mv_p = m_p * p.v[i];
+    for_each_node(stencils_[i], layout_, [&](std::int32_t n, Real S_ip, const Vec<Dim>&) {
+      grid_.nodes[n].m += S_ip * m_p;
+      grid_.nodes[n].v += S_ip * mv_p;
+    });
+  });
+  constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
+    GridNode<Dim>& node = grid_.nodes[n];
+    node.v = node.m > min_node_mass_ ? Vec<Dim>(node.v / node.m) : Vec<Dim>::Zero();
+    f_ext_[n] = node.m * spec_.gravity;
+  });
+  scatter_force(state_.sigma, f_k_);
+  if (spec_.jacobi) {
+    // Diagonal of the elastic stiffness, K_ii = sum_p V_p [(lambda + 2 mu) (dN/dx_c)^2 + mu sum_{d != c} (dN/dx_d)^2].
+    parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
+    order_.for_each([&](std::int32_t i) {
+      const ElastoPlastic& mat = spec_.materials[p.material[i]];
+      const Real lam = mat.lambda(), mu = mat.mu(), V = p.V[i];
+      for_each_node(stencils_[i], layout_, [&](std::int32_t n, Real, const Vec<Dim>& dS) {
+        const Real all = dS.squaredNorm();
+        for (int c = 0; c < Dim; ++c) grid_.nodes[n].a[c] += V * ((lam + mu) * dS[c] * dS[c] + mu * all);
+      });
+    });
+    for (std::size_t n = 0; n < grid_.size(); ++n) stiffness_[n] = grid_.nodes[n].a;
+  }
+  for (std::size_t b = 0; b < spec_.rigid_bodies.size(); ++b) {
+    const RigidBody<Dim>& body = spec_.rigid_bodies[b];
+    rigid_stencils_[b].clear();
+    for (const Vec<Dim>& x0 : body.points) {
+      const Vec<Dim> x = x0 + rigid_displacement_[b];
+      if (!grid_.geometry.contains(x)) {
+        std::ostringstream os;
+        os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": rigid body '" << body.name << "' left the grid";
+        throw SimulationFailure(os.str());
+      }
+      rigid_stencils_[b].push_back(make_stencil<Dim, Kernel>(grid_.geometry, layout_, x, body.half_length));
+    }
+  }
+}
+
+// The unknowns: components of nodes that carry mass, minus those a face constraint or a rigid body prescribes
+// (Sulsky & Kaul 2004, Sec. 2.4.1: nodes with displacement conditions are excluded) and mirrored ghosts.
+template <int Dim, class Kernel>
+void ImplicitSimulation<Dim, Kernel>::build_dofs(Real t_new) {
+  const std::size_t nodes = grid_.size();
+  std::vector<Real> value(nodes * Dim, 0);
+  std::vector<int> owner(nodes * Dim, -1);
+  const std::vector<Vec<Dim>> face_velocity = constraints_.velocities(t_new);
+  for (const auto& c : constraints_.components()) {
+    owner[c.node * Dim + c.component] = c.group;
+    value[c.node * Dim + c.component] = face_velocity[c.group][c.component];
+  }
+  const int groups = static_cast<int>(face_velocity.size());
+  for (std::size_t b = 0; b < spec_.rigid_bodies.size(); ++b) {
+    const Vec<Dim> v = spec_.rigid_bodies[b].velocity(t_new);
+    for (const StencilT& s : rigid_stencils_[b])
+      for_each_node(s, layout_, [&](std::int32_t n, Real S, const Vec<Dim>&) {
+        if (S <= 0) return;
+        for (int c = 0; c < Dim; ++c) {
+          if (!spec_.rigid_bodies[b].imposes[c]) continue;
+          owner[n * Dim + c] = groups + static_cast<int>(b);
+          value[n * Dim + c] = v[c];
+        }
+      });
+  }
+  dof_node_.clear();
+  dof_comp_.clear();
+  fixed_.clear();
+  for (std::size_t n = 0; n < nodes; ++n) {
+    if (mirrored_[n]) continue;
+    for (int c = 0; c < Dim; ++c) {
+      const std::size_t k = n * Dim + c;
+      if (owner[k] >= 0)
+        fixed_.push_back({static_cast<std::int32_t>(n), c, owner[k], value[k]});
+      else if (grid_.nodes[n].m > min_node_mass_) {
+        dof_node_.push_back(static_cast<std::int32_t>(n));
+        dof_comp_.push_back(static_cast<std::int8_t>(c));
+      }
+    }
+  }
+}
+
+template <int Dim, class Kernel>
+void ImplicitSimulation<Dim, Kernel>::scatter_momentum(const std::vector<Vec<Dim>>& v_p, NodeVelocity<Dim> field) {
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { (grid_.nodes[n].*field).setZero(); });
+  const ParticleSet<Dim>& p = particles_;
+  order_.for_each([&](std::int32_t i) {
+    const Vec<Dim> mv_p = p.m[i] * v_p[i];
+    for_each_node(stencils_[i], layout_,
+                  [&](std::int32_t n, Real S_ip, const Vec<Dim>&) { grid_.nodes[n].*field += S_ip * mv_p; });
+  });
+  constraints_.fold_and_mirror(grid_, field);
+}
+
+// Internal force f_i = -sum_p V_p sigma_p grad N_i(x_p^k) (Sulsky & Kaul 2004, Eqs 2.2.9-2.2.10 and 2.4.7), with
+// the hoop term -V_p sigma_thetatheta N_i / r_p on the radial component in axisymmetry (Sulsky & Schreyer 1996).
+template <int Dim, class Kernel>
+void ImplicitSimulation<Dim, Kernel>::scatter_force(const std::vector<SymTensor<3>>& sigma, std::vector<Vec<Dim>>& f) {
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
+  const ParticleSet<Dim>& p = particles_;
+  const bool axisymmetric = Dim == 2 && spec_.geometry == Geometry::axisymmetric;
+  order_.for_each([&](std::int32_t i) {
+    const Mat<Dim> Vsigma = p.V[i] * sigma[i].full().template topLeftCorner<Dim, Dim>();
+    const Real hoop = axisymmetric ? p.V[i] * sigma[i](2, 2) / p.x[i][0] : 0;
+    for_each_node(stencils_[i], layout_, [&](std::int32_t n, Real S_ip, const Vec<Dim>& dS_ip) {
+      GridNode<Dim>& node = grid_.nodes[n];
+      node.a -= Vsigma * dS_ip;
+      if (axisymmetric) node.a[0] -= hoop * S_ip;
+    });
+  });
+  constraints_.fold_and_mirror(grid_, NodeFields::force);
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { f[n] = grid_.nodes[n].a; });
+}
+
+// Put the trial unknowns on the nodes as the Lagrangian velocity v_i^L (in v_new): free components from x,
+// prescribed ones from the constraints, mirrored ghosts reflected. In the momentum formulation x holds P_i^L:
+// the particle velocities follow from Eq. (3.2.6) and v_i^L is their projection, Eq. (3.2.7).
+template <int Dim, class Kernel>
+void ImplicitSimulation<Dim, Kernel>::node_velocity_from(const Eigen::VectorXd& x) {
+  const bool momentum = spec_.formulation == Formulation::momentum;
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
+    GridNode<Dim>& node = grid_.nodes[n];
+    node.v_new = node.v;  // inactive nodes keep v^k (zero)
+  });
+  for (std::size_t k = 0; k < dof_node_.size(); ++k) {
+    GridNode<Dim>& node = grid_.nodes[dof_node_[k]];
+    const Real xk = x[static_cast<Eigen::Index>(k)];
+    node.v_new[dof_comp_[k]] = momentum ? xk / node.m : xk;
+  }
+  for (const Fixed& f : fixed_) grid_.nodes[f.node].v_new[f.component] = f.value;
+  constraints_.mirror(grid_, &GridNode<Dim>::v_new);
+  if (!momentum) return;
+  for (std::size_t n = 0; n < grid_.size(); ++n) v_star_[n] = grid_.nodes[n].v_new;  // P_i^L / m_i
+  // v_p^L = v_p^k + sum_i (P_i^L - P_i^k) N_i(x_p) / m_i (Eq. 3.2.6: the momentum change is dt times the force).
+  const ParticleSet<Dim>& p = particles_;
+  trial_.v.resize(p.size());
+  parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
+    Vec<Dim> dv = Vec<Dim>::Zero();
+    for_each_node(stencils_[i], layout_, [&](std::int32_t n, Real S_ip, const Vec<Dim>&) {
+      const GridNode<Dim>& node = grid_.nodes[n];
+      if (node.m > min_node_mass_) dv += S_ip * (node.v_new - node.v);
+    });
+    trial_.v[i] = p.v[i] + dv;
+  });
+  scatter_momentum(trial_.v, &GridNode<Dim>::v_new);
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
+    GridNode<Dim>& node = grid_.nodes[n];
+    node.v_new = node.m > min_node_mass_ ? Vec<Dim>(node.v_new / node.m) : Vec<Dim>::Zero();
+  });
+  for (const Fixed& f : fixed_) grid_.nodes[f.node].v_new[f.component] = f.value;
+  constraints_.mirror(grid_, &GridNode<Dim>::v_new);
+}
+
+// F(x) of Sulsky & Kaul 2004, Eq. (2.4.12), in the form (P^L - P^k) - dt ((1 - theta) f^k + theta f^L + f^ext)
+// on the free unknowns (P^L = m v^L in the velocity formulation, Eq. 2.4.5; Eq. 3.2.4 in the momentum one),
+// divided by Y h^Dim dt (Sec. 3.2.2). The stress follows from the strain increments of v^L (Eqs 2.2.18-2.2.21).
+template <int Dim, class Kernel>
+bool ImplicitSimulation<Dim, Kernel>::evaluate(const Eigen::VectorXd& x, Real dt, Eigen::VectorXd& r) {
+  using namespace implicit_detail;
+  last_x_ = x;
+  node_velocity_from(x);
+  const ParticleSet<Dim>& p = particles_;
+  const std::size_t np = p.size();
+  Trial& t = trial_;
+  t.sigma.resize(np);
+  t.eps_bar.resize(np);
+  t.work.resize(np);
+  t.energy.resize(np);
+  t.stretch3.resize(np);
+  t.grad_v.resize(np);
+  t.ok.resize(np);
+  const Geometry geometry = Dim == 2 ? spec_.geometry : Geometry::plane_strain;
+  const OutOfPlane mode = geometry == Geometry::plane_stress ? OutOfPlane::plane_stress : OutOfPlane::given;
+  parallel_for(static_cast<std::ptrdiff_t>(np), [&](std::ptrdiff_t i) {
+    Mat<Dim> L = Mat<Dim>::Zero();
+    Real v_r = 0;
+    for_each_node(stencils_[i], layout_, [&](std::int32_t n, Real S_ip, const Vec<Dim>& dS_ip) {
+      L += grid_.nodes[n].v_new * dS_ip.transpose();
+      v_r += S_ip * grid_.nodes[n].v_new[0];
+    });
+    // Strain and spin increments (Eqs 2.2.18-2.2.20); the hoop strain increment dt v_r / r in axisymmetry.
+    const Mat3 dL = embed<Dim>(dt * L);
+    Mat3 de = 0.5 * (dL + dL.transpose());
+    const Mat3 dW = 0.5 * (dL - dL.transpose());
+    if (geometry == Geometry::axisymmetric) de(2, 2) = dt * v_r / p.x[i][0];
+    const ElastoPlastic& mat = spec_.materials[p.material[i]];
+    const StressUpdate u = update_stress(mat, full(state_.sigma[i]), state_.eps_bar[i], de, dW, mode);
+    de(2, 2) = u.d_eps_zz;
+    const Real stretch3 = geometry == Geometry::plane_strain ? 1.0 : state_.stretch3[i] * (1 + de(2, 2));
+    const Real J = (Mat<Dim>::Identity() + dt * L).determinant() * stretch3 / state_.stretch3[i];
+    t.ok[i] = J > 0 && stretch3 > 0 && u.sigma.allFinite();
+    t.sigma[i] = packed(u.sigma);
+    t.eps_bar[i] = u.eps_bar;
+    t.work[i] = u.plastic_work * p.V[i];
+    // Internal energy increment with the mid-step stress (Eq. 2.2.16).
+    t.energy[i] = p.V[i] * (0.5 * (full(state_.sigma[i]) + u.sigma)).cwiseProduct(de).sum();
+    t.stretch3[i] = stretch3;
+    t.grad_v[i] = L;
+  });
+  for (std::size_t i = 0; i < np; ++i)
+    if (!t.ok[i]) return false;
+  scatter_force(t.sigma, f_trial_);
+  const Real scale = 1 / (modulus_ * std::pow(spec_.h, Dim) * dt);
+  const Real theta = spec_.theta;
+  r.resize(x.size());
+  for (std::size_t k = 0; k < dof_node_.size(); ++k) {
+    const std::int32_t n = dof_node_[k];
+    const int c = dof_comp_[k];
+    const GridNode<Dim>& node = grid_.nodes[n];
+    const Real P_L = spec_.formulation == Formulation::momentum ? x[static_cast<Eigen::Index>(k)]
+                                                                 : node.m * x[static_cast<Eigen::Index>(k)];
+    const Real force = (1 - theta) * f_k_[n][c] + theta * f_trial_[n][c] + f_ext_[n][c];
+    r[static_cast<Eigen::Index>(k)] = scale * (P_L - node.m * node.v[c] - dt * force);
+  }
+  return r.allFinite();
+}
+
+// The force each constraint applied: the momentum equation's imbalance on its prescribed components,
+// (m_i v_i^L - m_i v_i^k)/dt - ((1 - theta) f^k + theta f^L + f^ext).
+template <int Dim, class Kernel>
+void ImplicitSimulation<Dim, Kernel>::compute_reactions(Real dt) {
+  const int groups = static_cast<int>(face_reactions_.size());
+  for (Vec<Dim>& f : face_reactions_) f.setZero();
+  for (Vec<Dim>& f : rigid_reactions_) f.setZero();
+  const Real theta = spec_.theta;
+  for (const Fixed& f : fixed_) {
+    const GridNode<Dim>& node = grid_.nodes[f.node];
+    const int c = f.component;
+    const Real force = node.m * (f.value - node.v[c]) / dt -
+                       ((1 - theta) * f_k_[f.node][c] + theta * f_trial_[f.node][c] + f_ext_[f.node][c]);
+    (f.owner < groups ? face_reactions_[f.owner] : rigid_reactions_[f.owner - groups])[c] += force;
+  }
+}
+
+// Update the particles from the converged step (Sulsky & Kaul 2004, Eqs 2.3.2-2.3.5 or 3.2.5-3.2.6).
+template <int Dim, class Kernel>
+void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
+  ParticleSet<Dim>& p = particles_;
+  const bool momentum = spec_.formulation == Formulation::momentum;
+  const bool deformed_sizes = spec_.kernel == KernelKind::cpgimp;
+  const bool axisymmetric = Dim == 2 && spec_.geometry == Geometry::axisymmetric;
+  parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
+    Vec<Dim> v_move = Vec<Dim>::Zero(), dv = Vec<Dim>::Zero();
+    for_each_node(stencils_[i], layout_, [&](std::int32_t n, Real S_ip, const Vec<Dim>&) {
+      const GridNode<Dim>& node = grid_.nodes[n];
+      if (node.m <= min_node_mass_) return;
+      v_move += S_ip * (momentum ? v_star_[n] : node.v_new);
+      dv += S_ip * (node.v_new - node.v);
+    });
+    p.x[i] += dt * v_move;                        // Eq. (2.3.2), or Eq. (3.2.5) with P_i^L / m_i
+    p.v[i] = momentum ? trial_.v[i] : Vec<Dim>(p.v[i] + dv);  // Eq. (3.2.6), or Eq. (2.3.3)
+    p.F[i] = (Mat<Dim>::Identity() + dt * trial_.grad_v[i]) * p.F[i];
+    // The hoop stretch is r / R exactly; the plane-stress thickness stretch accumulates 1 + de_zz.
+    state_.stretch3[i] = axisymmetric ? p.x[i][0] / p.X[i][0] : trial_.stretch3[i];
+    p.V[i] = p.V0[i] * p.F[i].determinant() * state_.stretch3[i];
+    state_.sigma[i] = trial_.sigma[i];
+    state_.eps_bar[i] = trial_.eps_bar[i];
+    state_.energy[i] += trial_.energy[i];
+    const ElastoPlastic& mat = spec_.materials[p.material[i]];
+    if (mat.specific_heat > 0) state_.temperature[i] += trial_.work[i] / (p.m[i] * mat.specific_heat);  // Eq. (2.3.5)
+    if (deformed_sizes)
+      for (int d = 0; d < Dim; ++d) p.l[i][d] = p.l0[i][d] * p.F[i](d, d);
+  });
+  for (std::size_t b = 0; b < spec_.rigid_bodies.size(); ++b)
+    rigid_displacement_[b] += dt * spec_.rigid_bodies[b].velocity(time_ + 0.5 * dt);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!grid_.geometry.contains(p.x[i])) {
+      std::ostringstream os;
+      os.precision(9);
+      os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << i << " left the grid";
+      throw SimulationFailure(os.str());
+    }
+}
+
+}  // namespace mpm

@@ -1,0 +1,83 @@
+#include "mpm/implicit/spec.hpp"
+
+#include <array>
+#include <cmath>
+
+#include "mpm/core/errors.hpp"
+
+namespace mpm {
+
+namespace {
+constexpr std::array<std::string_view, 3> geometry_names{"plane-strain", "plane-stress", "axisymmetric"};
+constexpr std::array<std::string_view, 2> formulation_names{"velocity", "momentum"};
+constexpr std::array<std::string_view, 3> solver_names{"newton-cg", "newton-gmres", "cg"};
+
+template <class Enum, class Names>
+Enum parse(const Names& names, std::string_view name, std::string_view key) {
+  std::string list;
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    if (name == names[k]) return static_cast<Enum>(k);
+    list += (k ? ", " : "") + std::string(names[k]);
+  }
+  throw InputError(std::string(key) + ": unknown name '" + std::string(name) + "' (expected one of " + list + ")");
+}
+
+void require(bool ok, const std::string& message) {
+  if (!ok) throw InputError(message);
+}
+}  // namespace
+
+Geometry parse_geometry(std::string_view name, std::string_view key) {
+  return parse<Geometry>(geometry_names, name, key);
+}
+Formulation parse_formulation(std::string_view name, std::string_view key) {
+  return parse<Formulation>(formulation_names, name, key);
+}
+ImplicitSolver parse_solver(std::string_view name, std::string_view key) {
+  return parse<ImplicitSolver>(solver_names, name, key);
+}
+std::string_view to_string(Geometry g) { return geometry_names[static_cast<std::size_t>(g)]; }
+std::string_view to_string(Formulation f) { return formulation_names[static_cast<std::size_t>(f)]; }
+std::string_view to_string(ImplicitSolver s) { return solver_names[static_cast<std::size_t>(s)]; }
+
+template <int Dim>
+void validate(const ImplicitSpec<Dim>& s, const std::string& where) {
+  const std::string at = where.empty() ? "" : where + ": ";
+  require(std::isfinite(s.h) && s.h > 0, at + "grid.h: cell width must be positive");
+  for (int d = 0; d < Dim; ++d) require(s.cells[d] >= 1, at + "grid.cells: every axis needs at least 1 cell");
+  require(s.grid_lo.allFinite(), at + "grid.lo: must be finite");
+  require(Dim == 2 || s.geometry == Geometry::plane_strain,
+          at + "simulation.geometry: plane stress and axisymmetry are 2-D models");
+  require(s.geometry != Geometry::axisymmetric || s.grid_lo[0] >= 0,
+          at + "grid.lo: an axisymmetric grid must lie at radius x >= 0");
+  require(s.theta >= 0 && s.theta <= 1, at + "implicit.theta: expected a number in [0, 1]");
+  require(s.solver != ImplicitSolver::linear_cg || s.formulation == Formulation::velocity,
+          at + "implicit.solver: cg (linear) needs the symmetric velocity formulation");
+  require(s.solver != ImplicitSolver::newton_cg || s.formulation == Formulation::velocity,
+          at + "implicit.solver: newton-cg needs the symmetric velocity formulation (use newton-gmres)");
+  implicit::validate(s.newton, at + "[implicit]");
+  const StepControl& c = s.step;
+  if (c.dt > 0)
+    require(std::isfinite(c.dt), at + "simulation.dt: must be finite");
+  else
+    require(c.dt == 0 && c.cfl > 0 && c.cfl <= 1, at + "simulation.cfl: expected a number in (0, 1]");
+  require(std::isfinite(c.step_factor) && c.step_factor > 0, at + "implicit.step_factor: must be positive");
+  require(std::isfinite(c.start_factor) && c.start_factor > 0, at + "implicit.start_factor: must be positive");
+  require(c.growth >= 1 && std::isfinite(c.growth), at + "implicit.growth: expected a number >= 1");
+  require(c.max_retries >= 0, at + "implicit.max_retries: expected an integer >= 0");
+  require(s.theta > 0 || c.step_factor <= 1,
+          at + "implicit.step_factor: theta = 0 is explicit and conditionally stable; expected step_factor <= 1");
+  require(!s.materials.empty(), at + "materials: at least one material is required");
+  for (std::size_t k = 0; k < s.materials.size(); ++k)
+    validate(s.materials[k], at + "materials[" + std::to_string(k) + "]");
+  require(s.gravity.allFinite(), at + "gravity: must be finite");
+  for (const RigidBody<Dim>& b : s.rigid_bodies) {
+    require(!b.points.empty(), at + "rigid body '" + b.name + "': has no points");
+    require(static_cast<bool>(b.velocity), at + "rigid body '" + b.name + "': needs a velocity");
+  }
+}
+
+template void validate<2>(const ImplicitSpec<2>&, const std::string&);
+template void validate<3>(const ImplicitSpec<3>&, const std::string&);
+
+}  // namespace mpm
