@@ -3,9 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <cstdio>
+#include <cstdlib>
 
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
+#include <Eigen/SparseLU>
+
 #include "mpm/implicit/simulation.hpp"
 
 namespace mpm {
@@ -37,26 +41,23 @@ class ImplicitSimulation<Dim, Kernel>::Residual final : public implicit::Nonline
   Eigen::Index size() const override { return static_cast<Eigen::Index>(sim_.dof_node_.size()); }
   bool residual(const Eigen::VectorXd& x, Eigen::VectorXd& r) override { return sim_.evaluate(x, dt_, r); }
   bool precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z) override {
-    if (!sim_.spec_.jacobi) return false;
-    z = r.cwiseQuotient(diagonal_);
+    if (!sim_.frozen_) return false;
+    z = sim_.frozen_->lu.solve(r);
     return true;
-  }
-  /// Diagonal of the scaled Jacobian with the elastic stiffness diagonal K_ii (Jacobi preconditioner):
-  /// velocity unknowns m_i + theta dt^2 K_ii, momentum unknowns 1 + theta dt^2 K_ii / m_i.
-  void build_diagonal(Real scale) {
-    const Real w = sim_.spec_.theta * dt_ * dt_;
-    diagonal_.resize(size());
-    for (Eigen::Index k = 0; k < size(); ++k) {
-      const std::int32_t n = sim_.dof_node_[k];
-      const Real m = sim_.grid_.nodes[n].m, K = sim_.stiffness_[n][sim_.dof_comp_[k]];
-      diagonal_[k] = (sim_.spec_.formulation == Formulation::velocity ? m + w * K : 1 + w * K / m) / scale;
-    }
   }
 
  private:
   ImplicitSimulation& sim_;
   Real dt_;
-  Eigen::VectorXd diagonal_;
+};
+
+template <int Dim, class Kernel>
+struct ImplicitSimulation<Dim, Kernel>::FrozenJacobian {
+  Eigen::SparseLU<Eigen::SparseMatrix<Real>> lu;
+  std::vector<std::int32_t> dof_node;
+  std::vector<std::int8_t> dof_comp;
+  Real dt = 0;
+  bool stale = false;
 };
 
 template <int Dim, class Kernel>
@@ -103,7 +104,6 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
   f_ext_.assign(nodes, Vec<Dim>::Zero());
   f_trial_.assign(nodes, Vec<Dim>::Zero());
   v_star_.assign(nodes, Vec<Dim>::Zero());
-  stiffness_.assign(nodes, Vec<Dim>::Zero());
   // The explicit reference step: fixed, or the CFL condition on the dilatational wave speed.
   explicit_dt_ = spec_.step.dt > 0 ? spec_.step.dt : spec_.step.cfl * spec_.h / wave_speed_limit();
   dt_ = explicit_dt_ * std::min(spec_.step.start_factor, spec_.step.step_factor);
@@ -170,7 +170,6 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
     x[static_cast<Eigen::Index>(k)] = (momentum ? node.m : 1.0) * node.v[dof_comp_[k]];
   }
   Residual problem(*this, dt);
-  const Real scale = modulus_ * std::pow(spec_.h, Dim) * dt;  // Sulsky & Kaul 2004, Sec. 3.2.2
   Eigen::VectorXd r;
   last_newton_ = 0;
   if (spec_.theta == 0) {
@@ -194,11 +193,11 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
       ok = ok && evaluate(x0 + v, dt, rs);
       Av = rs - r0;
     };
-    if (spec_.jacobi) problem.build_diagonal(scale);
+    if (spec_.frozen_jacobian && !refresh_preconditioner(x0, r0, dt)) return false;
     const auto pre = [&](const Eigen::VectorXd& v, Eigen::VectorXd& z) { problem.precondition(v, z); };
     const implicit::LinearStats ls =
         implicit::conjugate_gradient(apply, -r0, s, spec_.newton.linear_tolerance, spec_.newton.max_krylov,
-                                     spec_.jacobi ? std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>(pre)
+                                     frozen_ ? std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>(pre)
                                                   : std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>{});
     counters_.krylov_iterations += ls.iterations;
     counters_.residual_evaluations += ls.iterations + 2;
@@ -207,16 +206,20 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
     last_newton_ = 1;
     ++counters_.newton_iterations;
   } else {
-    if (spec_.jacobi) problem.build_diagonal(scale);
+    if (spec_.frozen_jacobian) {
+      ++counters_.residual_evaluations;
+      if (!evaluate(x, dt, r) || !refresh_preconditioner(x, r, dt)) return false;
+    }
     implicit::NewtonSettings settings = spec_.newton;
     settings.krylov = spec_.solver == ImplicitSolver::newton_cg ? implicit::Krylov::cg : implicit::Krylov::gmres;
-    settings.precondition = spec_.jacobi;
+    settings.precondition = frozen_ != nullptr;
     const implicit::SolveStats stats = implicit::solve(problem, x, settings);
     counters_.newton_iterations += stats.newton_iterations;
     counters_.krylov_iterations += stats.krylov_iterations;
     counters_.residual_evaluations += stats.residual_evaluations;
     counters_.backtracks += stats.backtracks;
     last_newton_ = stats.newton_iterations;
+    if (std::getenv("MPM_DEBUG_NEWTON")) { std::fprintf(stderr, "step %lld dt %.3g newton %d krylov %d:", (long long)steps_, dt, stats.newton_iterations, stats.krylov_iterations); for (double v : stats.residual_norms) std::fprintf(stderr, " %.2e", v); std::fprintf(stderr, " %s\n", stats.failure.c_str()); }
     if (!stats.converged) return false;
     // The trial state must be that of the solution, not of the last perturbed evaluation.
     if (x.size() != last_x_.size() || x != last_x_) {
@@ -228,6 +231,81 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
     if (!ok) return false;
   compute_reactions(dt);
   accept(dt);
+  return true;
+}
+
+// The frozen-Jacobian preconditioner (not in Sulsky & Kaul 2004): the Jacobian of F at x by coloured forward
+// differences. An unknown moves the nodes within `reach` of it (through the particles, and in the momentum
+// formulation through the re-projection of Eq. 3.2.7), so nodes whose storage coordinates agree modulo
+// 2 reach + 1 never share a residual row and one evaluation per colour and component gives all their columns
+// (Curtis, Powell & Reid 1974). The sparse LU is kept while the unknowns and the step stay the same.
+template <int Dim, class Kernel>
+bool ImplicitSimulation<Dim, Kernel>::refresh_preconditioner(const Eigen::VectorXd& x, const Eigen::VectorXd& r,
+                                                             Real dt) {
+  if (frozen_ && !frozen_->stale && frozen_->dt == dt && frozen_->dof_node == dof_node_ &&
+      frozen_->dof_comp == dof_comp_)
+    return true;
+  frozen_.reset();
+  const GridGeometry<Dim>& g = grid_.geometry;
+  const int reach = (Kernel::width - 1) * (spec_.formulation == Formulation::momentum ? 2 : 1);
+  const int w = 2 * reach + 1;
+  const auto n = static_cast<Eigen::Index>(dof_node_.size());
+  std::vector<std::int32_t> dof_of(grid_.size() * Dim, -1);
+  for (Eigen::Index k = 0; k < n; ++k) dof_of[dof_node_[k] * Dim + dof_comp_[k]] = static_cast<std::int32_t>(k);
+  const auto storage = [&](std::int32_t node) {
+    IVec<Dim> c = g.coords(node);
+    for (int d = 0; d < Dim; ++d) c[d] += g.ghost;
+    return c;
+  };
+  const Real delta = spec_.newton.derivative_step * std::max(x.norm() / std::sqrt(static_cast<Real>(std::max<Eigen::Index>(n, 1))), 1e-300);
+  std::vector<Eigen::Triplet<Real>> entries;
+  Eigen::VectorXd xp, rp;
+  int colors = 1;
+  for (int d = 0; d < Dim; ++d) colors *= w;
+  for (int color = 0; color < colors; ++color) {
+    IVec<Dim> col;
+    for (int d = 0, rest = color; d < Dim; ++d, rest /= w) col[d] = rest % w;
+    for (int c = 0; c < Dim; ++c) {
+      xp = x;
+      bool any = false;
+      for (Eigen::Index k = 0; k < n; ++k) {
+        if (dof_comp_[k] != c) continue;
+        const IVec<Dim> s = storage(dof_node_[k]);
+        bool member = true;
+        for (int d = 0; d < Dim; ++d) member = member && s[d] % w == col[d];
+        if (member) xp[k] += delta, any = true;
+      }
+      if (!any) continue;
+      ++counters_.residual_evaluations;
+      if (!evaluate(xp, dt, rp)) return false;
+      for (Eigen::Index row = 0; row < n; ++row) {
+        const Real value = (rp[row] - r[row]) / delta;
+        if (value == 0) continue;
+        // The column: the node of this colour within reach of the row's node.
+        IVec<Dim> s = storage(dof_node_[row]);
+        for (int d = 0; d < Dim; ++d) {
+          int offset = ((col[d] - s[d]) % w + w) % w;
+          if (offset > reach) offset -= w;
+          s[d] += offset - g.ghost;
+        }
+        bool inside = true;
+        for (int d = 0; d < Dim; ++d) inside = inside && s[d] >= -g.ghost && s[d] <= g.cells[d] + g.ghost;
+        if (!inside) continue;
+        const std::int32_t j = dof_of[g.flat(s) * Dim + c];
+        if (j >= 0) entries.emplace_back(static_cast<int>(row), j, value);
+      }
+    }
+  }
+  auto frozen = std::make_shared<FrozenJacobian>();
+  Eigen::SparseMatrix<Real> J(n, n);
+  J.setFromTriplets(entries.begin(), entries.end());
+  frozen->lu.compute(J);
+  ++counters_.preconditioner_builds;
+  if (frozen->lu.info() != Eigen::Success) return true;  // singular: go on unpreconditioned
+  frozen->dof_node = dof_node_;
+  frozen->dof_comp = dof_comp_;
+  frozen->dt = dt;
+  frozen_ = std::move(frozen);
   return true;
 }
 
@@ -258,19 +336,6 @@ void ImplicitSimulation<Dim, Kernel>::project(Real dt) {
     f_ext_[n] = node.m * spec_.gravity;
   });
   scatter_force(state_.sigma, f_k_);
-  if (spec_.jacobi) {
-    // Diagonal of the elastic stiffness, K_ii = sum_p V_p [(lambda + 2 mu) (dN/dx_c)^2 + mu sum_{d != c} (dN/dx_d)^2].
-    parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
-    order_.for_each([&](std::int32_t i) {
-      const ElastoPlastic& mat = spec_.materials[p.material[i]];
-      const Real lam = mat.lambda(), mu = mat.mu(), V = p.V[i];
-      for_each_node(stencils_[i], layout_, [&](std::int32_t n, Real, const Vec<Dim>& dS) {
-        const Real all = dS.squaredNorm();
-        for (int c = 0; c < Dim; ++c) grid_.nodes[n].a[c] += V * ((lam + mu) * dS[c] * dS[c] + mu * all);
-      });
-    });
-    for (std::size_t n = 0; n < grid_.size(); ++n) stiffness_[n] = grid_.nodes[n].a;
-  }
   for (std::size_t b = 0; b < spec_.rigid_bodies.size(); ++b) {
     const RigidBody<Dim>& body = spec_.rigid_bodies[b];
     rigid_stencils_[b].clear();

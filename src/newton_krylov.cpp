@@ -67,7 +67,7 @@ class Gmres {
         w_(n),
         z_(precondition ? n : 0) {}
 
-  Vector& start_vector() { return v_[0]; }
+  Vector& start_vector() { return basis(0); }
 
   // One restart cycle from the residual in start_vector() with norm beta: Arnoldi steps until |g_{k+1}| <=
   // target, m steps or the iteration budget; then x += P^{-1} V_k y. Returns false on a breakdown.
@@ -89,16 +89,17 @@ class Gmres {
   }
 
  private:
+  Vector& basis(int i) { return v_[static_cast<std::size_t>(i)]; }
+
   // Alg. 4, step 2(a)-(g) for column k (0-based); false when the operator failed or A P^{-1} p_k = 0.
   bool extend(int k) {
-    const auto j = static_cast<std::size_t>(k);
     // (a) p_{k+1} = A P^{-1} p_k (right preconditioning)
-    if (precondition_) precondition_(v_[j], z_);
-    apply_(precondition_ ? z_ : v_[j], w_);
+    if (precondition_) precondition_(basis(k), z_);
+    apply_(precondition_ ? z_ : basis(k), w_);
     // (b)-(c) modified Gram-Schmidt
-    for (std::size_t i = 0; i <= j; ++i) {
-      h_(static_cast<Eigen::Index>(i), k) = w_.dot(v_[i]);
-      w_ -= h_(static_cast<Eigen::Index>(i), k) * v_[i];
+    for (int i = 0; i <= k; ++i) {
+      h_(i, k) = w_.dot(basis(i));
+      w_ -= h_(i, k) * basis(i);
     }
     const double h_next = w_.norm();
     if (!std::isfinite(h_next)) return false;
@@ -119,7 +120,7 @@ class Gmres {
     g_(k + 1) = -s_(k) * g_(k);
     g_(k) *= c_(k);
     // (d) normalise (h_next = 0 is the lucky breakdown: |g_{k+1}| = 0 and the next basis vector is unused)
-    if (h_next > 0) v_[j + 1] = w_ / h_next;
+    if (h_next > 0) basis(k + 1) = w_ / h_next;
     return true;
   }
 
@@ -128,8 +129,8 @@ class Gmres {
     if (k == 0) return;
     y_.head(k) = g_.head(k);
     h_.topLeftCorner(k, k).triangularView<Eigen::Upper>().solveInPlace(y_.head(k));
-    w_ = y_(0) * v_[0];
-    for (int i = 1; i < k; ++i) w_ += y_(i) * v_[static_cast<std::size_t>(i)];
+    w_ = y_(0) * basis(0);
+    for (int i = 1; i < k; ++i) w_ += y_(i) * basis(i);
     if (!precondition_) {
       x += w_;
       return;

@@ -235,7 +235,7 @@ ImplicitSpec<Dim> make_implicit_spec(const Scene& sc) {
   spec.solver = im.solver;
   spec.theta = im.theta;
   spec.newton = im.newton;
-  spec.jacobi = im.jacobi;
+  spec.frozen_jacobian = im.frozen_jacobian;
   spec.step = {sc.cfl, sc.dt, im.step_factor, im.start_factor, im.growth, im.max_retries};
   for (const SceneMaterial& m : sc.materials) spec.materials.push_back(m.rate_law);
   spec.boundary = boundary_of<Dim>(sc);

@@ -149,7 +149,8 @@ class Implicit {
     j["implicit"] = {{"theta", spec_.theta},
                      {"formulation", to_string(spec_.formulation)},
                      {"solver", to_string(spec_.solver)},
-                     {"preconditioner", spec_.jacobi ? "jacobi" : "none"},
+                     {"preconditioner", spec_.frozen_jacobian ? "frozen-jacobian" : "none"},
+                     {"preconditioner_builds", c.preconditioner_builds},
                      {"geometry", to_string(spec_.geometry)},
                      {"explicit_dt", sim_.explicit_dt()},
                      {"newton_iterations", c.newton_iterations},
@@ -176,6 +177,7 @@ class Implicit {
     c.integer_scalars["residual_evaluations"] = n.residual_evaluations;
     c.integer_scalars["backtracks"] = n.backtracks;
     c.integer_scalars["retries"] = n.retries;
+    c.integer_scalars["preconditioner_builds"] = n.preconditioner_builds;
   }
   void load(const io::CheckpointData& c, const std::string& where) {
     ElastoPlasticState& s = sim_.state();
@@ -192,7 +194,7 @@ class Implicit {
     unflat(real("rigid_displacement"), rigid, "rigid_displacement");
     const auto integer = [&](const std::string& k) { return entry(c.integer_scalars, k, where); };
     const ImplicitCounters n{integer("newton_iterations"), integer("krylov_iterations"),
-                             integer("residual_evaluations"), integer("backtracks"), integer("retries")};
+                             integer("residual_evaluations"), integer("backtracks"), integer("retries"), integer("preconditioner_builds")};
     sim_.restore(entry(c.real_scalars, "time", where), integer("steps"), entry(c.real_scalars, "dt", where), n, rigid);
   }
 

@@ -496,7 +496,7 @@ void read_implicit(const Section& s, Scene& sc) {
   n.forcing = s.choice("forcing", "constant", {"constant", "eisenstat-walker"}) == "constant"
                   ? implicit::Forcing::constant
                   : implicit::Forcing::eisenstat_walker;
-  im.jacobi = s.choice("preconditioner", "none", {"none", "jacobi"}) == "jacobi";
+  im.frozen_jacobian = s.choice("preconditioner", "none", {"none", "frozen-jacobian"}) == "frozen-jacobian";
   try {
     implicit::validate(n, "");
   } catch (const InputError& e) {  // "KEY: what": report it at the key as written in the file

@@ -40,20 +40,20 @@ enum class Forcing { constant, eisenstat_walker };
 /// Parameters of solve(); the names are the scene-file keys (Sulsky & Kaul 2004, Sec. 3.2.2).
 struct NewtonSettings {
   Krylov krylov = Krylov::gmres;
-  double newton_tolerance =
-      1e-5;  ///< epsilon: converged when ||F(x)||_2 <= epsilon (absolute, Alg. 1 step 2)
-  double linear_tolerance = 1e-3;  ///< gamma in (0, 1): Krylov stops when ||J s + F||_2 <= gamma ||F(x)||_2;
-                                   ///< with Eisenstat–Walker forcing it is the cap eta_max and first eta
-  double derivative_step = 1e-5;   ///< h of Eq. (2.4.18)
-  int restart = 20;                ///< GMRES(m) restart length m
-  int max_newton = 50;             ///< Newton iterations before giving up
-  int max_krylov = 500;            ///< Krylov iterations per Newton step (over all restarts)
-  bool line_search = true;         ///< Armijo backtracking on ||F|| (Sec. 3.2.3)
-  int max_backtracks = 10;         ///< step halvings per Newton step before the line search fails
+  /// epsilon: converged when ||F(x)||_2 <= epsilon (absolute, Alg. 1 step 2).
+  double newton_tolerance = 1e-5;
+  /// gamma in (0, 1): Krylov stops when ||J s + F||_2 <= gamma ||F(x)||_2; with Eisenstat–Walker forcing it
+  /// is the first forcing term and the cap eta_max.
+  double linear_tolerance = 1e-3;
+  double derivative_step = 1e-5;        ///< h of Eq. (2.4.18)
+  int restart = 20;                     ///< GMRES(m) restart length m
+  int max_newton = 50;                  ///< Newton iterations before giving up
+  int max_krylov = 500;                 ///< Krylov iterations per Newton step (over all restarts)
+  bool line_search = true;              ///< Armijo backtracking on ||F|| (Sec. 3.2.3)
+  int max_backtracks = 10;              ///< step halvings per Newton step before the line search fails
   Forcing forcing = Forcing::constant;  ///< constant gamma, or Eisenstat–Walker choice 2 capped at gamma
-  bool exact_jacobian =
-      false;                  ///< use problem.jacobian_vector instead of Eq. (2.4.18) (InputError if absent)
-  bool precondition = false;  ///< use problem.precondition (InputError if absent)
+  bool exact_jacobian = false;  ///< problem.jacobian_vector instead of Eq. (2.4.18) (InputError if absent)
+  bool precondition = false;    ///< use problem.precondition (InputError if absent)
 };
 
 /// Throws mpm::InputError naming `where` and the key of the first impossible setting, e.g.
@@ -92,8 +92,9 @@ struct LinearStats {
   double residual_norm = 0.0;  ///< ||b - A x||_2 (CG: recursive; GMRES: the Arnoldi estimate |g_{k+1}|)
 };
 
-/// Preconditioned CG (Alg. 2, first direction normalised as in Alg. 3) for SPD A; stops when
-/// ||r|| <= tolerance ||b||, after max_iterations, or on breakdown (p^T A p <= 0 or non-finite).
+/// Preconditioned CG (Alg. 2, first direction normalised as in Alg. 3) for SPD A from the guess in x (zero if
+/// x is empty); stops when ||r|| <= tolerance ||b||, after max_iterations, or on breakdown (p^T A p <= 0 or
+/// non-finite).
 LinearStats conjugate_gradient(const LinearOperator& apply, const Vector& b, Vector& x, double tolerance,
                                int max_iterations, const LinearOperator& precondition = {});
 

@@ -5,6 +5,7 @@
 /// formulation, so explicit and implicit runs compare like with like.
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "mpm/boundary/boundary.hpp"
@@ -41,6 +42,7 @@ struct ImplicitCounters {
   std::int64_t residual_evaluations = 0;
   std::int64_t backtracks = 0;     ///< line-search step halvings
   std::int64_t retries = 0;        ///< time steps retried with half the step
+  std::int64_t preconditioner_builds = 0;  ///< frozen-Jacobian assemblies (each counted in residual_evaluations)
 };
 
 template <int Dim, class Kernel>
@@ -102,6 +104,11 @@ class ImplicitSimulation {
   void accept(Real dt);
   void compute_reactions(Real dt);
   Real wave_speed_limit() const;
+  bool refresh_preconditioner(const Eigen::VectorXd& x, const Eigen::VectorXd& r, Real dt);
+
+  /// The frozen Jacobian: its sparse LU, and what it was built for.
+  struct FrozenJacobian;
+  std::shared_ptr<FrozenJacobian> frozen_;
 
   ImplicitSpec<Dim> spec_;
   ParticleSet<Dim> particles_;
@@ -116,7 +123,7 @@ class ImplicitSimulation {
   ScatterOrder order_;
   std::vector<std::vector<StencilT>> rigid_stencils_;
   // Nodes: internal force at t^k, external force, and the trial internal force of the last evaluation.
-  std::vector<Vec<Dim>> f_k_, f_ext_, f_trial_, stiffness_;
+  std::vector<Vec<Dim>> f_k_, f_ext_, f_trial_;
   std::vector<Vec<Dim>> v_star_;  // momentum formulation: P_i^L / m_i
   // Unknowns: free (node, component) pairs; constrained ones with their value and owner (face group or rigid body).
   std::vector<std::int32_t> dof_node_;

@@ -70,8 +70,10 @@ struct ImplicitSpec {
   /// mu of Sulsky & Kaul 2004, Eq. (2.4.1): 0 explicit, 1 fully implicit.
   Real theta = 1;
   implicit::NewtonSettings newton;
-  /// Precondition the Krylov solves with the diagonal of the mass plus elastic stiffness (not in the paper).
-  bool jacobi = false;
+  /// Precondition the Krylov solves with a sparse LU factorisation of the Jacobian, assembled by coloured
+  /// forward differences and reused while the unknowns, the step and the Krylov counts stay the same (not in
+  /// the paper).
+  bool frozen_jacobian = false;
   StepControl step;
   std::vector<ElastoPlastic> materials;
   BoundarySpec<Dim> boundary;

@@ -45,7 +45,7 @@ struct SceneImplicit {
   Formulation formulation = Formulation::momentum;
   ImplicitSolver solver = ImplicitSolver::newton_gmres;
   implicit::NewtonSettings newton;
-  bool jacobi = false;
+  bool frozen_jacobian = false;
   double step_factor = 1, start_factor = 1, growth = 1.2;
   int max_retries = 8;
 };
