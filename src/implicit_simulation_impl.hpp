@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
-#include <cstdio>
-#include <cstdlib>
 
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
@@ -219,7 +217,6 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
     counters_.residual_evaluations += stats.residual_evaluations;
     counters_.backtracks += stats.backtracks;
     last_newton_ = stats.newton_iterations;
-    if (std::getenv("MPM_DEBUG_NEWTON")) { std::fprintf(stderr, "step %lld dt %.3g newton %d krylov %d:", (long long)steps_, dt, stats.newton_iterations, stats.krylov_iterations); for (double v : stats.residual_norms) std::fprintf(stderr, " %.2e", v); std::fprintf(stderr, " %s\n", stats.failure.c_str()); }
     if (!stats.converged) return false;
     // The trial state must be that of the solution, not of the last perturbed evaluation.
     if (x.size() != last_x_.size() || x != last_x_) {
@@ -545,13 +542,16 @@ void ImplicitSimulation<Dim, Kernel>::compute_reactions(Real dt) {
   }
 }
 
-// Update the particles from the converged step (Sulsky & Kaul 2004, Eqs 2.3.2-2.3.5 or 3.2.5-3.2.6).
+// Update the particles from the converged step (Sulsky & Kaul 2004, Eqs 2.3.2-2.3.5 or 3.2.5-3.2.6). The new
+// positions are checked before anything changes, so a failure leaves the last good state.
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
   ParticleSet<Dim>& p = particles_;
   const bool momentum = spec_.formulation == Formulation::momentum;
   const bool deformed_sizes = spec_.kernel == KernelKind::cpgimp;
   const bool axisymmetric = Dim == 2 && spec_.geometry == Geometry::axisymmetric;
+  trial_.x.resize(p.size());
+  if (!momentum) trial_.v.resize(p.size());
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
     Vec<Dim> v_move = Vec<Dim>::Zero(), dv = Vec<Dim>::Zero();
     for_each_node(stencils_[i], layout_, [&](std::int32_t n, Real S_ip, const Vec<Dim>&) {
@@ -560,8 +560,19 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
       v_move += S_ip * (momentum ? v_star_[n] : node.v_new);
       dv += S_ip * (node.v_new - node.v);
     });
-    p.x[i] += dt * v_move;                        // Eq. (2.3.2), or Eq. (3.2.5) with P_i^L / m_i
-    p.v[i] = momentum ? trial_.v[i] : Vec<Dim>(p.v[i] + dv);  // Eq. (3.2.6), or Eq. (2.3.3)
+    trial_.x[i] = p.x[i] + dt * v_move;     // Eq. (2.3.2), or Eq. (3.2.5) with P_i^L / m_i
+    if (!momentum) trial_.v[i] = p.v[i] + dv;  // Eq. (2.3.3); the momentum formulation has v_p^L of Eq. (3.2.6)
+  });
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!grid_.geometry.contains(trial_.x[i])) {
+      std::ostringstream os;
+      os.precision(9);
+      os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << i << " would leave the grid";
+      throw SimulationFailure(os.str());
+    }
+  parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
+    p.x[i] = trial_.x[i];
+    p.v[i] = trial_.v[i];
     p.F[i] = (Mat<Dim>::Identity() + dt * trial_.grad_v[i]) * p.F[i];
     // The hoop stretch is r / R exactly; the plane-stress thickness stretch accumulates 1 + de_zz.
     state_.stretch3[i] = axisymmetric ? p.x[i][0] / p.X[i][0] : trial_.stretch3[i];
@@ -576,13 +587,6 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
   });
   for (std::size_t b = 0; b < spec_.rigid_bodies.size(); ++b)
     rigid_displacement_[b] += dt * spec_.rigid_bodies[b].velocity(time_ + 0.5 * dt);
-  for (std::size_t i = 0; i < p.size(); ++i)
-    if (!grid_.geometry.contains(p.x[i])) {
-      std::ostringstream os;
-      os.precision(9);
-      os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << i << " left the grid";
-      throw SimulationFailure(os.str());
-    }
 }
 
 }  // namespace mpm

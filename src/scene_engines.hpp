@@ -49,6 +49,9 @@ auto naming_scene(const Scene& sc, Make&& make) {
 template <int Dim, class Kernel>
 class Explicit {
  public:
+  /// After a SimulationFailure the particles hold the failed step's values.
+  static constexpr bool failure_keeps_state = false;
+
   explicit Explicit(const Scene& sc)
       : spec_(make_spec<Dim>(sc)),
         sim_(naming_scene(sc, [&] { return Simulation<Dim, Kernel>(spec_, seed_bodies<Dim>(sc)); })) {}
@@ -106,6 +109,9 @@ class Explicit {
 template <int Dim, class Kernel>
 class Implicit {
  public:
+  /// A step that fails (the solve, after every halving) leaves the particles at the last good state.
+  static constexpr bool failure_keeps_state = true;
+
   explicit Implicit(const Scene& sc)
       : spec_(make_implicit_spec<Dim>(sc)),
         sim_(naming_scene(sc, [&] { return ImplicitSimulation<Dim, Kernel>(spec_, seed_bodies<Dim>(sc)); })) {}

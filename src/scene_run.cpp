@@ -112,6 +112,8 @@ class SceneRun {
       }
     } catch (const SimulationFailure& e) {
       failure = e.what();
+      // The implicit engine fails before it touches the particles: checkpoint the last good state to restart from.
+      if (Engine::failure_keeps_state) write_checkpoint();
     }
     const bool stopped = failure.empty() && sim_.steps() == stop_at && sim_.time() < sc_.end_time * (1 - 1e-14);
     if (failure.empty()) {

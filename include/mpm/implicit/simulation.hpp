@@ -90,7 +90,8 @@ class ImplicitSimulation {
     std::vector<SymTensor<3>> sigma;
     std::vector<Real> eps_bar, work, energy, stretch3;
     std::vector<Mat<Dim>> grad_v;
-    std::vector<Vec<Dim>> v;  // momentum formulation: v_p^L of Eq. (3.2.6)
+    std::vector<Vec<Dim>> v;  // v_p^L: Eq. (3.2.6) in the momentum formulation, Eq. (2.3.3) in the velocity one
+    std::vector<Vec<Dim>> x;  // x_p^L
     std::vector<std::uint8_t> ok;
   };
 

@@ -20,7 +20,7 @@ struct RunOptions {
 /// output.every of simulated time, and the first and last states), history.csv (every step), summary.json,
 /// and checkpoint.h5 when asked. Input errors throw InputError before anything is written. Returns 0, or
 /// exit_simulation_failure after a numerical failure: the outputs then hold every good state, summary.json
-/// says "failed" and why, and the last checkpoint is kept.
+/// says "failed" and why, and the last checkpoint is kept (implicit runs write one of the last good state).
 int run_scene(const Scene& scene, const RunOptions& options);
 
 }  // namespace mpm
