@@ -188,8 +188,11 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
     Eigen::VectorXd s = Eigen::VectorXd::Zero(x.size()), rs;
     bool ok = true;
     const auto apply = [&](const Eigen::VectorXd& v, Eigen::VectorXd& Av) {
-      ok = ok && evaluate(x0 + v, dt, rs);
-      Av = rs - r0;
+      // A failed evaluation ends the CG solve (a non-finite product stops it) and the step is retried.
+      if (evaluate(x0 + v, dt, rs))
+        Av = rs - r0;
+      else
+        Av.setConstant(r0.size(), std::numeric_limits<Real>::quiet_NaN()), ok = false;
     };
     if (spec_.frozen_jacobian && !refresh_preconditioner(x0, r0, dt)) return false;
     const auto pre = [&](const Eigen::VectorXd& v, Eigen::VectorXd& z) { problem.precondition(v, z); };
