@@ -97,8 +97,9 @@ class Run:
         return self.status == "ok"
 
     @property
-    def has_output(self):  # finished or failed: frames and history exist
-        return self.status in ("ok", "failed")
+    def has_output(self):  # finished, failed or stopped by --timeout: history.csv (and frames) exist
+        return self.status in ("ok", "failed") or (self.status == "timeout"
+                                                   and (ROOT / self.dir / "history.csv").exists())
 
     def imp(self, key, default=0):
         return self.summary.get("implicit", {}).get(key, default)
@@ -153,6 +154,10 @@ class Run:
                 proc = launch(cmd, args.timeout)
             except subprocess.TimeoutExpired:
                 self.status, self.failure = "timeout", f"stopped by the study after {args.timeout:.0f} s"
+                if self.has_output:
+                    h = self.history()
+                    if len(h["time"]):
+                        self.failure += f" at t = {h['time'][-1]:.4g}, step {int(h['step'][-1])}"
                 log(f"{self.problem}/{self.name}: TIMED OUT after {time.time() - t0:.0f} s")
                 return self
             summary_path = ROOT / self.dir / "summary.json"
@@ -192,9 +197,17 @@ class Run:
     # outputs -------------------------------------------------------------------------------------------
     def history(self):
         path = ROOT / self.dir / "history.csv"
+        rows = []
         with open(path) as f:
-            head = next(csv.reader(f))
-        data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+            reader = csv.reader(f)
+            head = next(reader)
+            for row in reader:   # a run stopped by --timeout may leave a partly written last line
+                try:
+                    if len(row) == len(head):
+                        rows.append([float(v) for v in row])
+                except ValueError:
+                    pass
+        data = np.array(rows, dtype=float).reshape(-1, len(head))
         return {name: data[:, i] for i, name in enumerate(head)}
 
     def frames(self):
@@ -271,7 +284,7 @@ def paper_cell(p):
     return " / ".join(parts)
 
 
-def cost_rows(runs, ex, paper, extra=None):
+def cost_rows(runs, ex, paper):
     """Rows of a cost table: run, step, steps, Newton, Krylov, evals, [backtracks, retries], s, ratios, paper."""
     rows = []
     for r in runs:
@@ -640,6 +653,12 @@ def upset_load(run):
     return h["time"] * 1.0 * 1e3, -2 * math.pi * h["reaction_platen_y"] / 1e3
 
 
+def dt_text(run):
+    """The run's target step in s, or its step factor when it has no summary (stopped by --timeout)."""
+    dt = run.target_dt
+    return f"{dt:.2g} s" if math.isfinite(dt) else f"{run.factor('step_factor', 1):.0f}x"
+
+
 def tail_load(run, last_mm=0.5):
     """Time-weighted mean load (kN) over the last `last_mm` of deflection (the explicit curve is noisy)."""
     x, load = upset_load(run)
@@ -700,7 +719,7 @@ def upsetting(args):
     for r in series:
         if r.has_output:
             x, load = upset_load(r)
-            ax.plot(x, load, lw=1, label=f"{r.name} ({r.target_dt:.2g} s)" + ("" if r.ok else f" {r.status}"))
+            ax.plot(x, load, lw=1, label=f"{r.name} ({dt_text(r)})" + ("" if r.ok else f", {r.status}"))
     ax.axhline(PAPER_LOAD_KN, color="gray", ls=":", lw=1, label=f"paper final ~{PAPER_LOAD_KN:.0f} kN")
     ax.set_ylim(bottom=min(0, ax.get_ylim()[0]), top=max(ax.get_ylim()[1], 1.08 * PAPER_LOAD_KN))
     ax.set_xlabel("deflection (mm)")
@@ -714,7 +733,7 @@ def upsetting(args):
     for r, h_mm in zip(meshes, [1.0, 0.5, 0.25]):
         if r.has_output:
             x, load = upset_load(r)
-            ax.plot(x, load, lw=1, label=f"h = {h_mm} mm, {r.target_dt:.2g} s" + ("" if r.ok else f" {r.status}"))
+            ax.plot(x, load, lw=1, label=f"h = {h_mm} mm ({dt_text(r)})" + ("" if r.ok else f", {r.status}"))
     ax.axhline(PAPER_LOAD_CONVERGED_KN, color="gray", ls=":", lw=1, label="paper converged ~800 kN")
     ax.axhline(PAPER_LOAD_KN, color="gray", ls="--", lw=0.8, label="paper 1 mm mesh ~1050 kN")
     ax.set_ylim(bottom=min(0, ax.get_ylim()[0]), top=max(ax.get_ylim()[1], 1.08 * PAPER_LOAD_KN))
@@ -755,7 +774,7 @@ def upsetting(args):
                  [(f"{r.name} ({r.target_dt:.2g} s)", r.last_frame(), r.summary["time"]) for r in shown]
         ncol = min(4, len(panels))
         nrow = math.ceil(len(panels) / ncol)
-        fig, axes = plt.subplots(nrow, ncol, figsize=(2.6 * ncol, 2.3 * nrow), squeeze=False)
+        fig, axes = plt.subplots(nrow, ncol, figsize=(2.6 * ncol, 2.5 * nrow + 0.3), squeeze=False)
         for ax in axes.flat[len(panels):]:
             ax.axis("off")
         for ax, (title, s, t) in zip(axes.flat, panels):
@@ -800,7 +819,7 @@ def upsetting(args):
     fine = [r for r in meshes if r.ok][-1] if any(r.ok for r in meshes) else None
     if fine is not None and fine is not coarse:
         load = upset_load(fine)[1][-1]
-        d.append(f"- Finest mesh run ({fine.name}): final load {load:.0f} kN vs the paper's converged ~800 kN "
+        d.append(f"- Finest mesh that finished ({fine.name}): final load {load:.0f} kN vs the paper's converged ~800 kN "
                  f"({pct(load, PAPER_LOAD_CONVERGED_KN)}).")
     if coarse.ok:
         for r in meshes[1:]:
@@ -899,11 +918,11 @@ def main():
     ap.add_argument("--quick", action="store_true",
                     help="leave out the slow upsetting runs (1x, 10x, the 96 x 72 mesh): a few minutes on 2 cores")
     ap.add_argument("--threads", type=int, default=0, help="--threads for every run (default: the binary's: all cores)")
-    ap.add_argument("--repeat", type=int, default=3,
-                    help="run each bar and disk case this many times and keep the smallest compute time (default 3)")
+    ap.add_argument("--repeat", type=int, default=5,
+                    help="run each bar and disk case this many times and keep the smallest compute time (default 5)")
     ap.add_argument("--timeout", type=float, default=7200.0,
                     help="stop a run after this many seconds and report it as timed out (default 7200; 0: never)")
-    ap.add_argument("--preconditioner", default="jacobi",
+    ap.add_argument("--preconditioner", default="frozen-jacobian",
                     help="implicit.preconditioner of the elastic bar's improvement rows (default jacobi)")
     ap.add_argument("--reuse", action="store_true",
                     help="reuse a run in out/implicit-study whose command is unchanged (for editing the report)")
