@@ -923,7 +923,7 @@ def main():
     ap.add_argument("--timeout", type=float, default=7200.0,
                     help="stop a run after this many seconds and report it as timed out (default 7200; 0: never)")
     ap.add_argument("--preconditioner", default="frozen-jacobian",
-                    help="implicit.preconditioner of the elastic bar's improvement rows (default jacobi)")
+                    help="implicit.preconditioner of the elastic bar's improvement rows (default frozen-jacobian)")
     ap.add_argument("--reuse", action="store_true",
                     help="reuse a run in out/implicit-study whose command is unchanged (for editing the report)")
     ap.add_argument("--problems", default="bar,disks,plastic,upsetting",
