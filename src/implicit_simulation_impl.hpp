@@ -6,9 +6,9 @@
 
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
-#include <Eigen/SparseLU>
 
 #include "mpm/implicit/simulation.hpp"
+#include "implicit_tangent_impl.hpp"
 
 namespace mpm {
 
@@ -39,23 +39,19 @@ class ImplicitSimulation<Dim, Kernel>::Residual final : public implicit::Nonline
   Eigen::Index size() const override { return static_cast<Eigen::Index>(sim_.dof_node_.size()); }
   bool residual(const Eigen::VectorXd& x, Eigen::VectorXd& r) override { return sim_.evaluate(x, dt_, r); }
   bool precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z) override {
-    if (!sim_.frozen_) return false;
-    z = sim_.frozen_->lu.solve(r);
+    if (!sim_.tangent_ || !sim_.tangent_->factorised)
+      z = r;  // a singular tangent: go on unpreconditioned
+    else
+      z = sim_.tangent_->lu.solve(r);
     return true;
+  }
+  bool refresh_preconditioner(const Eigen::VectorXd& x, const Eigen::VectorXd& /*fx*/) override {
+    return sim_.factorise_tangent(x, dt_);
   }
 
  private:
   ImplicitSimulation& sim_;
   Real dt_;
-};
-
-template <int Dim, class Kernel>
-struct ImplicitSimulation<Dim, Kernel>::FrozenJacobian {
-  Eigen::SparseLU<Eigen::SparseMatrix<Real>> lu;
-  std::vector<std::int32_t> dof_node;
-  std::vector<std::int8_t> dof_comp;
-  Real dt = 0;
-  bool stale = false;
 };
 
 template <int Dim, class Kernel>
@@ -114,6 +110,11 @@ Real ImplicitSimulation<Dim, Kernel>::wave_speed_limit() const {
   for (std::size_t i = 0; i < p.size(); ++i)
     speed = std::max(speed, spec_.materials[p.material[i]].wave_speed(p.m[i] / p.V[i]) + p.v[i].norm());
   return speed;
+}
+
+template <int Dim, class Kernel>
+Real ImplicitSimulation<Dim, Kernel>::residual_scale(Real dt) const {
+  return 1 / (modulus_ * std::pow(spec_.h, Dim) * dt);
 }
 
 template <int Dim, class Kernel>
@@ -194,11 +195,11 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
       else
         Av.setConstant(r0.size(), std::numeric_limits<Real>::quiet_NaN()), ok = false;
     };
-    if (spec_.frozen_jacobian && !refresh_preconditioner(x0, r0, dt)) return false;
+    if (spec_.frozen_jacobian && !factorise_tangent(x0, dt)) return false;
     const auto pre = [&](const Eigen::VectorXd& v, Eigen::VectorXd& z) { problem.precondition(v, z); };
     const implicit::LinearStats ls =
         implicit::conjugate_gradient(apply, -r0, s, spec_.newton.linear_tolerance, spec_.newton.max_krylov,
-                                     frozen_ ? std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>(pre)
+                                     spec_.frozen_jacobian ? std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>(pre)
                                                   : std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>{});
     counters_.krylov_iterations += ls.iterations;
     counters_.residual_evaluations += ls.iterations + 2;
@@ -207,14 +208,16 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
     last_newton_ = 1;
     ++counters_.newton_iterations;
   } else {
-    if (spec_.frozen_jacobian) {
+    // The frozen-Jacobian preconditioner is built at the initial guess, which then needs no second evaluation.
+    const bool preconditioned = spec_.frozen_jacobian;
+    if (preconditioned) {
       ++counters_.residual_evaluations;
-      if (!evaluate(x, dt, r) || !refresh_preconditioner(x, r, dt)) return false;
+      if (!evaluate(x, dt, r) || !factorise_tangent(x, dt)) return false;
     }
     implicit::NewtonSettings settings = spec_.newton;
     settings.krylov = spec_.solver == ImplicitSolver::newton_cg ? implicit::Krylov::cg : implicit::Krylov::gmres;
-    settings.precondition = frozen_ != nullptr;
-    const implicit::SolveStats stats = implicit::solve(problem, x, settings);
+    settings.precondition = preconditioned;
+    const implicit::SolveStats stats = implicit::solve(problem, x, settings, preconditioned ? &r : nullptr);
     counters_.newton_iterations += stats.newton_iterations;
     counters_.krylov_iterations += stats.krylov_iterations;
     counters_.residual_evaluations += stats.residual_evaluations;
@@ -231,81 +234,6 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
     if (!ok) return false;
   compute_reactions(dt);
   accept(dt);
-  return true;
-}
-
-// The frozen-Jacobian preconditioner (not in Sulsky & Kaul 2004): the Jacobian of F at x by coloured forward
-// differences. An unknown moves the nodes within `reach` of it (through the particles, and in the momentum
-// formulation through the re-projection of Eq. 3.2.7), so nodes whose storage coordinates agree modulo
-// 2 reach + 1 never share a residual row and one evaluation per colour and component gives all their columns
-// (Curtis, Powell & Reid 1974). The sparse LU is kept while the unknowns and the step stay the same.
-template <int Dim, class Kernel>
-bool ImplicitSimulation<Dim, Kernel>::refresh_preconditioner(const Eigen::VectorXd& x, const Eigen::VectorXd& r,
-                                                             Real dt) {
-  if (frozen_ && !frozen_->stale && frozen_->dt == dt && frozen_->dof_node == dof_node_ &&
-      frozen_->dof_comp == dof_comp_)
-    return true;
-  frozen_.reset();
-  const GridGeometry<Dim>& g = grid_.geometry;
-  const int reach = (Kernel::width - 1) * (spec_.formulation == Formulation::momentum ? 2 : 1);
-  const int w = 2 * reach + 1;
-  const auto n = static_cast<Eigen::Index>(dof_node_.size());
-  std::vector<std::int32_t> dof_of(grid_.size() * Dim, -1);
-  for (Eigen::Index k = 0; k < n; ++k) dof_of[dof_node_[k] * Dim + dof_comp_[k]] = static_cast<std::int32_t>(k);
-  const auto storage = [&](std::int32_t node) {
-    IVec<Dim> c = g.coords(node);
-    for (int d = 0; d < Dim; ++d) c[d] += g.ghost;
-    return c;
-  };
-  const Real delta = spec_.newton.derivative_step * std::max(x.norm() / std::sqrt(static_cast<Real>(std::max<Eigen::Index>(n, 1))), 1e-300);
-  std::vector<Eigen::Triplet<Real>> entries;
-  Eigen::VectorXd xp, rp;
-  int colors = 1;
-  for (int d = 0; d < Dim; ++d) colors *= w;
-  for (int color = 0; color < colors; ++color) {
-    IVec<Dim> col;
-    for (int d = 0, rest = color; d < Dim; ++d, rest /= w) col[d] = rest % w;
-    for (int c = 0; c < Dim; ++c) {
-      xp = x;
-      bool any = false;
-      for (Eigen::Index k = 0; k < n; ++k) {
-        if (dof_comp_[k] != c) continue;
-        const IVec<Dim> s = storage(dof_node_[k]);
-        bool member = true;
-        for (int d = 0; d < Dim; ++d) member = member && s[d] % w == col[d];
-        if (member) xp[k] += delta, any = true;
-      }
-      if (!any) continue;
-      ++counters_.residual_evaluations;
-      if (!evaluate(xp, dt, rp)) return false;
-      for (Eigen::Index row = 0; row < n; ++row) {
-        const Real value = (rp[row] - r[row]) / delta;
-        if (value == 0) continue;
-        // The column: the node of this colour within reach of the row's node.
-        IVec<Dim> s = storage(dof_node_[row]);
-        for (int d = 0; d < Dim; ++d) {
-          int offset = ((col[d] - s[d]) % w + w) % w;
-          if (offset > reach) offset -= w;
-          s[d] += offset - g.ghost;
-        }
-        bool inside = true;
-        for (int d = 0; d < Dim; ++d) inside = inside && s[d] >= -g.ghost && s[d] <= g.cells[d] + g.ghost;
-        if (!inside) continue;
-        const std::int32_t j = dof_of[g.flat(s) * Dim + c];
-        if (j >= 0) entries.emplace_back(static_cast<int>(row), j, value);
-      }
-    }
-  }
-  auto frozen = std::make_shared<FrozenJacobian>();
-  Eigen::SparseMatrix<Real> J(n, n);
-  J.setFromTriplets(entries.begin(), entries.end());
-  frozen->lu.compute(J);
-  ++counters_.preconditioner_builds;
-  if (frozen->lu.info() != Eigen::Success) return true;  // singular: go on unpreconditioned
-  frozen->dof_node = dof_node_;
-  frozen->dof_comp = dof_comp_;
-  frozen->dt = dt;
-  frozen_ = std::move(frozen);
   return true;
 }
 
@@ -513,7 +441,7 @@ bool ImplicitSimulation<Dim, Kernel>::evaluate(const Eigen::VectorXd& x, Real dt
   for (std::size_t i = 0; i < np; ++i)
     if (!t.ok[i]) return false;
   scatter_force(t.sigma, f_trial_);
-  const Real scale = 1 / (modulus_ * std::pow(spec_.h, Dim) * dt);
+  const Real scale = residual_scale(dt);
   const Real theta = spec_.theta;
   r.resize(x.size());
   for (std::size_t k = 0; k < dof_node_.size(); ++k) {

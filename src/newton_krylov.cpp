@@ -178,8 +178,11 @@ class Newton {
         point_(x.size()) {}
 
   // Sulsky & Kaul 2004, Alg. 1.
-  SolveStats run() {
-    if (!counted_.residual(x_, fx_)) return fail("F cannot be evaluated at the initial guess");
+  SolveStats run(const Vector* residual_at_x) {
+    if (residual_at_x)
+      fx_ = *residual_at_x;
+    else if (!counted_.residual(x_, fx_))
+      return fail("F cannot be evaluated at the initial guess");
     norm_ = fx_.norm();
     stats_.residual_norms.push_back(norm_);
     double eta = settings_.linear_tolerance;
@@ -192,6 +195,11 @@ class Newton {
       }
       if (stats_.newton_iterations == settings_.max_newton) return fail(no_convergence());
       // Steps 3-4: D_h F(x_n, s) = -F(x_n), Eq. (2.4.19)
+      if (refresh_) {
+        ++stats_.refreshes;
+        problem_.refresh_preconditioner(x_, fx_);
+        refresh_ = false;
+      }
       krylov_step(eta);
       if (s_.isZero(0.0)) return fail("the Krylov solve produced no step (J s = 0, or D_h F failed)");
       // Step 5: x_{n+1} = x_n + lambda s
@@ -234,6 +242,7 @@ class Newton {
             ? conjugate_gradient(apply, rhs_, s_, eta, settings_.max_krylov, precondition)
             : gmres(apply, rhs_, s_, eta, settings_.restart, settings_.max_krylov, precondition);
     stats_.krylov_iterations += linear.iterations;
+    refresh_ = settings_.precondition && settings_.refresh_after > 0 && linear.iterations > settings_.refresh_after;
   }
 
   // J(x) p exactly, or by Eq. (2.4.18); a failed difference writes NaN so the Krylov solve stops there.
@@ -302,6 +311,7 @@ class Newton {
   const NewtonSettings& settings_;
   Vector fx_, s_, rhs_, trial_, f_trial_, point_;
   double norm_ = 0;
+  bool refresh_ = false;  // the last linear solve was slow: rebuild the preconditioner at the next iterate
 };
 
 }  // namespace
@@ -315,14 +325,17 @@ void validate(const NewtonSettings& s, const std::string& where) {
   require_at_least(s.max_newton, 1, where, "max_newton");
   require_at_least(s.max_krylov, 1, where, "max_krylov");
   require_at_least(s.max_backtracks, 0, where, "max_backtracks");
+  require_at_least(s.refresh_after, 0, where, "refresh_after");
 }
 
-SolveStats solve(NonlinearProblem& problem, Vector& x, const NewtonSettings& settings) {
+SolveStats solve(NonlinearProblem& problem, Vector& x, const NewtonSettings& settings, const Vector* residual_at_x) {
   validate(settings, "Newton-Krylov settings:");
   if (x.size() != problem.size())
     throw std::invalid_argument("newton_krylov solve: the initial guess has " + std::to_string(x.size()) +
                                 " entries, the problem " + std::to_string(problem.size()));
-  return Newton(problem, x, settings).run();
+  if (residual_at_x && residual_at_x->size() != x.size())
+    throw std::invalid_argument("newton_krylov solve: the given residual has the wrong size");
+  return Newton(problem, x, settings).run(residual_at_x);
 }
 
 bool directional_derivative(NonlinearProblem& problem, const Vector& x, const Vector& Fx, const Vector& s,

@@ -497,6 +497,7 @@ void read_implicit(const Section& s, Scene& sc) {
                   ? implicit::Forcing::constant
                   : implicit::Forcing::eisenstat_walker;
   im.frozen_jacobian = s.choice("preconditioner", "none", {"none", "frozen-jacobian"}) == "frozen-jacobian";
+  n.refresh_after = s.integer("refresh_after", 8);
   try {
     implicit::validate(n, "");
   } catch (const InputError& e) {  // "KEY: what": report it at the key as written in the file
@@ -598,7 +599,7 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
     read_implicit(Section(*im, "implicit", loc,
                           {"theta", "formulation", "solver", "newton_tolerance", "linear_tolerance", "derivative_step",
                            "restart", "max_newton", "max_krylov", "line_search", "max_backtracks", "forcing",
-                           "preconditioner", "step_factor", "start_factor", "growth", "max_retries"}),
+                           "preconditioner", "refresh_after", "step_factor", "start_factor", "growth", "max_retries"}),
                   sc);
   }
   const std::vector<const toml::table*> materials = top.tables("materials");

@@ -123,9 +123,9 @@ TEST(ImplicitRestart, IsBitwise) {
   fs::remove_all(dir);
 }
 
-// The frozen Jacobian (coloured finite differences, sparse LU) on the elastic-plastic bar at 100x: the same
-// stress (to the Newton tolerance) with fewer Krylov iterations. Measured: 532 GMRES iterations plain, far fewer
-// preconditioned.
+// The frozen Jacobian (assembled from the particles, sparse LU) on the elastic-plastic bar at 100x: fewer
+// Krylov iterations and fewer residual evaluations in all. Measured: 532 GMRES iterations and 686 evaluations
+// plain, 85 and 239 preconditioned (77 builds); the bounds below leave a margin of about 1.5x on each.
 TEST(FrozenJacobian, ShortensTheKrylovSolves) {
   const fs::path dir = scratch("frozen");
   const std::string plain = (dir / "plain").string(), pre = (dir / "pre").string();
@@ -137,8 +137,29 @@ TEST(FrozenJacobian, ShortensTheKrylovSolves) {
               a["krylov_iterations"].get<long long>(), b["krylov_iterations"].get<long long>(),
               b["preconditioner_builds"].get<long long>(), a["residual_evaluations"].get<long long>(),
               b["residual_evaluations"].get<long long>());
-  EXPECT_LT(b["krylov_iterations"].get<long long>(), a["krylov_iterations"].get<long long>() / 2);
+  EXPECT_LT(b["krylov_iterations"].get<long long>(), a["krylov_iterations"].get<long long>() / 4);
+  EXPECT_LT(b["residual_evaluations"].get<long long>(), a["residual_evaluations"].get<long long>() / 2);
   EXPECT_GE(b["preconditioner_builds"].get<long long>(), 1);
+  fs::remove_all(dir);
+}
+
+// On the elastic bar the assembled tangent is the Jacobian itself (to the finite-difference accuracy of the
+// material tangent and of Eq. 2.4.18, ~1e-4 relative, and for the Jaumann spin, ~sigma/E = 1e-5), so the
+// preconditioned operator is the identity to within linear_tolerance = 1e-3 and every GMRES solve takes one
+// iteration. Measured: 44 iterations for 41 Newton steps (momentum), 44 for 44 (velocity), 44 for 41 (plane
+// strain); the test allows 25% more than one per Newton step.
+TEST(FrozenJacobian, IsTheExactJacobianForLinearElasticity) {
+  const fs::path dir = scratch("exact");
+  for (const char* variant : {"", " --set implicit.formulation=velocity", " --set simulation.geometry=plane-strain"}) {
+    const std::string out = (dir / "run").string();
+    ASSERT_EQ(run(bar + " --quiet --out " + out + " --set implicit.preconditioner=frozen-jacobian" + variant, dir / "log"), 0)
+        << slurp(dir / "log");
+    const nlohmann::json c = summary(out)["implicit"];
+    const auto newton = c["newton_iterations"].get<long long>(), krylov = c["krylov_iterations"].get<long long>();
+    SCOPED_TRACE(variant);
+    EXPECT_GE(krylov, newton);
+    EXPECT_LE(krylov, newton + newton / 4);
+  }
   fs::remove_all(dir);
 }
 

@@ -29,6 +29,9 @@ class NonlinearProblem {
   virtual bool jacobian_vector(const Vector& /*x*/, const Vector& /*s*/, Vector& /*Js*/) { return false; }
   /// Optional preconditioner z = P^{-1} r (e.g. Jacobi); returns false when not provided (the default).
   virtual bool precondition(const Vector& /*r*/, Vector& /*z*/) { return false; }
+  /// Optional: rebuild the preconditioner at x, where F(x) = fx (see NewtonSettings::refresh_after). Returns
+  /// false when that failed; the solve then goes on with the old one.
+  virtual bool refresh_preconditioner(const Vector& /*x*/, const Vector& /*fx*/) { return false; }
 };
 
 /// The Krylov method of the inner linear solves.
@@ -54,6 +57,9 @@ struct NewtonSettings {
   Forcing forcing = Forcing::constant;  ///< constant gamma, or Eisenstat–Walker choice 2 capped at gamma
   bool exact_jacobian = false;  ///< problem.jacobian_vector instead of Eq. (2.4.18) (InputError if absent)
   bool precondition = false;    ///< use problem.precondition (InputError if absent)
+  /// With precondition: after a linear solve that needed more than this many iterations, the next Newton
+  /// iterate calls problem.refresh_preconditioner (a lagged Jacobian preconditioner); 0 never refreshes.
+  int refresh_after = 8;
 };
 
 /// Throws mpm::InputError naming `where` and the key of the first impossible setting, e.g.
@@ -69,13 +75,16 @@ struct SolveStats {
   int jacobian_products = 0;     ///< exact products when exact_jacobian
   int backtracks = 0;            ///< step halvings in the line search
   int derivative_failures = 0;   ///< D_h F evaluations whose perturbed residual failed (Krylov cut short)
+  int refreshes = 0;             ///< preconditioner rebuilds asked of the problem (refresh_after)
   std::vector<double> residual_norms;  ///< ||F(x_n)||_2 for n = 0, 1, ...
   std::string failure;                 ///< why it stopped without converging (empty when converged)
 };
 
 /// Solves F(x) = 0 from the initial guess in x, leaving the last iterate there. Throws mpm::InputError for
-/// invalid settings only; non-convergence is reported in SolveStats.
-SolveStats solve(NonlinearProblem& problem, Vector& x, const NewtonSettings& settings);
+/// invalid settings only; non-convergence is reported in SolveStats. A caller that has already evaluated F at
+/// the initial guess passes it as `residual_at_x`, which saves (and does not count) that evaluation.
+SolveStats solve(NonlinearProblem& problem, Vector& x, const NewtonSettings& settings,
+                 const Vector* residual_at_x = nullptr);
 
 /// The forward difference D_h F(x, s) of Eq. (2.4.18) given Fx = F(x); false if F fails at the perturbed
 /// point.

@@ -42,7 +42,7 @@ struct ImplicitCounters {
   std::int64_t residual_evaluations = 0;
   std::int64_t backtracks = 0;     ///< line-search step halvings
   std::int64_t retries = 0;        ///< time steps retried with half the step
-  std::int64_t preconditioner_builds = 0;  ///< frozen-Jacobian assemblies (each counted in residual_evaluations)
+  std::int64_t preconditioner_builds = 0;  ///< frozen-Jacobian assemblies and factorisations
 };
 
 template <int Dim, class Kernel>
@@ -105,11 +105,13 @@ class ImplicitSimulation {
   void accept(Real dt);
   void compute_reactions(Real dt);
   Real wave_speed_limit() const;
-  bool refresh_preconditioner(const Eigen::VectorXd& x, const Eigen::VectorXd& r, Real dt);
+  bool factorise_tangent(const Eigen::VectorXd& x, Real dt);
+  /// The residual's scale 1 / (Y h^Dim dt) (Sulsky & Kaul 2004, Sec. 3.2.2).
+  Real residual_scale(Real dt) const;
 
-  /// The frozen Jacobian: its sparse LU, and what it was built for.
-  struct FrozenJacobian;
-  std::shared_ptr<FrozenJacobian> frozen_;
+  /// The factorised tangent of preconditioner = "frozen-jacobian".
+  struct TangentFactor;
+  std::shared_ptr<TangentFactor> tangent_;
 
   ImplicitSpec<Dim> spec_;
   ParticleSet<Dim> particles_;
