@@ -163,4 +163,56 @@ TEST(FrozenJacobian, IsTheExactJacobianForLinearElasticity) {
   fs::remove_all(dir);
 }
 
+// The same bar in 3-D (all six strain components in the material tangent). Measured: 24 GMRES iterations for 24
+// Newton steps with the preconditioner, 178 without.
+TEST(FrozenJacobian, IsTheExactJacobianForLinearElasticityIn3D) {
+  const fs::path dir = scratch("exact3d");
+  const fs::path scene = dir / "bar3d.toml";
+  std::ofstream(scene) << R"([simulation]
+dimension = 3
+end_time = 10.0
+integrator = "implicit"
+kernel = "linear"
+cfl = 0.5
+[implicit]
+newton_tolerance = 1e-5
+linear_tolerance = 1e-3
+step_factor = 100
+start_factor = 100
+preconditioner = "frozen-jacobian"
+[grid]
+lo = [0.0, 0.0, 0.0]
+hi = [0.7, 0.5, 0.5]
+cells = [7, 5, 5]
+faces = { x-max = "symmetry" }
+[[materials]]
+name = "bar"
+model = "hypoelastic"
+E = 1000.0
+nu = 0.3
+density = 10.0
+[[bodies]]
+name = "bar"
+shape = "box"
+lo = [0.4, 0.1, 0.1]
+hi = [0.7, 0.4, 0.4]
+ppc = 2
+[[rigid_bodies]]
+name = "puller"
+lo = [0.3, 0.1, 0.1]
+hi = [0.4, 0.4, 0.4]
+ppc = 2
+velocity = [-0.001, 0.0, 0.0]
+contact_axes = ["x"]
+)";
+  const std::string out = (dir / "run").string();
+  ASSERT_EQ(run(scene.string() + " --quiet --out " + out, dir / "log"), 0) << slurp(dir / "log");
+  const nlohmann::json c = summary(out)["implicit"];
+  const auto newton = c["newton_iterations"].get<long long>(), krylov = c["krylov_iterations"].get<long long>();
+  EXPECT_GE(newton, 20);
+  EXPECT_GE(krylov, newton);
+  EXPECT_LE(krylov, newton + newton / 4);
+  fs::remove_all(dir);
+}
+
 }  // namespace
