@@ -73,6 +73,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadSetting{"NegativeLinearTolerance", "--set implicit.linear_tolerance=-1", "implicit.linear_tolerance", "expected"},
         BadSetting{"ZeroDerivativeStep", "--set implicit.derivative_step=0", "implicit.derivative_step", "expected a finite number > 0"},
         BadSetting{"RestartBelowOne", "--set implicit.restart=0", "implicit.restart", "expected an integer >= 1"},
+        BadSetting{"NegativeRefreshAfter", "--set implicit.refresh_after=-1", "implicit.refresh_after", "expected an integer >= 0"},
         BadSetting{"ExplicitAboveCfl", "--set implicit.theta=0 --set implicit.step_factor=10",
                    "implicit.step_factor", "theta = 0 is explicit"},
         BadSetting{"RigidBodyOutsideTheGrid", "--set rigid_bodies.0.lo=[-0.1,0.1]",
