@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mpm/core/simd.hpp"
 #include "mpm/core/types.hpp"
 
 namespace mpm {
@@ -21,13 +22,28 @@ struct NeoHookean {
   /// Cauchy stress sigma = (lambda ln J I + mu (F F^T - I)) / J. Wallstedt & Guilkey 2008, Eq. (55).
   template <int Dim>
   [[gnu::always_inline]] inline SymTensor<Dim> stress(const Mat<Dim>& F, Real J) const {
-    const Mat<Dim> b = F * F.transpose();
-    const Real inv_J = 1 / J;
-    const Real diag = (lambda * std::log(J) - mu) * inv_J;
-    SymTensor<Dim> s;
+    Real Fa[Dim][Dim], s[sym_size<Dim>];
     for (int a = 0; a < Dim; ++a)
-      for (int c = a; c < Dim; ++c) s(a, c) = mu * inv_J * b(a, c) + (a == c ? diag : 0);
-    return s;
+      for (int b = 0; b < Dim; ++b) Fa[a][b] = F(a, b);
+    cauchy<Dim>(Fa, J, lambda, mu, s);
+    SymTensor<Dim> out;
+    for (int k = 0; k < sym_size<Dim>; ++k) out.c[k] = s[k];
+    return out;
+  }
+
+  /// Eq. (55) for any number type T: one particle (Real) or several in SIMD lanes (simd::RealLanes), which
+  /// give the same bits. s holds the components in SymTensor order.
+  template <int Dim, class T>
+  [[gnu::always_inline]] static inline void cauchy(const T (&F)[Dim][Dim], const T& J, const T& lambda,
+                                                   const T& mu, T (&s)[sym_size<Dim>]) {
+    const T inv_J = 1 / J;
+    const T diag = (lambda * simd::log(J) - mu) * inv_J;
+    for (int a = 0; a < Dim; ++a)
+      for (int c = a; c < Dim; ++c) {
+        T b_ac = F[a][0] * F[c][0];  // b = F F^T
+        for (int k = 1; k < Dim; ++k) b_ac += F[a][k] * F[c][k];
+        s[SymTensor<Dim>::index(a, c)] = a == c ? mu * inv_J * b_ac + diag : mu * inv_J * b_ac;
+      }
   }
 
   /// Stored energy per reference volume, W = mu/2 (tr F^T F - 3) - mu ln J + lambda/2 (ln J)^2, whose derivative

@@ -3,21 +3,15 @@
 /// stencil keeps per axis (`Axis`: as little as reproduces the weights cheaply), `locate` (base node and
 /// Axis data of a position) and `evaluate` (weights and gradients of the `width` consecutive nodes starting
 /// at the base). Positions are in grid units (xi = (x - lo)/h), gradients per grid unit; multi-D weights are
-/// tensor products.
+/// tensor products. `Axis` is `AxisOf<Real>`; `evaluate` also takes `AxisOf<simd::RealLanes>`, whose members are
+/// the same Reals of several particles in SIMD lanes (LaneStencil).
 #include <algorithm>
 #include <cmath>
 
+#include "mpm/core/simd.hpp"
 #include "mpm/core/types.hpp"
 
 namespace mpm {
-
-/// floor(v) as an int for v > -16, without a libm call on baseline x86-64. Stencil positions are in grid
-/// units with particles inside the grid, so v >= -1 always holds there. Rounding in v + 16 can only overshoot
-/// by one (just below an integer), which the comparison corrects.
-inline int floor_index(Real v) {
-  const int b = static_cast<int>(v + 16) - 16;
-  return b - (v < b);
-}
 
 /// Adds `weights(xi, half_length, w, dw)` (locate then evaluate) to a kernel policy.
 template <class Kernel>
@@ -35,20 +29,24 @@ struct LinearKernel : KernelWeights<LinearKernel> {
   static constexpr int width = 2;
   static constexpr int ghost = 1;
   static constexpr const char* name = "linear";
-  struct Axis {
-    Real r;  ///< offset from the base node, in [0, 1)
+  template <class T>
+  struct AxisOf {
+    T r;  ///< offset from the base node, in [0, 1)
   };
+  using Axis = AxisOf<Real>;
 
-  static int locate(Real xi, Real /*half_length*/, Axis& a) {
-    const int base = floor_index(xi);
-    a.r = xi - base;
+  template <class T>
+  static auto locate(const T& xi, const T& /*half_length*/, AxisOf<T>& a) {
+    const auto base = simd::floor_index(xi);
+    a.r = xi - simd::to_real(base);
     return base;
   }
-  static void evaluate(const Axis& a, Real* w, Real* dw) {
+  template <class T>
+  static void evaluate(const AxisOf<T>& a, T* w, T* dw) {
     w[0] = 1 - a.r;
     w[1] = a.r;
-    dw[0] = -1;
-    dw[1] = 1;
+    dw[0] = T{} - 1;
+    dw[1] = T{} + 1;
   }
 };
 
@@ -64,33 +62,37 @@ struct GimpKernel : KernelWeights<GimpKernel> {
   static constexpr int ghost = 1;
   static constexpr const char* name = "gimp";
   /// GIMP weights are costly to evaluate, so the stencil keeps them.
-  struct Axis {
-    Real w[width], dw[width];
+  template <class T>
+  struct AxisOf {
+    T w[width], dw[width];
   };
+  using Axis = AxisOf<Real>;
 
-  static int locate(Real xi, Real l, Axis& a) {
-    const int base = floor_index(xi - 0.5);
-    const Real inv_l = 1 / l;
+  template <class T>
+  static auto locate(const T& xi, const T& l, AxisOf<T>& a) {
+    const auto base = simd::floor_index(xi - 0.5);
+    const T inv_l = 1 / l;
     // Outer nodes: q = r (base) and q = 2 - r (base + 2), tail correction u only.
-    auto outer = [&](Real q, Real& w, Real& dS_dq) {
-      const Real u = std::min(std::max(Real(0), q - 1 + l), 2 * l);
-      w = std::max(Real(0), 1 - q + 0.25 * u * u * inv_l);
+    auto outer = [&](const T& q, T& w, T& dS_dq) {
+      const T u = simd::min(simd::max(T{}, q - 1 + l), 2 * l);
+      w = simd::max(T{}, 1 - q + 0.25 * u * u * inv_l);
       dS_dq = -1 + 0.5 * u * inv_l;
     };
-    const Real r = xi - base;
-    Real dS_dq;
+    const T r = xi - simd::to_real(base);
+    T dS_dq;
     outer(r, a.w[0], dS_dq);
     a.dw[0] = dS_dq;  // r > 0
     outer(2 - r, a.w[2], dS_dq);
     a.dw[2] = -dS_dq;  // r - 2 < 0
     // Middle node: r - 1 in [-1/2, 1/2), centre correction v only.
-    const Real r1 = r - 1, q1 = std::abs(r1);
-    const Real v = std::max(Real(0), l - q1);
+    const T r1 = r - 1, q1 = simd::abs(r1);
+    const T v = simd::max(T{}, l - q1);
     a.w[1] = 1 - q1 - 0.5 * v * v * inv_l;
-    a.dw[1] = std::copysign(1 - v * inv_l, -r1);  // sign(r1) dS/dq, and dS/dq = -1 + v/l <= 0
+    a.dw[1] = simd::copysign(1 - v * inv_l, -r1);  // sign(r1) dS/dq, and dS/dq = -1 + v/l <= 0
     return base;
   }
-  static void evaluate(const Axis& a, Real* w, Real* dw) {
+  template <class T>
+  static void evaluate(const AxisOf<T>& a, T* w, T* dw) {
     for (int k = 0; k < width; ++k) {
       w[k] = a.w[k];
       dw[k] = a.dw[k];
@@ -103,18 +105,22 @@ struct QuadraticBSplineKernel : KernelWeights<QuadraticBSplineKernel> {
   static constexpr int width = 3;
   static constexpr int ghost = 1;
   static constexpr const char* name = "bspline2";
-  struct Axis {
-    Real r;  ///< distance to the base node, in [0.5, 1.5)
+  template <class T>
+  struct AxisOf {
+    T r;  ///< distance to the base node, in [0.5, 1.5)
   };
+  using Axis = AxisOf<Real>;
 
-  static int locate(Real xi, Real /*half_length*/, Axis& ax) {
-    const int base = floor_index(xi - 0.5);
-    ax.r = xi - base;
+  template <class T>
+  static auto locate(const T& xi, const T& /*half_length*/, AxisOf<T>& ax) {
+    const auto base = simd::floor_index(xi - 0.5);
+    ax.r = xi - simd::to_real(base);
     return base;
   }
-  static void evaluate(const Axis& ax, Real* w, Real* dw) {
-    const Real r = ax.r;
-    const Real a = 1.5 - r, b = r - 1, c = r - 0.5;
+  template <class T>
+  static void evaluate(const AxisOf<T>& ax, T* w, T* dw) {
+    const T r = ax.r;
+    const T a = 1.5 - r, b = r - 1, c = r - 0.5;
     w[0] = 0.5 * a * a;
     w[1] = 0.75 - b * b;
     w[2] = 0.5 * c * c;
@@ -129,18 +135,22 @@ struct CubicBSplineKernel : KernelWeights<CubicBSplineKernel> {
   static constexpr int width = 4;
   static constexpr int ghost = 2;
   static constexpr const char* name = "bspline3";
-  struct Axis {
-    Real t;  ///< offset from the second node of the stencil, in [0, 1)
+  template <class T>
+  struct AxisOf {
+    T t;  ///< offset from the second node of the stencil, in [0, 1)
   };
+  using Axis = AxisOf<Real>;
 
-  static int locate(Real xi, Real /*half_length*/, Axis& a) {
-    const int base = floor_index(xi) - 1;
-    a.t = xi - (base + 1);
+  template <class T>
+  static auto locate(const T& xi, const T& /*half_length*/, AxisOf<T>& a) {
+    const auto base = simd::floor_index(xi) - 1;
+    a.t = xi - simd::to_real(base + 1);
     return base;
   }
-  static void evaluate(const Axis& a, Real* w, Real* dw) {
-    const Real t = a.t;
-    const Real s = 1 - t;
+  template <class T>
+  static void evaluate(const AxisOf<T>& a, T* w, T* dw) {
+    const T t = a.t;
+    const T s = 1 - t;
     w[0] = s * s * s / 6;
     w[1] = (3 * t * t * t - 6 * t * t + 4) / 6;
     w[2] = (3 * s * s * s - 6 * s * s + 4) / 6;

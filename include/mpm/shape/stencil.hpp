@@ -2,14 +2,18 @@
 /// Per-particle stencil: the base node and the 1-D weights and gradients along each axis, computed once per
 /// particle per step and consumed by every transfer (P2G, G2P, re-projection).
 #include <array>
+#include <array>
 #include <atomic>
+#include <bit>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
 #include "mpm/core/parallel.hpp"
 #include "mpm/core/types.hpp"
 #include "mpm/grid/grid.hpp"
+#include "mpm/particles/lanes.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/transfer/scatter_order.hpp"
 
@@ -20,6 +24,42 @@ struct Stencil {
   std::int32_t node;                            ///< flat index of the base node
   std::int32_t layer;                           ///< storage index of the base node along the slowest axis
   std::array<typename Kernel::Axis, Dim> axis;  ///< per-axis data the kernel evaluates weights from
+};
+
+/// Stencils in SIMD lanes (LaneBlock::load and store): Real 0 holds node (low half) and layer (high half),
+/// then come the Reals of each axis.
+template <int Dim, class Kernel>
+struct StencilLanes {
+  using AxisLanes = typename Kernel::template AxisOf<RealLanes>;
+  static constexpr int axis_reals = reals_in<typename Kernel::Axis>;
+  using StencilT = Stencil<Dim, Kernel>;
+  static_assert(sizeof(StencilT) == (1 + Dim * axis_reals) * sizeof(Real) && offsetof(StencilT, layer) == 4 &&
+                    sizeof(AxisLanes) == axis_reals * sizeof(RealLanes),
+                "a stencil is two 32-bit indices and Dim axes of Reals; AxisOf holds only its T members");
+
+  IntLanes node, layer;
+  AxisLanes axis[Dim];
+
+  StencilLanes() = default;
+  explicit StencilLanes(const RecordLanes<Stencil<Dim, Kernel>>& r) {
+    const IntLanes indices = reinterpret_cast<IntLanes>(r[0]);
+    node = (indices << 32) >> 32;  // sign-extended low half
+    layer = indices >> 32;
+    for (int d = 0; d < Dim; ++d) {
+      std::array<RealLanes, axis_reals> members;
+      for (int j = 0; j < axis_reals; ++j) members[j] = r[1 + d * axis_reals + j];
+      axis[d] = std::bit_cast<AxisLanes>(members);
+    }
+  }
+  RecordLanes<Stencil<Dim, Kernel>> record() const {
+    RecordLanes<Stencil<Dim, Kernel>> r;
+    r[0] = reinterpret_cast<RealLanes>((layer << 32) | (node & 0xffffffff));
+    for (int d = 0; d < Dim; ++d) {
+      const auto members = std::bit_cast<std::array<RealLanes, axis_reals>>(axis[d]);
+      for (int j = 0; j < axis_reals; ++j) r[1 + d * axis_reals + j] = members[j];
+    }
+    return r;
+  }
 };
 
 /// Flat strides and inverse cell width of a grid, cached for the tensor-product loops.
@@ -48,7 +88,8 @@ inline Stencil<Dim, Kernel> make_stencil(const GridGeometry<Dim>& g, const NodeL
 }
 
 /// Stencils of all particles at their current positions and half-lengths, and the scatter strip of each
-/// (ScatterOrder::strip_of its base node along the slowest axis). Returns whether any strip changed.
+/// (ScatterOrder::strip_of its base node along the slowest axis), computed in LaneBlocks with the same
+/// arithmetic as make_stencil. Returns whether any strip changed.
 template <int Dim, class Kernel>
 bool build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g,
                     std::vector<Stencil<Dim, Kernel>>& out, std::vector<std::int32_t>& strip) {
@@ -57,14 +98,26 @@ bool build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g,
   strip.resize(p.size(), -1);
   const NodeLayout<Dim> nl(g);
   std::atomic<bool> changed{resized};
-  parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
-    out[i] = make_stencil<Dim, Kernel>(g, nl, p.x[i], p.l[i]);
-    const std::int32_t s = ScatterOrder::strip_of<Kernel::width>(out[i].layer);
-    if (s != strip[i]) {
-      strip[i] = s;
-      changed.store(true, std::memory_order_relaxed);
+  parallel_for(LaneBlock::count(p.size()), [&](std::ptrdiff_t b) {
+    const LaneBlock block(b, static_cast<std::ptrdiff_t>(p.size()));
+    const RecordLanes<Vec<Dim>> x = block.load(p.x), l = block.load(p.l);
+    StencilLanes<Dim, Kernel> s;
+    s.node = IntLanes{};
+    for (int d = 0; d < Dim; ++d) {
+      const IntLanes base = Kernel::locate((x[d] - g.lo[d]) * nl.inv_h, l[d] * nl.inv_h, s.axis[d]);
+      s.node += (base + g.ghost) * nl.stride[d];
+      if (d == Dim - 1) s.layer = base + g.ghost;
     }
-  });
+    block.store(out, s.record());
+    const auto layer = std::bit_cast<std::array<std::int64_t, LaneBlock::width>>(s.layer);
+    bool moved = false;
+    for (int k = 0; k < block.active; ++k) {
+      const std::int32_t strip_k = ScatterOrder::strip_of<Kernel::width>(static_cast<std::int32_t>(layer[k]));
+      moved = moved || strip_k != strip[block.first + k];
+      strip[block.first + k] = strip_k;
+    }
+    if (moved) changed.store(true, std::memory_order_relaxed);
+  }, 1024 / LaneBlock::width);
   return changed.load();
 }
 

@@ -12,6 +12,7 @@
 #include "mpm/materials/neo_hookean.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/shape/stencil.hpp"
+#include "mpm/transfer/lanes.hpp"
 
 namespace mpm {
 
@@ -34,55 +35,98 @@ struct ParticleFault {
 };
 
 /// Gather grid fields to particles. `v_grid` is the node velocity field used for positions and velocity
-/// gradients (&GridNode::v_new, or &GridNode::v after a re-projection).
+/// gradients (&GridNode::v_new, or &GridNode::v after a re-projection). Particles are processed in blocks of
+/// simd::lanes (LaneBlock), one particle per lane.
 /// Returns the lowest-index particle whose new state is non-finite, has J <= 0 or left the grid.
 template <Gather what, int Dim, class Kernel>
 ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils,
                   const Grid<Dim>& grid, NodeVelocity<Dim> v_grid, Real dt,
                   const std::vector<NeoHookean>& materials, SizeUpdate sizes) {
+  constexpr int W = LaneBlock::width;
   const NodeLayout<Dim> layout(grid.geometry);
   const GridGeometry<Dim>& geo = grid.geometry;
+  const auto& nodes = grid.nodes;
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
   std::atomic<std::int64_t> first_fault{ParticleFault::none};
-  parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
-    Vec<Dim> a_p = Vec<Dim>::Zero(), v_p = Vec<Dim>::Zero();
-    Mat<Dim> grad_v = Mat<Dim>::Zero();
-    for_each_node(stencils[i], layout, [&](std::int32_t n, Real S_ip, const Vec<Dim>& dS_ip) {
-      const GridNode<Dim>& node = grid.nodes[n];
-      if constexpr (what.velocity) a_p += S_ip * node.a;
-      if constexpr (what.position) v_p += S_ip * (node.*v_grid);
-      if constexpr (what.deformation)  // column by column: no Dim x Dim temporary (store-forwarding stalls)
-        for (int b = 0; b < Dim; ++b) grad_v.col(b) += dS_ip[b] * (node.*v_grid);
+  parallel_for(LaneBlock::count(p.size()), [&](std::ptrdiff_t b) {
+    const LaneBlock block(b, n);
+    const LaneStencil<Dim, Kernel> s(stencils, block, layout.inv_h);
+    RealLanes a_p[Dim] = {}, v_p[Dim] = {}, grad_v[Dim][Dim] = {};
+    for_each_node(s, layout, [&](std::int32_t offset, const RealLanes& S_ip, const RealLanes(&dS_ip)[Dim]) {
+      for (int c = 0; c < Dim; ++c) {
+        if constexpr (what.velocity)
+          a_p[c] += S_ip * s.gather(nodes, offset, [&](const GridNode<Dim>& node) -> const Real& { return node.a[c]; });
+        if constexpr (what.position || what.deformation) {
+          const RealLanes v_i =
+              s.gather(nodes, offset, [&](const GridNode<Dim>& node) -> const Real& { return (node.*v_grid)[c]; });
+          if constexpr (what.position) v_p[c] += S_ip * v_i;
+          if constexpr (what.deformation)  // grad v = sum_i v_i (x) grad S_ip
+            for (int e = 0; e < Dim; ++e) grad_v[c][e] += dS_ip[e] * v_i;
+        }
+      }
     });
-    bool ok = true;
-    if constexpr (what.velocity) p.v[i] += dt * a_p;
-    if constexpr (what.position) {
-      p.x[i] += dt * v_p;
-      ok = geo.contains(p.x[i]) && p.v[i].allFinite();
+    simd::MaskLanes ok = simd::MaskLanes{} == 0;  // all lanes true
+    if constexpr (what.velocity || what.position) {
+      RecordLanes<Vec<Dim>> v = block.load(p.v);
+      if constexpr (what.velocity) {
+        for (int c = 0; c < Dim; ++c) v[c] += dt * a_p[c];
+        block.store(p.v, v);
+      }
+      if constexpr (what.position) {
+        RecordLanes<Vec<Dim>> x = block.load(p.x);
+        for (int c = 0; c < Dim; ++c) {
+          x[c] += dt * v_p[c];
+          ok &= (x[c] >= geo.lo[c]) & (x[c] <= geo.lo[c] + geo.h * geo.cells[c]) & (v[c] - v[c] == 0);
+        }
+        block.store(p.x, x);
+      }
     }
     if constexpr (what.deformation) {
       // Wallstedt & Guilkey 2008, Eqs (11)-(13): F^{n+1} = (I + grad v dt) F^n, V = V^0 det F, sigma =
-      // sigma(F).
-      const Mat<Dim> F = (Mat<Dim>::Identity() + dt * grad_v) * p.F[i];
-      const Real J = F.determinant();
-      p.F[i] = F;
-      p.V[i] = p.V0[i] * J;
-      if (J > 0 && std::isfinite(J)) {
-        p.sigma[i] = materials[p.material[i]].template stress<Dim>(F, J);
-        if (sizes == SizeUpdate::deformed)
-          for (int d = 0; d < Dim; ++d) {
-            p.l[i][d] = p.l0[i][d] * F(d, d);
-            ok = ok && p.l[i][d] > 0 && p.l[i][d] <= 0.5 * geo.h;  // the GIMP stencil holds l_p <= h/2
-          }
-      } else {
-        ok = false;
+      // sigma(F). Mat is column-major: entry (a, c) is Real a + c Dim.
+      const RecordLanes<Mat<Dim>> F_old = block.load(p.F);
+      RecordLanes<Mat<Dim>> F_new;
+      RealLanes F[Dim][Dim];
+      for (int a = 0; a < Dim; ++a)
+        for (int c = 0; c < Dim; ++c) {
+          F[a][c] = ((a == 0 ? 1 : 0) + dt * grad_v[a][0]) * F_old[c * Dim];
+          for (int e = 1; e < Dim; ++e) F[a][c] += ((a == e ? 1 : 0) + dt * grad_v[a][e]) * F_old[e + c * Dim];
+          F_new[a + c * Dim] = F[a][c];
+        }
+      block.store(p.F, F_new);
+      const RealLanes J = simd::determinant(F);
+      block.store(p.V, {block.load(p.V0)[0] * J});
+      const simd::MaskLanes valid = (J > 0) & (J - J == 0);
+      ok &= valid;
+      IntLanes material;
+      for (int k = 0; k < LaneBlock::width; ++k) material[k] = p.material[block.index[k]];
+      material *= reals_in<NeoHookean>;
+      const RealLanes lambda = simd::gather(&materials[0].lambda, material);
+      const RealLanes mu = simd::gather(&materials[0].mu, material);
+      // A lane with an invalid J keeps its stress and half-lengths (the run stops).
+      RecordLanes<SymTensor<Dim>> sigma = block.load(p.sigma);
+      RealLanes sigma_new[sym_size<Dim>];
+      NeoHookean::cauchy<Dim>(F, J, lambda, mu, sigma_new);
+      for (int c = 0; c < sym_size<Dim>; ++c) sigma[c] = valid ? sigma_new[c] : sigma[c];
+      block.store(p.sigma, sigma);
+      if (sizes == SizeUpdate::deformed) {
+        const RecordLanes<Vec<Dim>> l0 = block.load(p.l0);
+        RecordLanes<Vec<Dim>> l = block.load(p.l);
+        for (int d = 0; d < Dim; ++d) {
+          const RealLanes l_new = l0[d] * F[d][d];
+          ok &= valid & (l_new > 0) & (l_new <= 0.5 * geo.h);  // the GIMP stencil holds l_p <= h/2
+          l[d] = valid ? l_new : l[d];
+        }
+        block.store(p.l, l);
       }
     }
-    if (!ok) {
-      std::int64_t cur = first_fault.load(std::memory_order_relaxed);
-      while (i < cur && !first_fault.compare_exchange_weak(cur, i)) {
-      }
+    std::int64_t fault = ParticleFault::none;
+    for (int k = block.active - 1; k >= 0; --k)
+      if (!ok[k]) fault = block.index[k];
+    std::int64_t cur = first_fault.load(std::memory_order_relaxed);
+    while (fault < cur && !first_fault.compare_exchange_weak(cur, fault)) {
     }
-  });
+  }, 1024 / W);
   return ParticleFault{first_fault.load()};
 }
 

@@ -1,0 +1,66 @@
+#pragma once
+/// Stencils and grid values of a LaneBlock of particles in SIMD lanes, for the transfers.
+#include <cstdint>
+#include <vector>
+
+#include "mpm/core/simd.hpp"
+#include "mpm/grid/grid.hpp"
+#include "mpm/particles/lanes.hpp"
+#include "mpm/shape/stencil.hpp"
+
+namespace mpm {
+
+/// The stencils of a block in lanes: base nodes, and per axis the weights and gradients [1/m] of each node.
+template <int Dim, class Kernel>
+struct LaneStencil {
+  static constexpr int N = Kernel::width;
+  IntLanes node;  ///< flat index of each lane's base node
+  RealLanes w[Dim][N], dw[Dim][N];
+
+  LaneStencil(const std::vector<Stencil<Dim, Kernel>>& stencils, const LaneBlock& block, Real inv_h) {
+    const StencilLanes<Dim, Kernel> s(block.load(stencils));
+    node = s.node;
+    for (int d = 0; d < Dim; ++d) {
+      Kernel::evaluate(s.axis[d], w[d], dw[d]);
+      for (int a = 0; a < N; ++a) dw[d][a] *= inv_h;
+    }
+  }
+
+  /// Lanes of get(node) at node (base + offset) of every lane.
+  template <class Get>
+  RealLanes gather(const std::vector<GridNode<Dim>>& nodes, std::int32_t offset, Get&& get) const {
+    static_assert(sizeof(GridNode<Dim>) % sizeof(Real) == 0);
+    return simd::gather(&get(nodes[0]), (node + offset) * reals_in<GridNode<Dim>>);
+  }
+};
+
+/// Visit every node of the tensor-product stencils of a block: fn(offset of the node from each lane's base
+/// node, weights S_ip, gradients grad S_ip [1/m] by axis). The same products as for_each_node, in lanes.
+template <int Dim, class Kernel, class Fn>
+inline void for_each_node(const LaneStencil<Dim, Kernel>& s, const NodeLayout<Dim>& nl, Fn&& fn) {
+  constexpr int N = Kernel::width;
+  if constexpr (Dim == 1) {
+    for (int a = 0; a < N; ++a) {
+      const RealLanes dS[1] = {s.dw[0][a]};
+      fn(a, s.w[0][a], dS);
+    }
+  } else if constexpr (Dim == 2) {
+    for (int b = 0; b < N; ++b)
+      for (int a = 0; a < N; ++a) {
+        const RealLanes dS[2] = {s.dw[0][a] * s.w[1][b], s.w[0][a] * s.dw[1][b]};
+        fn(a + b * nl.stride[1], s.w[0][a] * s.w[1][b], dS);
+      }
+  } else {
+    for (int c = 0; c < N; ++c)
+      for (int b = 0; b < N; ++b) {
+        const RealLanes wbc = s.w[1][b] * s.w[2][c];
+        for (int a = 0; a < N; ++a) {
+          const RealLanes dS[3] = {s.dw[0][a] * wbc, s.w[0][a] * s.dw[1][b] * s.w[2][c],
+                                   s.w[0][a] * s.w[1][b] * s.dw[2][c]};
+          fn(a + b * nl.stride[1] + c * nl.stride[2], s.w[0][a] * wbc, dS);
+        }
+      }
+  }
+}
+
+}  // namespace mpm
