@@ -36,7 +36,7 @@ using MaskLanes = IntLanes;
 inline RealLanes broadcast(Real v) { return RealLanes{} + v; }
 
 /// Lane k of the result is base[offset[k]] (a hardware gather where the ISA has one).
-inline RealLanes gather(const Real* base, const IntLanes& offset) {
+[[gnu::always_inline]] inline RealLanes gather(const Real* base, const IntLanes& offset) {
   // The masked forms with a zero source: the plain intrinsics read an uninitialised register (GCC 12 warns).
 #if defined(__AVX512F__)
   return reinterpret_cast<RealLanes>(
@@ -52,7 +52,7 @@ inline RealLanes gather(const Real* base, const IntLanes& offset) {
 }
 
 /// base[offset[k]] = v[k] for the first `active` lanes, in lane order.
-inline void scatter(Real* base, const IntLanes& offset, const RealLanes& v, int active) {
+[[gnu::always_inline]] inline void scatter(Real* base, const IntLanes& offset, const RealLanes& v, int active) {
 #if defined(__AVX512F__)
   const auto mask = static_cast<__mmask8>((1u << active) - 1);
   _mm512_mask_i64scatter_pd(base, mask, reinterpret_cast<__m512i>(offset), reinterpret_cast<__m512d>(v), 8);
@@ -106,9 +106,31 @@ struct RecordTables {
 };
 
 /// Targets from sources by the tables: target t = blend over pairs q of permute(source 2q, source 2q+1).
+/// 8 x 8 transpose in three rounds of two-source shuffles (24 instructions).
+[[gnu::always_inline]] inline std::array<RealLanes, 8> transpose8(const std::array<RealLanes, 8>& r) {
+  __m512d t[8], u[8];
+  for (int i = 0; i < 4; ++i) {
+    const __m512d a = reinterpret_cast<__m512d>(r[2 * i]), b = reinterpret_cast<__m512d>(r[2 * i + 1]);
+    t[2 * i] = _mm512_unpacklo_pd(a, b);  // a0 b0 a2 b2 a4 b4 a6 b6
+    t[2 * i + 1] = _mm512_unpackhi_pd(a, b);
+  }
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) {
+      u[4 * i + j] = _mm512_shuffle_f64x2(t[4 * i + j], t[4 * i + j + 2], 0x88);  // 128-bit lanes 0, 2
+      u[4 * i + j + 2] = _mm512_shuffle_f64x2(t[4 * i + j], t[4 * i + j + 2], 0xdd);  // lanes 1, 3
+    }
+  std::array<RealLanes, 8> out;
+  for (int c = 0; c < 4; ++c) {
+    out[c] = reinterpret_cast<RealLanes>(_mm512_shuffle_f64x2(u[c], u[c + 4], 0x88));
+    out[c + 4] = reinterpret_cast<RealLanes>(_mm512_shuffle_f64x2(u[c], u[c + 4], 0xdd));
+  }
+  return out;
+}
+
 template <int R>
-std::array<RealLanes, R> permute_records(const std::array<RealLanes, R>& source,
+[[gnu::always_inline]] inline std::array<RealLanes, R> permute_records(const std::array<RealLanes, R>& source,
                                          const typename RecordTables<R>::Table& table) {
+  if constexpr (R == 8) return transpose8(source);  // both directions are the transpose
   std::array<RealLanes, R> target;
   for (int t = 0; t < R; ++t) {
     __m512d r = _mm512_setzero_pd();
@@ -126,20 +148,20 @@ std::array<RealLanes, R> permute_records(const std::array<RealLanes, R>& source,
 }  // namespace detail
 
 template <int R>
-std::array<RealLanes, R> load_records(const Real* records) {
+[[gnu::always_inline]] inline std::array<RealLanes, R> load_records(const Real* records) {
   std::array<RealLanes, R> source;
   for (int s = 0; s < R; ++s) source[s] = reinterpret_cast<RealLanes>(_mm512_loadu_pd(records + 8 * s));
   return detail::permute_records<R>(source, detail::RecordTables<R>::load);
 }
 
 template <int R>
-void store_records(Real* records, const std::array<RealLanes, R>& members) {
+[[gnu::always_inline]] inline void store_records(Real* records, const std::array<RealLanes, R>& members) {
   const std::array<RealLanes, R> blocks = detail::permute_records<R>(members, detail::RecordTables<R>::store);
   for (int s = 0; s < R; ++s) _mm512_storeu_pd(records + 8 * s, reinterpret_cast<__m512d>(blocks[s]));
 }
 #else
 template <int R>
-std::array<RealLanes, R> load_records(const Real* records) {
+[[gnu::always_inline]] inline std::array<RealLanes, R> load_records(const Real* records) {
   std::array<RealLanes, R> members;
   for (int c = 0; c < R; ++c)
     for (int k = 0; k < lanes; ++k) members[c][k] = records[k * R + c];
@@ -147,11 +169,34 @@ std::array<RealLanes, R> load_records(const Real* records) {
 }
 
 template <int R>
-void store_records(Real* records, const std::array<RealLanes, R>& members) {
+[[gnu::always_inline]] inline void store_records(Real* records, const std::array<RealLanes, R>& members) {
   for (int c = 0; c < R; ++c)
     for (int k = 0; k < lanes; ++k) records[k * R + c] = members[c][k];
 }
 #endif
+
+/// records[index[k] * R + c] += members[c][k] for the first `active` lanes, lane after lane (so a record
+/// listed twice receives both, in lane order).
+template <int R>
+[[gnu::always_inline]] inline void add_records(Real* records, const IntLanes& index,
+                                               const std::array<RealLanes, R>& members, int active) {
+#if defined(__AVX512F__)
+  if constexpr (R == lanes) {  // one record per register
+    const std::array<RealLanes, R> by_record = detail::transpose8(members);
+    for (int k = 0; k < active; ++k) {
+      Real* record = records + index[k] * R;
+      _mm512_storeu_pd(record, _mm512_add_pd(_mm512_loadu_pd(record), reinterpret_cast<__m512d>(by_record[k])));
+    }
+    return;
+  }
+#endif
+  Real by_record[lanes * R];
+  store_records<R>(by_record, members);
+  for (int k = 0; k < active; ++k) {
+    Real* record = records + index[k] * R;
+    for (int c = 0; c < R; ++c) record[c] += by_record[k * R + c];
+  }
+}
 
 /// floor(v) for v > -16, without a libm call on baseline x86-64. Grid coordinates of particles inside the
 /// grid are >= -1. Rounding in v + 16 can only overshoot by one (just below an integer), which the comparison
@@ -217,7 +262,7 @@ V mul(V a, W b) { return __builtin_assoc_barrier(a * b); }
 /// __ieee754_log) with its more accurate formula for every f (fdlibm branches on the size of f): error
 /// < 1 ulp. Branch-free: special inputs go through the arithmetic and are replaced at the end.
 template <class V, class U>
-V log(V x) {
+[[gnu::always_inline]] inline V log(V x) {
   // e_log.c constants: ln2 = ln2_hi + ln2_lo with k*ln2_hi exact for |k| < 2^11, and the minimax
   // coefficients of R(z) = Lg1 z + ... + Lg7 z^7 ~ (log((1+s)/(1-s)) - 2s)/s, z = s^2.
   constexpr Real ln2_hi = 6.93147180369123816490e-01, ln2_lo = 1.90821492927058770002e-10;
@@ -254,7 +299,7 @@ V log(V x) {
 
 /// Natural logarithm of every lane, < 1 ulp (see detail::log). log(+inf) = +inf, log(+-0) = -inf,
 /// log(x < 0) = NaN, log(NaN) = NaN; subnormals to the same bound.
-inline RealLanes log(RealLanes x) { return detail::log<RealLanes, detail::UIntLanes>(x); }
+[[gnu::always_inline]] inline RealLanes log(RealLanes x) { return detail::log<RealLanes, detail::UIntLanes>(x); }
 
 /// Natural logarithm of one value: bit-for-bit the vector logarithm of a lane holding x (the algorithm
 /// instantiated on Real, measured 1.3-1.9x faster than taking lane 0 of the vector version).

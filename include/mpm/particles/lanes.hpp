@@ -23,36 +23,45 @@ inline constexpr int reals_in = static_cast<int>(sizeof(Record) / sizeof(Real));
 template <class Record>
 using RecordLanes = std::array<RealLanes, reals_in<Record>>;
 
-/// The particles of block b; lanes past the last particle repeat it (they are read, never written).
+/// SIMD lanes of particles: the particles of block b of the particle arrays, or up to `lanes` listed ones.
+/// Lanes past the last particle repeat it (they are read, never written).
 struct LaneBlock {
   static constexpr int width = simd::lanes;
   std::ptrdiff_t first;  ///< index of the first particle
   int active;            ///< lanes holding distinct particles, the first ones
+  bool contiguous;       ///< lane k holds particle first + k, for every lane
   IntLanes index;        ///< particle index of each lane
 
   LaneBlock(std::ptrdiff_t b, std::ptrdiff_t n) : first(b * width) {
     active = static_cast<int>(std::min<std::ptrdiff_t>(width, n - first));
+    contiguous = active == width;
     for (int k = 0; k < width; ++k) index[k] = std::min<std::ptrdiff_t>(first + k, n - 1);
+  }
+  LaneBlock(const std::int32_t* particles, int count) : first(particles[0]), active(count), contiguous(true) {
+    for (int k = 0; k < width; ++k) {
+      index[k] = particles[std::min(k, count - 1)];
+      contiguous = contiguous && index[k] == first + k;
+    }
   }
   static std::ptrdiff_t count(std::size_t n) { return (static_cast<std::ptrdiff_t>(n) + width - 1) / width; }
 
   /// The records f[i] of the block's particles, member by member.
   template <class Record>
-  RecordLanes<Record> load(const std::vector<Record>& f) const {
+  [[gnu::always_inline]] RecordLanes<Record> load(const std::vector<Record>& f) const {
     constexpr int R = reals_in<Record>;
     static_assert(sizeof(Record) == R * sizeof(Real), "records must be made of Reals");
     const Real* base = reinterpret_cast<const Real*>(f.data());
-    if (active == width) return simd::load_records<R>(base + first * R);
+    if (contiguous) return simd::load_records<R>(base + first * R);
     RecordLanes<Record> m;
     for (int c = 0; c < R; ++c) m[c] = simd::gather(base + c, index * R);
     return m;
   }
   /// Store the records of the active lanes.
   template <class Record>
-  void store(std::vector<Record>& f, const RecordLanes<Record>& m) const {
+  [[gnu::always_inline]] void store(std::vector<Record>& f, const RecordLanes<Record>& m) const {
     constexpr int R = reals_in<Record>;
     Real* base = reinterpret_cast<Real*>(f.data());
-    if (active == width) return simd::store_records<R>(base + first * R, m);
+    if (contiguous) return simd::store_records<R>(base + first * R, m);
     for (int c = 0; c < R; ++c) simd::scatter(base + c, index * R, m[c], active);
   }
 };

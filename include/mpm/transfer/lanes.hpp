@@ -17,7 +17,7 @@ struct LaneStencil {
   IntLanes node;  ///< flat index of each lane's base node
   RealLanes w[Dim][N], dw[Dim][N];
 
-  LaneStencil(const std::vector<Stencil<Dim, Kernel>>& stencils, const LaneBlock& block, Real inv_h) {
+  [[gnu::always_inline]] LaneStencil(const std::vector<Stencil<Dim, Kernel>>& stencils, const LaneBlock& block, Real inv_h) {
     const StencilLanes<Dim, Kernel> s(block.load(stencils));
     node = s.node;
     for (int d = 0; d < Dim; ++d) {
@@ -28,7 +28,7 @@ struct LaneStencil {
 
   /// Lanes of get(node) at node (base + offset) of every lane.
   template <class Get>
-  RealLanes gather(const std::vector<GridNode<Dim>>& nodes, std::int32_t offset, Get&& get) const {
+  [[gnu::always_inline]] RealLanes gather(const std::vector<GridNode<Dim>>& nodes, std::int32_t offset, Get&& get) const {
     static_assert(sizeof(GridNode<Dim>) % sizeof(Real) == 0);
     return simd::gather(&get(nodes[0]), (node + offset) * reals_in<GridNode<Dim>>);
   }
@@ -37,7 +37,7 @@ struct LaneStencil {
 /// Visit every node of the tensor-product stencils of a block: fn(offset of the node from each lane's base
 /// node, weights S_ip, gradients grad S_ip [1/m] by axis). The same products as for_each_node, in lanes.
 template <int Dim, class Kernel, class Fn>
-inline void for_each_node(const LaneStencil<Dim, Kernel>& s, const NodeLayout<Dim>& nl, Fn&& fn) {
+[[gnu::always_inline]] inline void for_each_node(const LaneStencil<Dim, Kernel>& s, const NodeLayout<Dim>& nl, Fn&& fn) {
   constexpr int N = Kernel::width;
   if constexpr (Dim == 1) {
     for (int a = 0; a < N; ++a) {

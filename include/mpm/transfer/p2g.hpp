@@ -1,11 +1,13 @@
 #pragma once
 /// Particle-to-grid transfers: mass, momentum and force scattered through the precomputed stencils.
+#include <array>
 #include <vector>
 
 #include "mpm/core/parallel.hpp"
 #include "mpm/grid/grid.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/shape/stencil.hpp"
+#include "mpm/transfer/lanes.hpp"
 #include "mpm/transfer/scatter_order.hpp"
 
 namespace mpm {
@@ -31,22 +33,47 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
     }
     if constexpr (what.force) node.a.setZero();
   });
-  // The body-force term is compiled in only when there is one.
+  // Particles go in scatter order, `lanes` at a time: their contributions to each node of the stencil are
+  // computed in lanes, transposed into node records and added lane by lane, so each node receives them in
+  // the same order as one particle at a time. The body-force term is compiled in only when there is one.
+  constexpr int R = reals_in<GridNode<Dim>>;
+  static_assert(sizeof(GridNode<Dim>) == R * sizeof(Real), "a node is a record of Reals");
+  const GridNode<Dim>& node0 = grid.nodes[0];
+  const int v_slot = static_cast<int>(&node0.v[0] - &node0.m), a_slot = static_cast<int>(&node0.a[0] - &node0.m);
+  Real* nodes = &grid.nodes[0].m;
   auto scatter = [&]<bool body>() {
-    order.for_each([&](std::int32_t i) {
-      const Real m_p = p.m[i];
-      const Vec<Dim> mv_p = m_p * p.v[i];
-      const Mat<Dim> Vsigma_p = p.V[i] * p.sigma[i].full();
-      for_each_node(stencils[i], layout, [&](std::int32_t n, Real S_ip, const Vec<Dim>& dS_ip) {
-        GridNode<Dim>& node = grid.nodes[n];
+    order.template for_each_block<LaneBlock::width>([&](const std::int32_t* particles, int count) {
+      const LaneBlock block(particles, count);
+      const LaneStencil<Dim, Kernel> s(stencils, block, layout.inv_h);
+      const RealLanes m_p = block.load(p.m)[0];
+      RealLanes mv_p[Dim], Vsigma_p[Dim][Dim], b_p[Dim];
+      if constexpr (what.mass_momentum) {
+        const RecordLanes<Vec<Dim>> v = block.load(p.v);
+        for (int d = 0; d < Dim; ++d) mv_p[d] = m_p * v[d];
+      }
+      if constexpr (what.force) {
+        const RealLanes V_p = block.load(p.V)[0];
+        const RecordLanes<SymTensor<Dim>> sigma = block.load(p.sigma);
+        for (int a = 0; a < Dim; ++a)
+          for (int c = 0; c < Dim; ++c) Vsigma_p[a][c] = V_p * sigma[SymTensor<Dim>::index(a, c)];
+        if constexpr (body) {
+          const RecordLanes<Vec<Dim>> b = block.load(body_accel);
+          for (int d = 0; d < Dim; ++d) b_p[d] = b[d];
+        }
+      }
+      for_each_node(s, layout, [&](std::int32_t offset, const RealLanes& S_ip, const RealLanes(&dS_ip)[Dim]) {
+        std::array<RealLanes, R> record{};
         if constexpr (what.mass_momentum) {
-          node.m += S_ip * m_p;
-          node.v += S_ip * mv_p;
+          record[0] = S_ip * m_p;
+          for (int d = 0; d < Dim; ++d) record[v_slot + d] = S_ip * mv_p[d];
         }
-        if constexpr (what.force) {
-          node.a -= Vsigma_p * dS_ip;
-          if constexpr (body) node.a += (S_ip * m_p) * body_accel[i];
-        }
+        if constexpr (what.force)
+          for (int d = 0; d < Dim; ++d) {
+            RealLanes f = Vsigma_p[d][0] * dS_ip[0];
+            for (int c = 1; c < Dim; ++c) f += Vsigma_p[d][c] * dS_ip[c];
+            record[a_slot + d] = body ? (S_ip * m_p) * b_p[d] - f : -f;
+          }
+        simd::add_records<R>(nodes, s.node + offset, record, block.active);
       });
     });
   };

@@ -76,6 +76,21 @@ class ScatterOrder {
                    particles_ >= 1024 ? 2 : strips);
   }
 
+  /// Call fn(particles, count) for the particles in scatter order, in runs of at most `lanes` of one strip:
+  /// even strips in parallel, then odd strips in parallel.
+  template <int lanes, class Fn>
+  void for_each_block(Fn&& fn) const {
+    const int strips = static_cast<int>(strip_begin_.size()) - 1;
+    for (int parity = 0; parity < 2; ++parity)
+      parallel_for((strips - parity + 1) / 2,
+                   [&](std::ptrdiff_t k) {
+                     const int s = static_cast<int>(2 * k + parity);
+                     for (std::int32_t i = strip_begin_[s]; i < strip_begin_[s + 1]; i += lanes)
+                       fn(&order_[i], std::min(lanes, strip_begin_[s + 1] - i));
+                   },
+                   particles_ >= 1024 ? 2 : strips);
+  }
+
   std::size_t bytes() const { return order_.capacity() * sizeof(std::int32_t); }
 
  private:
