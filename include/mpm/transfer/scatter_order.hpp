@@ -66,14 +66,7 @@ class ScatterOrder {
   /// Call fn(p) for every particle: even strips in parallel, then odd strips in parallel.
   template <class Fn>
   void for_each(Fn&& fn) const {
-    const int strips = static_cast<int>(strip_begin_.size()) - 1;
-    for (int parity = 0; parity < 2; ++parity)
-      parallel_for((strips - parity + 1) / 2,
-                   [&](std::ptrdiff_t k) {
-                     const int s = static_cast<int>(2 * k + parity);
-                     for (std::int32_t i = strip_begin_[s]; i < strip_begin_[s + 1]; ++i) fn(order_[i]);
-                   },
-                   particles_ >= 1024 ? 2 : strips);
+    for_each_block<1>([&](const std::int32_t* particle, int) { fn(*particle); });
   }
 
   /// Call fn(particles, count) for the particles in scatter order, in runs of at most `lanes` of one strip:
