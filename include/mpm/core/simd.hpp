@@ -6,6 +6,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 
@@ -31,6 +32,13 @@ using IntLanes = std::int64_t __attribute__((vector_size(8 * lanes)));
 
 /// The result of comparing RealLanes: -1 (all bits set) where true, 0 where false.
 using MaskLanes = IntLanes;
+
+/// True when every lane of m is true.
+inline bool all(const MaskLanes& m) {
+  std::int64_t every = -1;
+  for (int k = 0; k < lanes; ++k) every &= m[k];
+  return every != 0;
+}
 
 /// All lanes equal to v.
 inline RealLanes broadcast(Real v) { return RealLanes{} + v; }
@@ -175,27 +183,35 @@ template <int R>
 }
 #endif
 
-/// records[index[k] * R + c] += members[c][k] for the first `active` lanes, lane after lane (so a record
-/// listed twice receives both, in lane order).
-template <int R>
-[[gnu::always_inline]] inline void add_records(Real* records, const IntLanes& index,
-                                               const std::array<RealLanes, R>& members, int active) {
+/// Add the contributions of a block of particles to the nodes of their stencils, particle after particle:
+/// records[(base[k] + offset[o]) * R + c] += members[o][c][k] for lane k = 0 .. active-1, and for each lane
+/// over its nodes o in order. A node thus receives its contributions in the same order as from one particle
+/// at a time. Neighbouring lanes usually share nodes; visiting all of one lane's (distinct) nodes before the
+/// next lane's keeps the read-add-write of a shared node several instructions apart.
+template <int R, std::size_t Nodes>
+[[gnu::always_inline]] inline void add_stencil_records(Real* records, const IntLanes& base,
+                                                       const std::array<std::int32_t, Nodes>& offset,
+                                                       const std::array<std::array<RealLanes, R>, Nodes>& members,
+                                                       int active) {
 #if defined(__AVX512F__)
   if constexpr (R == lanes) {  // one record per register
-    const std::array<RealLanes, R> by_record = detail::transpose8(members);
-    for (int k = 0; k < active; ++k) {
-      Real* record = records + index[k] * R;
-      _mm512_storeu_pd(record, _mm512_add_pd(_mm512_loadu_pd(record), reinterpret_cast<__m512d>(by_record[k])));
-    }
+    std::array<std::array<RealLanes, R>, Nodes> by_record;
+    for (std::size_t o = 0; o < Nodes; ++o) by_record[o] = detail::transpose8(members[o]);
+    for (int k = 0; k < active; ++k)
+      for (std::size_t o = 0; o < Nodes; ++o) {
+        Real* record = records + (base[k] + offset[o]) * R;
+        _mm512_storeu_pd(record, _mm512_add_pd(_mm512_loadu_pd(record), reinterpret_cast<__m512d>(by_record[o][k])));
+      }
     return;
   }
 #endif
-  Real by_record[lanes * R];
-  store_records<R>(by_record, members);
-  for (int k = 0; k < active; ++k) {
-    Real* record = records + index[k] * R;
-    for (int c = 0; c < R; ++c) record[c] += by_record[k * R + c];
-  }
+  Real by_record[Nodes][lanes * R];
+  for (std::size_t o = 0; o < Nodes; ++o) store_records<R>(by_record[o], members[o]);
+  for (int k = 0; k < active; ++k)
+    for (std::size_t o = 0; o < Nodes; ++o) {
+      Real* record = records + (base[k] + offset[o]) * R;
+      for (int c = 0; c < R; ++c) record[c] += by_record[o][k * R + c];
+    }
 }
 
 /// floor(v) for v > -16, without a libm call on baseline x86-64. Grid coordinates of particles inside the

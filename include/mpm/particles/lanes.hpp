@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <utility>
 #include <vector>
 
@@ -54,6 +55,18 @@ struct LaneBlock {
     if (contiguous) return simd::load_records<R>(base + first * R);
     RecordLanes<Record> m;
     for (int c = 0; c < R; ++c) m[c] = simd::gather(base + c, index * R);
+    return m;
+  }
+  /// The 16-bit indices f[i] (material indices) of the block's particles.
+  [[gnu::always_inline]] IntLanes load_indices(const std::vector<std::uint16_t>& f) const {
+    using Loaded = std::uint16_t __attribute__((vector_size(sizeof(std::uint16_t) * width)));
+    if (contiguous) {
+      Loaded v;
+      std::memcpy(&v, f.data() + first, sizeof(v));
+      return __builtin_convertvector(v, IntLanes);
+    }
+    IntLanes m;
+    for (int k = 0; k < width; ++k) m[k] = f[index[k]];
     return m;
   }
   /// Store the records of the active lanes.

@@ -1,5 +1,6 @@
 #pragma once
 /// Grid-to-particle transfers: velocity, position and deformation updates through the precomputed stencils.
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -98,16 +99,21 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
       block.store(p.V, {block.load(p.V0)[0] * J});
       const simd::MaskLanes valid = (J > 0) & (J - J == 0);
       ok &= valid;
-      IntLanes material;
-      for (int k = 0; k < LaneBlock::width; ++k) material[k] = p.material[block.index[k]];
-      material *= reals_in<NeoHookean>;
-      const RealLanes lambda = simd::gather(&materials[0].lambda, material);
-      const RealLanes mu = simd::gather(&materials[0].mu, material);
+      RealLanes lambda = simd::broadcast(materials[0].lambda), mu = simd::broadcast(materials[0].mu);
+      if (materials.size() > 1) {
+        const IntLanes material = block.load_indices(p.material) * reals_in<NeoHookean>;
+        lambda = simd::gather(&materials[0].lambda, material);
+        mu = simd::gather(&materials[0].mu, material);
+      }
       // A lane with an invalid J keeps its stress and half-lengths (the run stops).
-      RecordLanes<SymTensor<Dim>> sigma = block.load(p.sigma);
       RealLanes sigma_new[sym_size<Dim>];
       NeoHookean::cauchy<Dim>(F, J, lambda, mu, sigma_new);
-      for (int c = 0; c < sym_size<Dim>; ++c) sigma[c] = valid ? sigma_new[c] : sigma[c];
+      RecordLanes<SymTensor<Dim>> sigma;
+      std::copy_n(sigma_new, sym_size<Dim>, sigma.begin());
+      if (!simd::all(valid)) {
+        const RecordLanes<SymTensor<Dim>> sigma_old = block.load(p.sigma);
+        for (int c = 0; c < sym_size<Dim>; ++c) sigma[c] = valid ? sigma[c] : sigma_old[c];
+      }
       block.store(p.sigma, sigma);
       if (sizes == SizeUpdate::deformed) {
         const RecordLanes<Vec<Dim>> l0 = block.load(p.l0);

@@ -1,5 +1,6 @@
 #pragma once
 /// Stencils and grid values of a LaneBlock of particles in SIMD lanes, for the transfers.
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -14,6 +15,7 @@ namespace mpm {
 template <int Dim, class Kernel>
 struct LaneStencil {
   static constexpr int N = Kernel::width;
+  static constexpr std::size_t node_count = Dim == 1 ? N : Dim == 2 ? N * N : N * N * N;  ///< nodes per stencil
   IntLanes node;  ///< flat index of each lane's base node
   RealLanes w[Dim][N], dw[Dim][N];
 

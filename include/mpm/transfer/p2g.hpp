@@ -33,10 +33,12 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
     }
     if constexpr (what.force) node.a.setZero();
   });
-  // Particles go in scatter order, `lanes` at a time: their contributions to each node of the stencil are
-  // computed in lanes, transposed into node records and added lane by lane, so each node receives them in
-  // the same order as one particle at a time. The body-force term is compiled in only when there is one.
+  // Particles go in scatter order, `lanes` at a time: their contributions to the nodes of their stencils are
+  // computed in lanes, transposed into node records and added particle by particle, so each node receives
+  // them in the same order as one particle at a time. The body-force term is compiled in only when there is
+  // one.
   constexpr int R = reals_in<GridNode<Dim>>;
+  constexpr std::size_t stencil_nodes = LaneStencil<Dim, Kernel>::node_count;
   static_assert(sizeof(GridNode<Dim>) == R * sizeof(Real), "a node is a record of Reals");
   const GridNode<Dim>& node0 = grid.nodes[0];
   const int v_slot = static_cast<int>(&node0.v[0] - &node0.m), a_slot = static_cast<int>(&node0.a[0] - &node0.m);
@@ -61,8 +63,13 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
           for (int d = 0; d < Dim; ++d) b_p[d] = b[d];
         }
       }
+      std::array<std::array<RealLanes, R>, stencil_nodes> records;
+      std::array<std::int32_t, stencil_nodes> offsets;
+      int o = 0;
       for_each_node(s, layout, [&](std::int32_t offset, const RealLanes& S_ip, const RealLanes(&dS_ip)[Dim]) {
-        std::array<RealLanes, R> record{};
+        std::array<RealLanes, R>& record = records[o];
+        record = {};  // the slots this pass does not scatter add zero
+        offsets[o++] = offset;
         if constexpr (what.mass_momentum) {
           record[0] = S_ip * m_p;
           for (int d = 0; d < Dim; ++d) record[v_slot + d] = S_ip * mv_p[d];
@@ -73,8 +80,8 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
             for (int c = 1; c < Dim; ++c) f += Vsigma_p[d][c] * dS_ip[c];
             record[a_slot + d] = body ? (S_ip * m_p) * b_p[d] - f : -f;
           }
-        simd::add_records<R>(nodes, s.node + offset, record, block.active);
       });
+      simd::add_stencil_records<R>(nodes, s.node, offsets, records, block.active);
     });
   };
   if (what.force && !body_accel.empty())
