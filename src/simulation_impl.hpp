@@ -116,16 +116,12 @@ void Simulation<Dim, Kernel>::step_usf(Real dt) {
   grid_velocity(grid_, min_node_mass_);
   for (GridNode<Dim>& node : grid_.nodes) node.v_new = node.v;
   constraints_.constrain_velocity(grid_, &GridNode<Dim>::v_new, time_);
-  check(g2p<Gather{.velocity = false, .position = false, .deformation = true}>(
-            particles_, stencils_, grid_, &GridNode<Dim>::v_new, dt, spec_.materials, sizes_),
-        dt);
+  gather<Gather{.velocity = false, .position = false, .deformation = true}>(&GridNode<Dim>::v_new, dt);
   p2g<Scatter{.mass_momentum = false, .force = true}>(particles_, stencils_, order_, body_accel_, grid_);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
   grid_update(grid_, spec_.gravity, dt, 1.0, min_node_mass_);
   constraints_.constrain_update(grid_, time_ + dt, dt);
-  check(g2p<Gather{.velocity = true, .position = true, .deformation = false}>(
-            particles_, stencils_, grid_, &GridNode<Dim>::v_new, dt, spec_.materials, sizes_),
-        dt);
+  gather<Gather{.velocity = true, .position = true, .deformation = false}>(&GridNode<Dim>::v_new, dt);
 }
 
 // USL: forces from the previous stress, then the stress is updated from the advanced grid velocity
@@ -136,12 +132,9 @@ void Simulation<Dim, Kernel>::step_usl(Real dt, Real accel_scale) {
   p2g<Scatter{.mass_momentum = true, .force = true}>(particles_, stencils_, order_, body_accel_, grid_);
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
-  grid_velocity(grid_, min_node_mass_);
-  grid_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
+  grid_velocity_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
   constraints_.constrain_update(grid_, time_ + dt, dt);
-  check(g2p<Gather{.velocity = true, .position = true, .deformation = true}>(
-            particles_, stencils_, grid_, &GridNode<Dim>::v_new, dt, spec_.materials, sizes_),
-        dt);
+  gather<Gather{.velocity = true, .position = true, .deformation = true}>(&GridNode<Dim>::v_new, dt);
 }
 
 // UVF-MPM / MUSL: as CD, but the grid velocity used for positions and gradients is re-projected from the
@@ -152,27 +145,37 @@ void Simulation<Dim, Kernel>::step_musl(Real dt, Real accel_scale) {
   p2g<Scatter{.mass_momentum = true, .force = true}>(particles_, stencils_, order_, body_accel_, grid_);
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
-  grid_velocity(grid_, min_node_mass_);
-  grid_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
+  grid_velocity_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
   constraints_.constrain_update(grid_, time_ + dt, dt);
-  check(g2p<Gather{.velocity = true, .position = false, .deformation = false}>(
-            particles_, stencils_, grid_, &GridNode<Dim>::v_new, dt, spec_.materials, sizes_),
-        dt);
+  gather<Gather{.velocity = true, .position = false, .deformation = false}>(&GridNode<Dim>::v_new, dt);
   p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils_, order_, body_accel_, grid_);
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   grid_velocity(grid_, min_node_mass_);
   constraints_.constrain_velocity(grid_, &GridNode<Dim>::v, time_ + dt);
-  check(g2p<Gather{.velocity = false, .position = true, .deformation = true}>(
-            particles_, stencils_, grid_, &GridNode<Dim>::v, dt, spec_.materials, sizes_),
-        dt);
+  gather<Gather{.velocity = false, .position = true, .deformation = true}>(&GridNode<Dim>::v, dt);
 }
 
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::build_stencils() {
+  if (!stencils_current_)
+    strips_changed_ = mpm::build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, strip_) || strips_changed_;
   // The scatter order depends only on the strips, so it is rebuilt only when a particle changed strip.
-  if (mpm::build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, strip_))
-    order_.build(strip_, ScatterOrder::strip_count<Dim, Kernel::width>(grid_.geometry));
+  if (strips_changed_) order_.build(strip_, ScatterOrder::strip_count<Dim, Kernel::width>(grid_.geometry));
+  stencils_current_ = strips_changed_ = false;
   evaluate_body_force();
+}
+
+template <int Dim, class Kernel>
+template <Gather what>
+void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
+  if constexpr (what.position) {
+    StencilTargets<Dim, Kernel> next{stencils_, strip_};
+    check(g2p<what>(particles_, stencils_, grid_, v_grid, dt, spec_.materials, sizes_, &next), dt);
+    stencils_current_ = true;
+    strips_changed_ = strips_changed_ || next.strip_changed.load();
+  } else {
+    check(g2p<what>(particles_, stencils_, grid_, v_grid, dt, spec_.materials, sizes_), dt);
+  }
 }
 
 template <int Dim, class Kernel>

@@ -33,7 +33,11 @@ class Simulation {
   Real next_dt() const;
 
   const ParticleSet<Dim>& particles() const { return particles_; }
-  ParticleSet<Dim>& particles() { return particles_; }
+  /// Mutable particles (restarts, scene set-up): the next step recomputes their stencils.
+  ParticleSet<Dim>& particles() {
+    stencils_current_ = false;
+    return particles_;
+  }
   const Grid<Dim>& grid() const { return grid_; }
   const KinematicConstraints<Dim>& constraints() const { return constraints_; }
   /// Body accelerations b(X_p, t^n) the last step used (empty without a body force).
@@ -57,6 +61,9 @@ class Simulation {
 
   // Stages shared by the integrators.
   void build_stencils();
+  /// A G2P pass; one that moves the particles also computes their stencils at the new positions.
+  template <Gather what>
+  void gather(NodeVelocity<Dim> v_grid, Real dt);
   void evaluate_body_force();
   void check(ParticleFault fault, Real dt) const;
 
@@ -68,6 +75,9 @@ class Simulation {
   Real min_node_mass_;
   std::vector<StencilT> stencils_;
   std::vector<std::int32_t> strip_;
+  /// The stencils match the particles' positions (the last moving G2P pass computed them), and whether a
+  /// particle changed strip since the scatter order was built.
+  bool stencils_current_ = false, strips_changed_ = false;
   ScatterOrder order_;
   std::vector<Vec<Dim>> body_accel_;
   Real time_ = 0;

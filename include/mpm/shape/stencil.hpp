@@ -2,7 +2,6 @@
 /// Per-particle stencil: the base node and the 1-D weights and gradients along each axis, computed once per
 /// particle per step and consumed by every transfer (P2G, G2P, re-projection).
 #include <array>
-#include <array>
 #include <atomic>
 #include <bit>
 #include <cmath>
@@ -87,28 +86,34 @@ inline Stencil<Dim, Kernel> make_stencil(const GridGeometry<Dim>& g, const NodeL
   return s;
 }
 
-/// Stencils of all particles at their current positions and half-lengths, and the scatter strip of each
-/// (ScatterOrder::strip_of its base node along the slowest axis), computed in LaneBlocks with the same
-/// arithmetic as make_stencil. Returns whether any strip changed.
+/// The stencils of a block of particles at positions x with half-lengths l: make_stencil's arithmetic in
+/// lanes.
 template <int Dim, class Kernel>
-bool build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g,
-                    std::vector<Stencil<Dim, Kernel>>& out, std::vector<std::int32_t>& strip) {
-  const bool resized = strip.size() != p.size();
-  out.resize(p.size());
-  strip.resize(p.size(), -1);
-  const NodeLayout<Dim> nl(g);
-  std::atomic<bool> changed{resized};
-  parallel_for(LaneBlock::count(p.size()), [&](std::ptrdiff_t b) {
-    const LaneBlock block(b, static_cast<std::ptrdiff_t>(p.size()));
-    const RecordLanes<Vec<Dim>> x = block.load(p.x), l = block.load(p.l);
-    StencilLanes<Dim, Kernel> s;
-    s.node = IntLanes{};
-    for (int d = 0; d < Dim; ++d) {
-      const IntLanes base = Kernel::locate((x[d] - g.lo[d]) * nl.inv_h, l[d] * nl.inv_h, s.axis[d]);
-      s.node += (base + g.ghost) * nl.stride[d];
-      if (d == Dim - 1) s.layer = base + g.ghost;
-    }
-    block.store(out, s.record());
+[[gnu::always_inline]] inline StencilLanes<Dim, Kernel> locate_block(const GridGeometry<Dim>& g,
+                                                                     const NodeLayout<Dim>& nl,
+                                                                     const RecordLanes<Vec<Dim>>& x,
+                                                                     const RecordLanes<Vec<Dim>>& l) {
+  StencilLanes<Dim, Kernel> s;
+  s.node = IntLanes{};
+  for (int d = 0; d < Dim; ++d) {
+    const IntLanes base = Kernel::locate((x[d] - g.lo[d]) * nl.inv_h, l[d] * nl.inv_h, s.axis[d]);
+    s.node += (base + g.ghost) * nl.stride[d];
+    if (d == Dim - 1) s.layer = base + g.ghost;
+  }
+  return s;
+}
+
+/// Where stencils go: one per particle, with the scatter strip of each (ScatterOrder::strip_of its base node
+/// along the slowest axis), and whether any particle changed strip. Both arrays hold one entry per particle.
+template <int Dim, class Kernel>
+struct StencilTargets {
+  std::vector<Stencil<Dim, Kernel>>& stencils;
+  std::vector<std::int32_t>& strip;
+  std::atomic<bool> strip_changed{false};
+
+  /// Store the stencils of a block of particles and their strips.
+  [[gnu::always_inline]] void store(const LaneBlock& block, const StencilLanes<Dim, Kernel>& s) {
+    block.store(stencils, s.record());
     const auto layer = std::bit_cast<std::array<std::int64_t, LaneBlock::width>>(s.layer);
     bool moved = false;
     for (int k = 0; k < block.active; ++k) {
@@ -116,9 +121,25 @@ bool build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g,
       moved = moved || strip_k != strip[block.first + k];
       strip[block.first + k] = strip_k;
     }
-    if (moved) changed.store(true, std::memory_order_relaxed);
+    if (moved) strip_changed.store(true, std::memory_order_relaxed);
+  }
+};
+
+/// Stencils of all particles at their current positions and half-lengths, and the scatter strip of each,
+/// computed in LaneBlocks. Returns whether any strip changed.
+template <int Dim, class Kernel>
+bool build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g,
+                    std::vector<Stencil<Dim, Kernel>>& out, std::vector<std::int32_t>& strip) {
+  const bool resized = strip.size() != p.size();
+  out.resize(p.size());
+  strip.resize(p.size(), -1);
+  const NodeLayout<Dim> nl(g);
+  StencilTargets<Dim, Kernel> targets{out, strip, resized};
+  parallel_for(LaneBlock::count(p.size()), [&](std::ptrdiff_t b) {
+    const LaneBlock block(b, static_cast<std::ptrdiff_t>(p.size()));
+    targets.store(block, locate_block<Dim, Kernel>(g, nl, block.load(p.x), block.load(p.l)));
   }, 1024 / LaneBlock::width);
-  return changed.load();
+  return targets.strip_changed.load();
 }
 
 /// Visit every node of the tensor-product stencil: fn(flat node index, weight S_ip, gradient grad S_ip

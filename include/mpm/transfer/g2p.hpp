@@ -38,11 +38,14 @@ struct ParticleFault {
 /// Gather grid fields to particles. `v_grid` is the node velocity field used for positions and velocity
 /// gradients (&GridNode::v_new, or &GridNode::v after a re-projection). Particles are processed in blocks of
 /// simd::lanes (LaneBlock), one particle per lane.
+/// A pass that moves the particles can also compute their stencils at the new positions for the next step,
+/// into `next` when given: the positions are then at hand, and no separate pass over the particles is needed.
 /// Returns the lowest-index particle whose new state is non-finite, has J <= 0 or left the grid.
 template <Gather what, int Dim, class Kernel>
 ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils,
                   const Grid<Dim>& grid, NodeVelocity<Dim> v_grid, Real dt,
-                  const std::vector<NeoHookean>& materials, SizeUpdate sizes) {
+                  const std::vector<NeoHookean>& materials, SizeUpdate sizes,
+                  StencilTargets<Dim, Kernel>* next = nullptr) {
   constexpr int W = LaneBlock::width;
   const NodeLayout<Dim> layout(grid.geometry);
   const GridGeometry<Dim>& geo = grid.geometry;
@@ -67,6 +70,7 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
       }
     });
     simd::MaskLanes ok = simd::MaskLanes{} == 0;  // all lanes true
+    RecordLanes<Vec<Dim>> x;
     if constexpr (what.velocity || what.position) {
       RecordLanes<Vec<Dim>> v = block.load(p.v);
       if constexpr (what.velocity) {
@@ -74,7 +78,7 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
         block.store(p.v, v);
       }
       if constexpr (what.position) {
-        RecordLanes<Vec<Dim>> x = block.load(p.x);
+        x = block.load(p.x);
         for (int c = 0; c < Dim; ++c) {
           x[c] += dt * v_p[c];
           ok &= (x[c] >= geo.lo[c]) & (x[c] <= geo.lo[c] + geo.h * geo.cells[c]) & (v[c] - v[c] == 0);
@@ -126,6 +130,8 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
         block.store(p.l, l);
       }
     }
+    if constexpr (what.position)
+      if (next) next->store(block, locate_block<Dim, Kernel>(geo, layout, x, block.load(p.l)));
     std::int64_t fault = ParticleFault::none;
     for (int k = block.active - 1; k >= 0; --k)
       if (!ok[k]) fault = block.index[k];

@@ -92,27 +92,43 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
 
 /// Turn nodal momentum into velocity v_i = p_i / m_i (Wallstedt & Guilkey 2008, Eq. 9); empty nodes get zero.
 template <int Dim>
-void grid_velocity(Grid<Dim>& grid, Real min_mass) {
-  parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) {
-    GridNode<Dim>& node = grid.nodes[n];
-    if (node.m > min_mass)
-      node.v /= node.m;
-    else
-      node.v.setZero();
-  });
+inline void node_velocity(GridNode<Dim>& node, Real min_mass) {
+  if (node.m > min_mass)
+    node.v /= node.m;
+  else
+    node.v.setZero();
 }
 
 /// Turn nodal force into acceleration a_i = (f_int + f_ext)/m_i + g (Eq. 15) scaled by `scale`, and advance
 /// the velocity v_i^* = v_i + a_i dt (Eq. 16).
 template <int Dim>
+inline void node_update(GridNode<Dim>& node, const Vec<Dim>& gravity, Real dt, Real scale, Real min_mass) {
+  if (node.m > min_mass)
+    node.a = scale * (node.a / node.m + gravity);
+  else
+    node.a.setZero();
+  node.v_new = node.v + dt * node.a;
+}
+
+/// node_velocity at every node.
+template <int Dim>
+void grid_velocity(Grid<Dim>& grid, Real min_mass) {
+  parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) { node_velocity(grid.nodes[n], min_mass); });
+}
+
+/// node_update at every node.
+template <int Dim>
 void grid_update(Grid<Dim>& grid, const Vec<Dim>& gravity, Real dt, Real scale, Real min_mass) {
+  parallel_for(static_cast<std::ptrdiff_t>(grid.size()),
+               [&](std::ptrdiff_t n) { node_update(grid.nodes[n], gravity, dt, scale, min_mass); });
+}
+
+/// grid_velocity then grid_update, in one pass over the nodes.
+template <int Dim>
+void grid_velocity_update(Grid<Dim>& grid, const Vec<Dim>& gravity, Real dt, Real scale, Real min_mass) {
   parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) {
-    GridNode<Dim>& node = grid.nodes[n];
-    if (node.m > min_mass)
-      node.a = scale * (node.a / node.m + gravity);
-    else
-      node.a.setZero();
-    node.v_new = node.v + dt * node.a;
+    node_velocity(grid.nodes[n], min_mass);
+    node_update(grid.nodes[n], gravity, dt, scale, min_mass);
   });
 }
 
