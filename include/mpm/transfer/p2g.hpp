@@ -1,6 +1,7 @@
 #pragma once
 /// Particle-to-grid transfers: mass, momentum and force scattered through the precomputed stencils.
 #include <array>
+#include <cstring>
 #include <vector>
 
 #include "mpm/core/parallel.hpp"
@@ -27,6 +28,10 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
   const NodeLayout<Dim> layout(grid.geometry);
   parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) {
     GridNode<Dim>& node = grid.nodes[n];
+    if constexpr (what.mass_momentum && what.force) {  // v_new is recomputed from these, so clear all at once
+      std::memset(static_cast<void*>(&node), 0, sizeof(node));
+      return;
+    }
     if constexpr (what.mass_momentum) {
       node.m = 0;
       node.v.setZero();
