@@ -64,6 +64,7 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
   }
   // Nodes lighter than this are treated as empty (round-off level against the lightest particle).
   min_node_mass_ = 1e-14 * min_mass;
+  build_stencils();  // sizes the per-particle arrays, so that steps do not allocate
 }
 
 template <int Dim, class Kernel>
