@@ -205,12 +205,11 @@ template <int R, std::size_t Nodes>
     return;
   }
 #endif
-  Real by_record[Nodes][lanes * R];
-  for (std::size_t o = 0; o < Nodes; ++o) store_records<R>(by_record[o], members[o]);
+  // Records of other sizes: lane k of each member is read in place (a transposition costs more here).
   for (int k = 0; k < active; ++k)
     for (std::size_t o = 0; o < Nodes; ++o) {
       Real* record = records + (base[k] + offset[o]) * R;
-      for (int c = 0; c < R; ++c) record[c] += by_record[o][k * R + c];
+      for (int c = 0; c < R; ++c) record[c] += members[o][c][k];
     }
 }
 
