@@ -39,7 +39,7 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
     if constexpr (what.force) node.a.setZero();
   });
   // Particles go in scatter order, `lanes` at a time: their contributions to the nodes of their stencils are
-  // computed in lanes, transposed into node records and added particle by particle, so each node receives
+  // computed in lanes and added to the node records particle by particle, so each node receives
   // them in the same order as one particle at a time. The body-force term is compiled in only when there is
   // one.
   constexpr int R = reals_in<GridNode<Dim>>;
