@@ -355,14 +355,17 @@ void write_checkpoint(const fs::path& file, const CheckpointData& data) {
   tmp += std::to_string(::getpid()) + "-" + std::to_string(counter++);
   const fs::path parent = file.parent_path().empty() ? fs::path(".") : file.parent_path();
 
-  const SilenceHdf5Errors silence;
   try {
     for (const auto& entry : data.reals) check_name("real array", entry.first);
     for (const auto& entry : data.integers) check_name("integer array", entry.first);
     for (const auto& entry : data.real_scalars) check_name("real scalar", entry.first);
     for (const auto& entry : data.integer_scalars) check_name("integer scalar", entry.first);
     for (const auto& entry : data.texts) check_name("text", entry.first);
-
+  } catch (const Failure& e) {
+    fail(file, e.what());
+  }
+  const SilenceHdf5Errors silence;
+  try {
     write_hdf5(tmp, data);
     fsync_path(tmp, false);
     std::error_code ec;
@@ -372,7 +375,7 @@ void write_checkpoint(const fs::path& file, const CheckpointData& data) {
   } catch (const Failure& e) {
     std::error_code ignored;
     fs::remove(tmp, ignored);
-    fail(file, e.what());
+    throw OutputError("checkpoint " + file.string() + ": " + e.what());
   }
 }
 

@@ -6,6 +6,7 @@
 
 #include "mpm/core/errors.hpp"
 #include "mpm/particles/generate.hpp"
+#include "mpm/scene/budget.hpp"
 
 namespace mpm {
 
@@ -170,6 +171,7 @@ SimulationSpec<Dim> make_spec(const Scene& sc) {
 template <int Dim>
 ParticleSet<Dim> seed_bodies(const Scene& sc) {
   ParticleSet<Dim> p;
+  p.reserve(static_cast<std::size_t>(estimate_budget(sc).particles));  // no array grows past what it needs
   const Vec<Dim> grid_lo = to_vec<Dim>(sc.grid_lo), grid_hi = to_vec<Dim>(sc.grid_hi);
   for (std::size_t k = 0; k < sc.bodies.size(); ++k) {
     const SceneBody& b = sc.bodies[k];

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "mpm/core/errors.hpp"
+#include "mpm/scene/budget.hpp"
 #include "mpm/scene/scene.hpp"
 
 namespace mpm {
@@ -259,6 +260,9 @@ void read_simulation(const Section& s, Scene& sc) {
   sc.dt = s.number("dt", 0);
   sc.cfl = s.number("cfl", 0);
   if (s.has("dt") && !(sc.dt > 0)) s.fail("dt", "expected a positive time step [s]");
+  if (s.has("dt") && sc.end_time / sc.dt > limits::max_steps)
+    s.fail("dt", "end_time / dt = " + describe(*s.get("end_time")) + " / " + describe(*s.get("dt")) +
+                     " is more than the 1e9 steps a run may take");
   if (s.has("cfl") && !(sc.cfl > 0 && sc.cfl <= 1)) s.fail("cfl", "expected a number in (0, 1]");
   sc.threads = s.integer("threads", 0);
   if (sc.threads < 0) s.fail("threads", "expected 0 (all cores) or a positive count");
@@ -274,9 +278,11 @@ void read_grid(const Section& s, Scene& sc, const Locator& loc) {
   sc.grid_hi = s.numbers("hi", n);
   const toml::array& cells = s.array("cells", n, "an array of " + std::to_string(n) + " positive integers");
   for (const toml::node& c : cells) {
-    if (!c.is_integer() || c.value<std::int64_t>().value() < 1 ||
-        c.value<std::int64_t>().value() > std::numeric_limits<int>::max())
+    if (!c.is_integer() || c.value<std::int64_t>().value() < 1)
       s.fail("cells", "expected an array of " + std::to_string(n) + " positive integers, got " + describe(c) + " in it");
+    if (c.value<std::int64_t>().value() > limits::max_cells_per_axis)
+      s.fail("cells", "expected at most " + std::to_string(limits::max_cells_per_axis) + " cells per axis, got " +
+                          describe(c));
     sc.cells.push_back(static_cast<int>(c.value<std::int64_t>().value()));
   }
   for (std::size_t d = 0; d < n; ++d) {
@@ -433,7 +439,9 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
       s.fail("radius", "the " + shape + " (center +- radius) must lie inside the grid " + grid_extent(sc));
   }
   b.ppc = s.integer("ppc", 2);
-  if (b.ppc < 1) s.fail("ppc", "expected at least 1 particle per cell per axis");
+  if (b.ppc < 1 || b.ppc > limits::max_ppc)
+    s.fail("ppc", "expected at least 1 and at most " + std::to_string(limits::max_ppc) +
+                     " particles per cell per axis");
   const std::string material = s.text("material", sc.materials.size() == 1 ? sc.materials[0].name : "");
   if (material.empty()) s.fail("material", "missing (the name of a [[materials]] entry)");
   auto found = std::find_if(sc.materials.begin(), sc.materials.end(),
@@ -527,7 +535,9 @@ void read_rigid_body(const Section& s, Scene& sc, std::size_t index) {
   const std::string side = outside_grid(sc, r.lo, r.hi);
   if (!side.empty()) s.fail(side, "the rigid body must lie inside the grid " + grid_extent(sc));
   r.ppc = s.integer("ppc", 2);
-  if (r.ppc < 1) s.fail("ppc", "expected at least 1 point per cell per axis");
+  if (r.ppc < 1 || r.ppc > limits::max_ppc)
+    s.fail("ppc", "expected at least 1 and at most " + std::to_string(limits::max_ppc) +
+                     " points per cell per axis");
   if (!s.has("velocity")) s.fail("velocity", "missing (the prescribed velocity, numbers or expressions of t)");
   r.velocity = s.expressions("velocity", n, time_var, sc.constants);
   r.imposes.assign(n, !s.has("contact_axes"));
@@ -587,6 +597,10 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
     const Section s(*out, "output", loc, {"every"});
     sc.output_every = s.number("every", 0);
     if (sc.output_every < 0) s.fail("every", "expected a non-negative interval [s] (0: first and last state only)");
+    if (sc.output_every > 0 && sc.end_time / sc.output_every > limits::max_frames)
+      s.fail("every", "end_time / every = " + describe(toml::value<double>(sc.end_time / sc.output_every)) +
+                          " frames; at most " + std::to_string(static_cast<long>(limits::max_frames)) +
+                          " are written");
   }
   const toml::table* grid = top.table("grid");
   if (!grid) top.fail("grid", "missing [grid] table (lo, hi, cells, faces)");

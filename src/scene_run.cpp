@@ -1,6 +1,10 @@
 #include "mpm/scene/run.hpp"
 
+#include <sys/resource.h>
+
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -10,9 +14,13 @@
 #include <sstream>
 
 #include "mpm/core/errors.hpp"
+#include "mpm/core/interrupt.hpp"
 #include "mpm/core/parallel.hpp"
 #include "mpm/io/checkpoint.hpp"
+#include "mpm/io/files.hpp"
+#include "mpm/scene/budget.hpp"
 #include "mpm/io/vtk.hpp"
+#include "progress.hpp"
 #include "scene_engines.hpp"
 #include "mpm/verification/error_norms.hpp"
 
@@ -43,36 +51,6 @@ struct Totals {
   Vec<Dim> momentum = Vec<Dim>::Zero();
 };
 
-/// Progress on stderr for runs longer than about two seconds: percent, step, time, steps per second, ETA.
-class Progress {
- public:
-  Progress(bool quiet, Real t0, Real t_end) : quiet_(quiet), t0_(t0), t_end_(t_end), start_(Clock::now()), last_(start_) {}
-  void update(std::int64_t step, Real t) {
-    if (quiet_) return;
-    const auto now = Clock::now();
-    const double elapsed = std::chrono::duration<double>(now - start_).count();
-    if (elapsed < 2 || std::chrono::duration<double>(now - last_).count() < 0.5) return;
-    last_ = now;
-    const double fraction = (t - t0_) / (t_end_ - t0_);
-    const double rate = static_cast<double>(step - first_step_) / elapsed;
-    const double eta = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0;
-    std::fprintf(stderr, "\r%5.1f%%  step %lld  t = %.6g s  %.0f steps/s  ETA %.0f s   ", 100 * t / t_end_,
-                 static_cast<long long>(step), t, rate, eta);
-    printed_ = true;
-  }
-  void start_at(std::int64_t step) { first_step_ = step; }
-  ~Progress() {
-    if (printed_) std::fprintf(stderr, "\n");
-  }
-
- private:
-  bool quiet_;
-  Real t0_, t_end_;
-  Clock::time_point start_, last_;
-  std::int64_t first_step_ = 0;
-  bool printed_ = false;
-};
-
 template <int Dim, class Engine>
 class SceneRun {
  public:
@@ -87,44 +65,73 @@ class SceneRun {
   }
 
   int run() {
+    std::cout << describe(estimate_budget(sc_)) << std::endl;
+    if (o_.dry_run) return 0;
     const auto wall_start = Clock::now();
+    const InterruptHandlers handlers;
     prepare_outputs();
     Progress progress(o_.quiet, sim_.time(), sc_.end_time);
     progress.start_at(sim_.steps());
-    if (sim_.steps() == 0) {
-      write_frame();
-      write_history_row();
-    }
     std::string failure;
-    const std::int64_t stop_at = o_.stop_after > 0 ? sim_.steps() + o_.stop_after : -1;
+    bool stopped = false;
+    int signal = 0;
     try {
-      while (sim_.time() < sc_.end_time * (1 - 1e-14) && sim_.steps() != stop_at) {
-        const std::vector<Vec<Dim>> v_before = sim_.particles().v;
-        const auto step_start = Clock::now();
-        sim_.step(sc_.end_time - sim_.time());
-        compute_seconds_ += std::chrono::duration<double>(Clock::now() - step_start).count();
-        account_work(v_before);
-        if (has_check()) error_.record(sim_.particles(), sim_.time(), ExactFromScene<Dim>{&sc_.exact_displacement});
+      if (sim_.steps() == 0) {
+        write_frame();
         write_history_row();
-        if (sc_.output_every > 0 && sim_.time() >= next_output_time() * (1 - 1e-12)) write_frame();
-        if (o_.checkpoint_every > 0 && sim_.steps() % o_.checkpoint_every == 0) write_checkpoint();
-        progress.update(sim_.steps(), sim_.time());
       }
-    } catch (const SimulationFailure& e) {
-      failure = e.what();
-      // The implicit engine fails before it touches the particles: checkpoint the last good state to restart from.
-      if (Engine::failure_keeps_state) write_checkpoint();
+      const std::int64_t stop_at = o_.stop_after > 0 ? sim_.steps() + o_.stop_after : -1;
+      try {
+        while (sim_.time() < sc_.end_time * (1 - 1e-14) && sim_.steps() != stop_at && !interrupt_requested()) {
+          v_before_ = sim_.particles().v;
+          const auto step_start = Clock::now();
+          in_step_ = true;
+          sim_.step(sc_.end_time - sim_.time());
+          in_step_ = false;
+          compute_seconds_ += std::chrono::duration<double>(Clock::now() - step_start).count();
+          account_work();
+          if (has_check()) error_.record(sim_.particles(), sim_.time(), ExactFromScene<Dim>{&sc_.exact_displacement});
+          write_history_row();
+          if (sc_.output_every > 0 && sim_.time() >= next_output_time() * (1 - 1e-12)) write_frame();
+          if (o_.checkpoint_every > 0 && sim_.steps() % o_.checkpoint_every == 0) write_checkpoint();
+          progress.update(sim_.steps(), sim_.time());
+        }
+      } catch (const SimulationFailure& e) {
+        failure = e.what();
+        // The implicit engine fails before it touches the particles: checkpoint the last good state to restart from.
+        if (Engine::failure_keeps_state) write_checkpoint();
+      } catch (const std::bad_alloc&) {
+        failure = "out of memory at step " + std::to_string(sim_.steps() + 1) + " (estimated need " +
+                  std::to_string(estimate_budget(sc_).memory_bytes / 1e6) + " MB)";
+        // Steps of the explicit engine allocate nothing: memory ran out in the outputs, after a good step.
+        if (!in_step_ || Engine::failure_keeps_state) write_checkpoint();
+      }
+      const bool unfinished = sim_.time() < sc_.end_time * (1 - 1e-14);
+      signal = failure.empty() && unfinished ? interrupt_requested() : 0;
+      stopped = failure.empty() && unfinished && !signal;
+      if (failure.empty()) {
+        if (!unfinished && (frames_ == 0 || last_frame_time_ < sim_.time())) write_frame();
+        if (o_.checkpoint_every > 0 || unfinished) write_checkpoint();
+      }
+      flush_history();
+    } catch (const OutputError& e) {
+      // The checkpoint written last (atomically) stays readable; say what failed, if the summary can be written.
+      try {
+        write_summary(e.what(), "failed", std::chrono::duration<double>(Clock::now() - wall_start).count());
+      } catch (const std::exception&) {
+      }
+      throw;
     }
-    const bool stopped = failure.empty() && sim_.steps() == stop_at && sim_.time() < sc_.end_time * (1 - 1e-14);
-    if (failure.empty()) {
-      if (!stopped && (frames_ == 0 || last_frame_time_ < sim_.time())) write_frame();
-      if (o_.checkpoint_every > 0 || stopped) write_checkpoint();
-    }
-    history_.flush();
-    write_summary(failure, stopped, std::chrono::duration<double>(Clock::now() - wall_start).count());
+    const char* status = !failure.empty() ? "failed" : signal ? "interrupted" : stopped ? "stopped" : "ok";
+    write_summary(failure, status, std::chrono::duration<double>(Clock::now() - wall_start).count(), signal);
     if (!failure.empty()) {
       std::cerr << "mpm: simulation failed: " << failure << '\n';
       return exit_simulation_failure;
+    }
+    if (signal) {
+      std::cerr << "mpm: interrupted by " << signal_name(signal) << " after step " << sim_.steps() << ", t = "
+                << sim_.time() << " s; continue with --restart " << (o_.out_dir / "checkpoint.h5").string() << '\n';
+      return exit_interrupted(signal);
     }
     return 0;
   }
@@ -136,14 +143,18 @@ class SceneRun {
   /// Create the output folder; a fresh run clears the outputs of an earlier one, a restart keeps what came
   /// before its checkpoint.
   void prepare_outputs() {
-    fs::create_directories(o_.out_dir);
+    std::error_code ec;
+    fs::create_directories(o_.out_dir, ec);
+    if (ec || !fs::is_directory(o_.out_dir))
+      throw InputError("--out " + o_.out_dir.string() + ": cannot make the output folder" +
+                       (ec ? ": " + ec.message() : " (a file of that name exists)"));
     const fs::path pvd = o_.out_dir / "particles.pvd";
     if (o_.restart.empty()) {
       for (const fs::directory_entry& e : fs::directory_iterator(o_.out_dir)) {
         const std::string name = e.path().filename().string();
         if ((name.rfind("particles_", 0) == 0 && e.path().extension() == ".vtp") || name == "particles.pvd" ||
             name == "history.csv" || name == "summary.json")
-          fs::remove(e.path());
+          fs::remove(e.path(), ec);
       }
       series_ = io::PvdSeries(pvd);
       history_.open(o_.out_dir / "history.csv");
@@ -190,11 +201,23 @@ class SceneRun {
     for (const Vec<Dim>& r : engine_.reactions())
       for (int d = 0; d < Dim; ++d) history_ << ',' << r[d];
     history_ << '\n';
+    if (!history_) history_failed();
+  }
+
+  void flush_history() {
+    history_.flush();
+    if (!history_) history_failed();
+  }
+
+  [[noreturn]] void history_failed() const {
+    throw OutputError("cannot write " + (o_.out_dir / "history.csv").string() + ": " +
+                      (errno ? std::strerror(errno) : "write failed"));
   }
 
   /// Work of gravity, body forces and tractions over the step (force at t^n times the mean of the old and new
   /// velocities) plus the work of the moving constraints (reaction times prescribed velocity).
-  void account_work(const std::vector<Vec<Dim>>& v_before) {
+  void account_work() {
+    const std::vector<Vec<Dim>>& v_before = v_before_;
     const ParticleSet<Dim>& p = sim_.particles();
     const Real dt = sim_.time() - previous_time_;
     previous_time_ = sim_.time();
@@ -236,8 +259,10 @@ class SceneRun {
         error.values.push_back(
             ((p.x[i] - p.X[i]) - ExactFromScene<Dim>{&sc_.exact_displacement}.displacement(p.X[i], sim_.time())).norm());
     }
-    std::vector<io::PointField> fields{velocity, displacement, stress, deformation, J, volume, mass, material};
-    if (has_check()) fields.push_back(error);
+    std::vector<io::PointField> fields;
+    for (io::PointField* f : {&velocity, &displacement, &stress, &deformation, &J, &volume, &mass, &material})
+      fields.push_back(std::move(*f));
+    if (has_check()) fields.push_back(std::move(error));
     engine_.add_fields(fields);
     std::ostringstream name;
     name << "particles_" << std::setw(4) << std::setfill('0') << frames_ << ".vtp";
@@ -247,8 +272,10 @@ class SceneRun {
     last_frame_time_ = sim_.time();
   }
 
-  void write_summary(const std::string& failure, bool stopped, double wall) {
-    nlohmann::json j{{"status", !failure.empty() ? "failed" : (stopped ? "stopped" : "ok")},
+  void write_summary(const std::string& failure, const char* status, double wall, int signal = 0) {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    nlohmann::json j{{"status", status},
                      {"scene", sc_.file.string()},
                      {"dimension", Dim},
                      {"integrator", sc_.implicit ? std::string_view("implicit") : to_string(sc_.integrator)},
@@ -260,8 +287,11 @@ class SceneRun {
                      {"compute_seconds", compute_seconds_},
                      {"particles", sim_.particles().size()},
                      {"frames", frames_},
-                     {"threads", num_threads()}};
+                     {"threads", num_threads()},
+                     {"memory", {{"estimated_bytes", estimate_budget(sc_).memory_bytes},
+                                 {"peak_bytes", 1024.0 * static_cast<double>(usage.ru_maxrss)}}}};
     if (!failure.empty()) j["failure"] = failure;
+    if (signal) j["signal"] = signal_name(signal);
     engine_.summarize(j);
     if (!o_.restart.empty()) j["restarted_from"] = o_.restart.string();
     if (has_check())
@@ -270,7 +300,7 @@ class SceneRun {
       const Totals<Dim> t = totals();
       j["energy"] = {{"kinetic", t.kinetic}, {"strain", t.strain}, {"external_work", external_work_}};
     }
-    std::ofstream(o_.out_dir / "summary.json") << j.dump(2) << '\n';
+    io::write_file_atomically(o_.out_dir / "summary.json", j.dump(2) + '\n');
   }
 
   // Checkpoints: the particle arrays, the clock and the run's accumulators, bit for bit.
@@ -341,6 +371,8 @@ class SceneRun {
   Real last_frame_time_ = -1;
   Real previous_time_ = 0;
   Real external_work_ = 0;
+  std::vector<Vec<Dim>> v_before_;  // particle velocities before the step, for the work of the loads
+  bool in_step_ = false;             // inside sim_.step(): a failure there may leave the particles half-updated
   double compute_seconds_ = 0;  // inside the time steps, outputs excluded (this run only, not since t = 0)
   ErrorNorms error_;
 };

@@ -12,6 +12,7 @@
 #include <system_error>
 
 #include "mpm/core/errors.hpp"
+#include "mpm/io/files.hpp"
 
 namespace mpm::io {
 
@@ -51,29 +52,6 @@ std::string xml_unescape(std::string_view text) {
     if (!replaced) out += text[i++];
   }
   return out;
-}
-
-/// Write `content` to FILE.tmp, then rename it over FILE, so a reader sees either the old or the new file.
-void write_atomically(const std::filesystem::path& file, std::string_view content) {
-  std::filesystem::path tmp = file;
-  tmp += ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (out) out.write(content.data(), static_cast<std::streamsize>(content.size()));
-    if (out) out.close();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(tmp, ignored);
-      throw InputError("cannot write " + file.string() + " (writing " + tmp.string() + " failed)");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);
-  if (ec) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    throw InputError("cannot write " + file.string() + ": " + ec.message());
-  }
 }
 
 /// Append `values` to `out` as little-endian bytes, preceded by their byte count as a little-endian UInt64
@@ -152,6 +130,9 @@ void write_vtp(const std::filesystem::path& file, const std::vector<double>& poi
       "<PolyData>\n<Piece NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfVerts=\"" + std::to_string(n) +
       "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n<PointData>\n";
   std::string data;
+  std::size_t data_bytes = (2 * n + points.size()) * 8 + 8 * (fields.size() + 3);  // blocks with their counts
+  for (const PointField& f : fields) data_bytes += f.values.size() * 8;
+  data.reserve(data_bytes);  // appends never reallocate: the peak memory is the file's size once more
   for (const PointField& f : fields) {
     header += data_array("Float64", f.name, f.components, data.size());
     append_block(data, f.values.data(), f.values.size());
@@ -165,9 +146,11 @@ void write_vtp(const std::filesystem::path& file, const std::vector<double>& poi
   header += "</Verts>\n</Piece>\n</PolyData>\n<AppendedData encoding=\"raw\">\n_";
 
   std::string content = std::move(header);
+  content.reserve(content.size() + data.size() + 64);
   content += data;
+  data = std::string();
   content += "\n</AppendedData>\n</VTKFile>\n";
-  write_atomically(file, content);
+  write_file_atomically(file, content);
 }
 
 PvdSeries::PvdSeries(std::filesystem::path pvd_file) : file_(std::move(pvd_file)) {}
@@ -191,7 +174,7 @@ void PvdSeries::write() const {
     text += "<DataSet timestep=\"" + round_trip(time) + "\" group=\"\" part=\"0\" file=\"" + xml_escape(dataset) +
             "\"/>\n";
   text += "</Collection>\n</VTKFile>\n";
-  write_atomically(file_, text);
+  write_file_atomically(file_, text);
 }
 
 PvdSeries PvdSeries::resume(std::filesystem::path pvd_file, double t_max) {

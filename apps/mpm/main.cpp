@@ -1,10 +1,15 @@
 // The `mpm` command-line program.
+#include <csignal>
+#include <filesystem>
 #include <iostream>
+#include <new>
 
 #include "commands.hpp"
 #include "mpm/core/errors.hpp"
 
 int main(int argc, char** argv) {
+  // A write past the file-size limit (ulimit -f) fails with EFBIG and is reported, instead of killing the program.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"mpm: material point method for large-deformation solids"};
   app.require_subcommand(1);
   const mpm::app::Action bench = mpm::app::add_bench(app);
@@ -41,6 +46,18 @@ int main(int argc, char** argv) {
   } catch (const mpm::ToolError& e) {
     std::cerr << "mpm: " << e.what() << '\n';
     return mpm::exit_tool_error;
+  } catch (const mpm::OutputError& e) {
+    std::cerr << "mpm: " << e.what() << '\n';
+    return mpm::exit_output_failure;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "mpm: out of memory (see the budget line; --dry-run estimates a run's memory)\n";
+    return mpm::exit_simulation_failure;
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::cerr << "mpm: " << e.what() << '\n';
+    return mpm::exit_output_failure;
+  } catch (const std::exception& e) {
+    std::cerr << "mpm: internal error: " << e.what() << '\n';
+    return mpm::exit_simulation_failure;
   }
   return 0;
 }

@@ -1,13 +1,59 @@
 // `mpm run SCENE` and `mpm render DIR`: run a scene file with its outputs, and draw pictures of the results.
+#include <cmath>
 #include <iostream>
 
 #include "commands.hpp"
+#include <unistd.h>
+
 #include "mpm/core/errors.hpp"
+#include "mpm/scene/budget.hpp"
 #include "mpm/scene/run.hpp"
 #include "mpm/scene/scene.hpp"
 #include "python_tool.hpp"
 
 namespace mpm::app {
+
+namespace {
+namespace fs = std::filesystem;
+
+/// The output folder must be a folder we can write, or a path that can be made one: checked without
+/// creating anything, so that a refused run writes nothing.
+void check_output_folder(const fs::path& out) {
+  std::error_code ec;
+  fs::path at = fs::absolute(out, ec);
+  const std::string where = "--out " + out.string() + ": ";
+  if (fs::exists(at, ec) && !fs::is_directory(at, ec)) throw InputError(where + "exists and is not a folder");
+  while (!fs::exists(at, ec) && at.has_parent_path() && at != at.parent_path()) at = at.parent_path();
+  if (!fs::is_directory(at, ec))
+    throw InputError(where + "cannot make the folder: " + at.string() + " is not a folder");
+  // Probe with a folder made and removed at once: permissions alone do not tell (/proc, read-only mounts).
+  const fs::path probe = at / (".mpm-probe-" + std::to_string(::getpid()));
+  if (!fs::create_directory(probe, ec) || ec)
+    throw InputError(where + "cannot write in " + at.string() + (ec ? ": " + ec.message() : ""));
+  fs::remove(probe, ec);
+}
+
+/// "8G", "512M", "1.5e9": bytes with an optional K, M, G or T suffix (powers of 1024).
+double parse_bytes(const std::string& text) {
+  std::size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  const std::string suffix = text.substr(used);
+  static const std::string units = "KMGT";
+  double scale = 1;
+  if (suffix.size() == 1 && units.find(static_cast<char>(std::toupper(suffix[0]))) != std::string::npos)
+    scale = std::pow(1024.0, 1.0 + static_cast<double>(units.find(static_cast<char>(std::toupper(suffix[0])))));
+  else if (!suffix.empty())
+    used = 0;
+  if (used == 0 || !(value > 0) || !std::isfinite(value))
+    throw InputError("--max-memory: expected a positive size such as 8G, 512M or 2e9 (bytes), got '" + text + "'");
+  return value * scale;
+}
+}  // namespace
 
 Action add_run(CLI::App& app) {
   struct Options {
@@ -16,6 +62,8 @@ Action add_run(CLI::App& app) {
     RunOptions run;
     std::string out = "out";
     std::string restart;
+    std::string max_memory;
+    bool dry_run = false;
   };
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("run", "run a scene file (TOML; see docs/scene-format.md)");
@@ -28,16 +76,27 @@ Action add_run(CLI::App& app) {
   cmd->add_option("--restart", o->restart, "continue from a checkpoint written by this scene");
   cmd->add_option("--stop-after", o->run.stop_after,
                   "stop after this many steps, writing OUT/checkpoint.h5 to continue from with --restart");
+  cmd->add_option("--max-memory", o->max_memory,
+                  "refuse runs estimated to need more memory, e.g. 8G (default: the machine's physical memory)");
+  cmd->add_flag("--dry-run", o->dry_run, "check the scene and print the run's budget; write nothing");
   return [o]() {
     if (o->run.threads < 0) throw InputError("--threads: expected a non-negative count");
     if (o->run.stop_after < 0) throw InputError("--stop-after: expected a non-negative step count");
     if (o->run.checkpoint_every < 0) throw InputError("--checkpoint-every: expected a non-negative step count");
     if (!o->restart.empty() && !std::filesystem::exists(o->restart))
       throw InputError("--restart: no checkpoint at " + o->restart);
+    if (o->out.empty()) throw InputError("--out: expected a folder");
     const Scene scene = read_scene(o->scene, o->overrides);
+    check_output_folder(o->out);
+    const Budget budget = estimate_budget(scene);
+    const BudgetLimits limits{o->max_memory.empty() ? physical_memory_bytes() : parse_bytes(o->max_memory),
+                              free_space_bytes(o->out)};
+    check_budget(scene, budget, limits);
     o->run.out_dir = o->out;
     o->run.restart = o->restart;
+    o->run.dry_run = o->dry_run;
     const int status = run_scene(scene, o->run);
+    if (o->dry_run) return status;
     if (!o->run.quiet)
       std::cout << (status == 0 ? "done" : "failed") << ": " << o->out << "/particles.pvd (ParaView), " << o->out
                 << "/history.csv, " << o->out << "/summary.json\n";

@@ -209,12 +209,13 @@ TEST_F(Checkpoint, TruncatedFileIsInputErrorNamingIt) {
   EXPECT_NE(msg.find(file.string()), std::string::npos) << msg;
 }
 
-TEST_F(Checkpoint, UnwritablePathIsInputErrorNamingIt) {
+// A checkpoint that cannot be written is an output failure (exit status 1), not an input error.
+TEST_F(Checkpoint, UnwritablePathIsOutputErrorNamingIt) {
   const fs::path file = dir_ / "no_such_dir" / "state.h5";
   try {
     write_checkpoint(file, special_values());
-    ADD_FAILURE() << "no InputError";
-  } catch (const mpm::InputError& e) {
+    ADD_FAILURE() << "no OutputError";
+  } catch (const mpm::OutputError& e) {
     EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << e.what();
   }
   EXPECT_FALSE(fs::exists(file));

@@ -216,13 +216,14 @@ TEST_F(VtkTest, ResumeKeepsEntriesUpToTMaxAndRewritesTheFile) {
   EXPECT_EQ(PvdSeries::resume(pvd, -1.0).entries().size(), 0u);
 }
 
-TEST_F(VtkTest, BadInputAndUnwritablePathsThrowInputError) {
+// Bad fields are input errors; a path that cannot be written is an output failure (exit status 1).
+TEST_F(VtkTest, BadInputThrowsInputErrorAndUnwritablePathsOutputError) {
   const std::vector<double> points = {0, 0, 0, 1, 0, 0};
   const fs::path missing = dir_ / "no-such-folder" / "p.vtp";
   try {
     mpm::io::write_vtp(missing, points, {});
     FAIL() << "writing into a missing folder did not throw";
-  } catch (const mpm::InputError& e) {
+  } catch (const mpm::OutputError& e) {
     EXPECT_NE(std::string(e.what()).find(missing.string()), std::string::npos) << e.what();
   }
   EXPECT_THROW(mpm::io::write_vtp(dir_ / "p.vtp", {0, 0}, {}), mpm::InputError);  // not 3 per point
@@ -232,7 +233,7 @@ TEST_F(VtkTest, BadInputAndUnwritablePathsThrowInputError) {
   EXPECT_FALSE(fs::exists(dir_ / "p.vtp"));
 
   PvdSeries series(dir_ / "no-such-folder" / "s.pvd");
-  EXPECT_THROW(series.add(0.0, "a.vtp"), mpm::InputError);
+  EXPECT_THROW(series.add(0.0, "a.vtp"), mpm::OutputError);
   EXPECT_TRUE(series.entries().empty());  // a failed add leaves the series as it was
   EXPECT_THROW(PvdSeries(dir_ / "s.pvd").add(std::nan(""), "a.vtp"), mpm::InputError);
   EXPECT_THROW(PvdSeries::resume(dir_ / "missing.pvd", 1.0), mpm::InputError);

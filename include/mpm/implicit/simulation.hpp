@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "mpm/boundary/boundary.hpp"
+#include "mpm/core/memory.hpp"
 #include "mpm/grid/grid.hpp"
 #include "mpm/implicit/spec.hpp"
 #include "mpm/particles/particles.hpp"
@@ -56,6 +57,12 @@ class ImplicitSimulation {
   /// SimulationFailure when the retries run out or a particle leaves the grid.
   void step(Real max_dt = std::numeric_limits<Real>::infinity());
   void run_until(Real t_end);
+  /// The bytes a simulation will hold: particles with their material and trial states and stencils; per node
+  /// the force fields, the unknowns' maps and the Krylov workspace (GMRES(restart): restart + 1 basis vectors
+  /// and about seven work vectors of Dim values per node) and, with the frozen-Jacobian preconditioner, its
+  /// sparse LU (Dim^2 (2 width - 1)^Dim entries of 12 B per node, times 4 for the fill-in of the factors: an
+  /// estimate, measured within a factor 2 on the examples).
+  static MemoryModel memory_model(int krylov_restart, bool frozen_jacobian);
 
   Real time() const { return time_; }
   std::int64_t steps() const { return steps_; }

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "mpm/boundary/boundary.hpp"
+#include "mpm/core/memory.hpp"
 #include "mpm/grid/grid.hpp"
 #include "mpm/integrators/spec.hpp"
 #include "mpm/particles/particles.hpp"
@@ -50,6 +51,9 @@ class Simulation {
   const SimulationSpec<Dim>& spec() const { return spec_; }
   /// Heap bytes held by the simulation (particles, stencils, scatter order, grid) per particle.
   double bytes_per_particle() const;
+  /// The bytes a simulation will hold, from the arrays the constructor sizes (a body force adds one
+  /// acceleration per particle).
+  static MemoryModel memory_model(bool body_force);
 
  private:
   using StencilT = Stencil<Dim, Kernel>;

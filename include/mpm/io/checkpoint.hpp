@@ -44,8 +44,8 @@ std::filesystem::path checkpoint_temp_prefix(const std::filesystem::path& file);
 
 /// Write atomically: write FILE.tmp-PID-N, H5Fflush + close, fsync the file, rename over FILE, fsync the
 /// directory. A crash at any moment leaves either the old FILE or the new one, never a torn file.
-/// Throws mpm::InputError("checkpoint FILE: ...") naming the path when it cannot be written (the temporary
-/// file is then removed and FILE left as it was).
+/// Throws mpm::OutputError("checkpoint FILE: ...") naming the path when it cannot be written (the temporary
+/// file is then removed and FILE left as it was), mpm::InputError for an invalid name in `data`.
 void write_checkpoint(const std::filesystem::path& file, const CheckpointData& data);
 
 /// Read a checkpoint; throws mpm::InputError("checkpoint FILE: ...") naming the file and what is wrong when it

@@ -19,7 +19,7 @@ struct PointField {
 /// (1-D and 2-D callers pad with zeros); each field becomes a Float64 <PointData> array. The data are raw
 /// little-endian binary in one <AppendedData encoding="raw"> block, each array preceded by its byte count as a
 /// UInt64. The file is written to FILE.tmp and renamed over FILE, so readers never see a partial file.
-/// Throws InputError on inconsistent sizes or when the file cannot be written (naming the path).
+/// Throws InputError on inconsistent sizes, OutputError when the file cannot be written (naming the path).
 void write_vtp(const std::filesystem::path& file, const std::vector<double>& points,
                const std::vector<PointField>& fields);
 
@@ -31,7 +31,7 @@ class PvdSeries {
 
   /// Append `dataset` (a path relative to the .pvd's folder) at `time` and rewrite the .pvd atomically (tmp
   /// file + rename). Times are written with 17 significant digits, so they read back bit for bit. Throws
-  /// InputError when the time is not finite or the file cannot be written.
+  /// InputError when the time is not finite, OutputError when the file cannot be written.
   void add(double time, const std::string& dataset);
 
   /// Re-read a .pvd written by this class (for restarted runs), keeping the entries with time <= t_max; when

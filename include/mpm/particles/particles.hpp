@@ -41,7 +41,17 @@ struct ParticleSet {
     material.push_back(material_id);
   }
 
-  std::size_t bytes_per_particle() const {
+  /// Room for n particles in every array, so that seeding grows no array past what it needs.
+  void reserve(std::size_t n) {
+    for (auto* a : {&x, &X, &v, &l0, &l}) a->reserve(n);
+    F.reserve(n);
+    for (auto* a : {&m, &V0, &V}) a->reserve(n);
+    sigma.reserve(n);
+    material.reserve(n);
+  }
+
+  /// Bytes of one particle's fields.
+  static constexpr std::size_t bytes_per_particle() {
     return 4 * sizeof(Vec<Dim>) + sizeof(Vec<Dim>) + sizeof(Mat<Dim>) + 3 * sizeof(Real) +
            sizeof(SymTensor<Dim>) + sizeof(std::uint16_t);
   }
