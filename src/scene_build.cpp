@@ -140,6 +140,7 @@ SimulationSpec<Dim> make_spec(const Scene& sc) {
   spec.gravity = to_vec<Dim>(sc.gravity);
   spec.dt = sc.dt;
   spec.cfl = sc.cfl;
+  spec.reproject_light_nodes = sc.reproject_light_nodes;
 
   std::vector<TractionLoad<Dim>> tractions;
   for (const SceneTraction& t : sc.tractions) {

@@ -264,6 +264,7 @@ void read_simulation(const Section& s, Scene& sc) {
     s.fail("dt", "end_time / dt = " + describe(*s.get("end_time")) + " / " + describe(*s.get("dt")) +
                      " is more than the 1e9 steps a run may take");
   if (s.has("cfl") && !(sc.cfl > 0 && sc.cfl <= 1)) s.fail("cfl", "expected a number in (0, 1]");
+  sc.reproject_light_nodes = s.choice("light_nodes", "reproject", {"reproject", "none"}) == "reproject";
   sc.threads = s.integer("threads", 0);
   if (sc.threads < 0) s.fail("threads", "expected 0 (all cores) or a positive count");
   sc.geometry = parse_geometry(s.choice("geometry", "plane-strain", {"plane-strain", "plane-stress", "axisymmetric"}), "");
@@ -587,7 +588,7 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
     }
   }
   const std::vector<std::string> simulation_keys{"dimension", "end_time", "integrator", "kernel", "gimp_length",
-                                                 "dt", "cfl", "threads", "geometry"};
+                                                 "dt", "cfl", "threads", "geometry", "light_nodes"};
   const toml::table* sim = top.table("simulation");
   if (!sim) top.fail("simulation", "missing [simulation] table (dimension, end_time, integrator, kernel, dt or cfl)");
   read_simulation(Section(*sim, "simulation", loc,

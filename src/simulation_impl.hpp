@@ -11,6 +11,15 @@
 
 namespace mpm {
 
+/// Whether a kernel's gradient stays finite where its weight vanishes (see LinearKernel::light_nodes_unbounded).
+template <class Kernel>
+constexpr bool light_nodes_unbounded() {
+  if constexpr (requires { Kernel::light_nodes_unbounded; })
+    return Kernel::light_nodes_unbounded;
+  else
+    return false;
+}
+
 namespace detail {
 template <int Dim>
 std::string format(const Vec<Dim>& x) {
@@ -64,6 +73,12 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
   }
   // Nodes lighter than this are treated as empty (round-off level against the lightest particle).
   min_node_mass_ = 1e-14 * min_mass;
+  // Light nodes, for kernels that need their treatment: less than a quarter of the lightest particle. The strain
+  // a step adds through a node a particle reaches with weight S_ip is about CFL^2 (sigma / E) / S_ip (Wallstedt &
+  // Guilkey 2008, Eq. (39)); the quarter bounds it by 4 CFL^2 sigma / E. No node of a body at rest seeded at 2 or
+  // more particles per cell per axis is lighter (a face node gets 1/4 + 3/4 of a particle per row); a particle
+  // that crosses into an empty cell makes one.
+  if (light_nodes_unbounded<Kernel>() && spec.reproject_light_nodes) light_node_mass_ = 0.25 * min_mass;
   build_stencils();  // sizes the per-particle arrays, so that steps do not allocate
 }
 
@@ -133,9 +148,20 @@ void Simulation<Dim, Kernel>::step_usl(Real dt, Real accel_scale) {
   p2g<Scatter{.mass_momentum = true, .force = true}>(particles_, stencils_, order_, body_accel_, grid_);
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
-  grid_velocity_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
+  const bool light = grid_velocity_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_, light_node_mass_);
   constraints_.constrain_update(grid_, time_ + dt, dt);
-  gather<Gather{.velocity = true, .position = true, .deformation = true}>(&GridNode<Dim>::v_new, dt);
+  if (!light) {
+    gather<Gather{.velocity = true, .position = true, .deformation = true}>(&GridNode<Dim>::v_new, dt);
+    return;
+  }
+  // Light nodes: move and deform the particles with the velocity re-projected from their updated velocities there.
+  gather<Gather{.velocity = true, .position = false, .deformation = false}>(&GridNode<Dim>::v_new, dt);
+  p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils_, order_, body_accel_, grid_);
+  constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
+  grid_velocity(grid_, min_node_mass_);
+  constraints_.constrain_velocity(grid_, &GridNode<Dim>::v, time_ + dt);
+  reprojected_on_light_nodes(grid_, min_node_mass_, light_node_mass_);
+  gather<Gather{.velocity = false, .position = true, .deformation = true}>(&GridNode<Dim>::v_new, dt);
 }
 
 // UVF-MPM / MUSL: as CD, but the grid velocity used for positions and gradients is re-projected from the

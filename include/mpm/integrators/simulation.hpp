@@ -77,6 +77,8 @@ class Simulation {
   KinematicConstraints<Dim> constraints_;
   SizeUpdate sizes_;
   Real min_node_mass_;
+  /// Nodes with less mass get the re-projected velocity for positions and gradients (USL, CD); 0: none.
+  Real light_node_mass_ = 0;
   std::vector<StencilT> stencils_;
   std::vector<std::int32_t> strip_;
   /// The stencils match the particles' positions (the last moving G2P pass computed them), and whether a

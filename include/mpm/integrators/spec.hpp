@@ -39,6 +39,10 @@ struct SimulationSpec {
   BodyForceFn<Dim> body_force;          ///< optional b(X, t), evaluated at the start of each step
   Real dt = 0;                          ///< fixed time step [s], or 0 to use the CFL number
   Real cfl = 0;                         ///< dt = cfl h / max_p (c_p + |v_p|) when dt == 0
+  /// USL and CD with the linear kernel: move and deform particles with the re-projected velocity on nodes that
+  /// carry less than a quarter of the lightest particle's mass (Sulsky & Kaul 2004, Eq. (3.2.7)); false runs
+  /// the papers' algorithms unchanged (Wallstedt & Guilkey 2008, Eqs (37)-(39)). Scenes default to true.
+  bool reproject_light_nodes = false;
 };
 
 /// Parse a name; throws InputError naming `key` and the expected values.

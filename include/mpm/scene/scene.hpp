@@ -89,6 +89,7 @@ struct Scene {
   double gimp_length = 0;
   double dt = 0, cfl = 0;  ///< exactly one is positive
   int threads = 0;
+  bool reproject_light_nodes = true;  ///< light_nodes = "reproject" (see SimulationSpec::reproject_light_nodes)
 
   // [output]
   double output_every = 0;  ///< simulated time between particle outputs; 0: first and last only

@@ -28,6 +28,11 @@ struct KernelWeights {
 struct LinearKernel : KernelWeights<LinearKernel> {
   static constexpr int width = 2;
   static constexpr int ghost = 1;
+  /// The hat's gradient does not vanish at the edge of its support, so a node that a particle barely reaches
+  /// (weight S_ip -> 0) gets an acceleration f_i / m_i ~ 1 / S_ip whose gradient term dt a_i (x) grad S_ip is
+  /// unbounded (Wallstedt & Guilkey 2008, Eq. (39)). GIMP and B-spline gradients vanish with the weight, so
+  /// |grad S|^2 / S stays bounded and they need no treatment of light nodes.
+  static constexpr bool light_nodes_unbounded = true;
   static constexpr const char* name = "linear";
   template <class T>
   struct AxisOf {
