@@ -31,23 +31,6 @@ Mat3 embed(const Mat<Dim>& m) {
 }
 }  // namespace implicit_detail
 
-template <int Dim, class Kernel>
-MemoryModel ImplicitSimulation<Dim, Kernel>::memory_model(int krylov_restart, bool frozen_jacobian) {
-  constexpr double vec = sizeof(Vec<Dim>), real = sizeof(Real);
-  const double state = sizeof(SymTensor<3>) + 4 * real;                                   // ElastoPlasticState
-  const double trial = sizeof(SymTensor<3>) + 4 * real + sizeof(Mat<Dim>) + 2 * vec + 1;  // Trial
-  const double particle = ParticleSet<Dim>::bytes_per_particle() + state + trial + sizeof(StencilT) +
-                          2 * sizeof(std::int32_t);
-  double node = sizeof(GridNode<Dim>) + 4 * vec + Dim * (sizeof(std::int32_t) + sizeof(std::int8_t)) +
-                (krylov_restart + 8) * Dim * real;
-  if (frozen_jacobian) {
-    double stencil_nodes = 1;
-    for (int d = 0; d < Dim; ++d) stencil_nodes *= 2 * Kernel::width - 1;
-    node += 4 * Dim * Dim * stencil_nodes * (real + sizeof(int));
-  }
-  return {particle, node};
-}
-
 /// The discrete momentum equation of one step as a NonlinearProblem over the free nodal unknowns.
 template <int Dim, class Kernel>
 class ImplicitSimulation<Dim, Kernel>::Residual final : public implicit::NonlinearProblem {

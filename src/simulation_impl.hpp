@@ -235,14 +235,6 @@ void Simulation<Dim, Kernel>::check(ParticleFault fault, Real dt) const {
 }
 
 template <int Dim, class Kernel>
-MemoryModel Simulation<Dim, Kernel>::memory_model(bool body_force) {
-  // Particles, their stencils, strips and scatter order; one node record per node.
-  const std::size_t particle = ParticleSet<Dim>::bytes_per_particle() + sizeof(StencilT) + 2 * sizeof(std::int32_t) +
-                               (body_force ? sizeof(Vec<Dim>) : 0);
-  return {static_cast<double>(particle), static_cast<double>(sizeof(GridNode<Dim>))};
-}
-
-template <int Dim, class Kernel>
 double Simulation<Dim, Kernel>::bytes_per_particle() const {
   const double n = static_cast<double>(particles_.size());
   return static_cast<double>(particles_.bytes_per_particle()) + sizeof(StencilT) +

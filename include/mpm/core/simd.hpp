@@ -216,13 +216,19 @@ template <int R, std::size_t Nodes>
 /// floor(v) for v > -16, without a libm call on baseline x86-64. Grid coordinates of particles inside the
 /// grid are >= -1. Rounding in v + 16 can only overshoot by one (just below an integer), which the comparison
 /// corrects.
+/// A coordinate outside [-16, 2^30] (a particle far off the grid, or NaN, which maps to 2^30) is clamped first,
+/// so that the conversion to int is defined; the run's failure check then reports the particle.
+inline constexpr Real floor_index_limit = 1 << 30;
 inline int floor_index(Real v) {
-  const int b = static_cast<int>(v + 16) - 16;
-  return b - (v < b);
+  const Real c = v < floor_index_limit ? (v > -16 ? v : -16) : floor_index_limit;
+  const int b = static_cast<int>(c + 16) - 16;
+  return b - (c < b);
 }
 inline IntLanes floor_index(const RealLanes& v) {
-  const IntLanes b = __builtin_convertvector(v + 16, IntLanes) - 16;
-  return b + (v < __builtin_convertvector(b, RealLanes));  // true is -1
+  const RealLanes low = broadcast(-16), high = broadcast(floor_index_limit);
+  const RealLanes c = v < high ? (v > low ? v : low) : high;
+  const IntLanes b = __builtin_convertvector(c + 16, IntLanes) - 16;
+  return b + (c < __builtin_convertvector(b, RealLanes));  // true is -1
 }
 
 /// An index as a Real, for one value or lanes.
@@ -269,8 +275,15 @@ using UIntLanes = std::uint64_t __attribute__((vector_size(8 * lanes)));
 
 /// a*b rounded by itself: never fused with the addition that uses it into an FMA (GCC's default on FMA
 /// targets), so the logarithm rounds alike on every ISA, in every lane width and in the scalar overload.
+/// (Clang before version 15 lacks the barrier; with -ffp-contract=off, which the build sets, it never fuses.)
 template <class V, class W>
-V mul(V a, W b) { return __builtin_assoc_barrier(a * b); }
+V mul(V a, W b) {
+#if __has_builtin(__builtin_assoc_barrier)
+  return __builtin_assoc_barrier(a * b);
+#else
+  return a * b;
+#endif
+}
 
 /// log(x) for V = Real (bits in U = uint64_t) or V = RealLanes (U = UIntLanes): the same IEEE operations in
 /// the same order, hence the same bits. Algorithm of fdlibm e_log.c (Sun Microsystems 1993; FreeBSD msun

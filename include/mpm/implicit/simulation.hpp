@@ -62,7 +62,21 @@ class ImplicitSimulation {
   /// and about seven work vectors of Dim values per node) and, with the frozen-Jacobian preconditioner, its
   /// sparse LU (Dim^2 (2 width - 1)^Dim entries of 12 B per node, times 4 for the fill-in of the factors: an
   /// estimate, measured within a factor 2 on the examples).
-  static MemoryModel memory_model(int krylov_restart, bool frozen_jacobian);
+  static MemoryModel memory_model(int krylov_restart, bool frozen_jacobian) {
+    constexpr double vec = sizeof(Vec<Dim>), real = sizeof(Real);
+    const double state = sizeof(SymTensor<3>) + 4 * real;                                   // ElastoPlasticState
+    const double trial = sizeof(SymTensor<3>) + 4 * real + sizeof(Mat<Dim>) + 2 * vec + 1;  // Trial
+    const double particle = ParticleSet<Dim>::bytes_per_particle() + state + trial + sizeof(Stencil<Dim, Kernel>) +
+                            2 * sizeof(std::int32_t);
+    double node = sizeof(GridNode<Dim>) + 4 * vec + Dim * (sizeof(std::int32_t) + sizeof(std::int8_t)) +
+                  (krylov_restart + 8) * Dim * real;
+    if (frozen_jacobian) {
+      double stencil_nodes = 1;
+      for (int d = 0; d < Dim; ++d) stencil_nodes *= 2 * Kernel::width - 1;
+      node += 4 * Dim * Dim * stencil_nodes * (real + sizeof(int));
+    }
+    return {particle, node};
+  }
 
   Real time() const { return time_; }
   std::int64_t steps() const { return steps_; }

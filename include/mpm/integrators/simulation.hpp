@@ -53,7 +53,12 @@ class Simulation {
   double bytes_per_particle() const;
   /// The bytes a simulation will hold, from the arrays the constructor sizes (a body force adds one
   /// acceleration per particle).
-  static MemoryModel memory_model(bool body_force);
+  static MemoryModel memory_model(bool body_force) {
+    // Particles, their stencils, strips and scatter order; one node record per node.
+    const std::size_t particle = ParticleSet<Dim>::bytes_per_particle() + sizeof(Stencil<Dim, Kernel>) +
+                                 2 * sizeof(std::int32_t) + (body_force ? sizeof(Vec<Dim>) : 0);
+    return {static_cast<double>(particle), static_cast<double>(sizeof(GridNode<Dim>))};
+  }
 
  private:
   using StencilT = Stencil<Dim, Kernel>;
