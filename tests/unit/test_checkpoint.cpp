@@ -17,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "../../src/checkpoint_seal.hpp"  // to re-seal files edited on purpose
 #include "mpm/core/errors.hpp"
 #include "mpm/io/checkpoint.hpp"
 
@@ -178,22 +179,26 @@ TEST_F(Checkpoint, Hdf5FileWithoutMarkerIsInputErrorNamingIt) {
   write_checkpoint(good, special_values());
   const std::string bytes = file_bytes(good);
 
+  // Edited after the seal (the first 512 bytes), then sealed again: what another writer could produce.
+  const std::size_t seal = mpm::io::seal::userblock_bytes;
   std::string unmarked = bytes;
-  const std::size_t name_at = unmarked.find(std::string("format\0", 7));
+  const std::size_t name_at = unmarked.find(std::string("format\0", 7), seal);
   ASSERT_NE(name_at, std::string::npos);
   unmarked[name_at + 5] = 'X';
   const fs::path file = dir_ / "unmarked.h5";
   put_file_bytes(file, unmarked);
+  ASSERT_TRUE(mpm::io::seal::write(file));
   std::string msg = read_error(file);
   EXPECT_NE(msg.find(file.string()), std::string::npos) << msg;
   EXPECT_NE(msg.find("not an mpm checkpoint"), std::string::npos) << msg;
 
   std::string other = bytes;
-  const std::size_t value_at = other.find("mpm-checkpoint");
+  const std::size_t value_at = other.find("mpm-checkpoint", seal);
   ASSERT_NE(value_at, std::string::npos);
   other.replace(value_at, 3, "xyz");
   const fs::path file2 = dir_ / "other.h5";
   put_file_bytes(file2, other);
+  ASSERT_TRUE(mpm::io::seal::write(file2));
   msg = read_error(file2);
   EXPECT_NE(msg.find(file2.string()), std::string::npos) << msg;
   EXPECT_NE(msg.find("xyz-checkpoint"), std::string::npos) << msg;
@@ -299,6 +304,33 @@ TEST_F(Checkpoint, WriterKilledMidWriteLeavesPreviousCheckpoint) {
   c.reals["x"] = {3.0};
   write_checkpoint(file, c);
   expect_bitwise_equal(c, read_checkpoint(file));
+}
+
+// The seal: any byte changed or removed after writing is refused before HDF5 reads the file, with one line
+// that says so.
+TEST_F(Checkpoint, SealRefusesChangedOrTruncatedFiles) {
+  const fs::path good = dir_ / "good.h5";
+  write_checkpoint(good, special_values());
+  const std::string bytes = file_bytes(good);
+  ASSERT_EQ(bytes.rfind("mpm-checkpoint-seal 1\nbytes ", 0), 0u);
+  for (std::size_t at : {std::size_t{600}, bytes.size() / 2, bytes.size() - 1}) {
+    std::string flipped = bytes;
+    flipped[at] = static_cast<char>(flipped[at] ^ 0x01);
+    const fs::path file = dir_ / "flipped.h5";
+    put_file_bytes(file, flipped);
+    const std::string msg = read_error(file);
+    EXPECT_NE(msg.find("corrupt: its contents do not match the checksum"), std::string::npos) << at << ": " << msg;
+  }
+  const fs::path cut = dir_ / "cut.h5";
+  put_file_bytes(cut, bytes.substr(0, bytes.size() - 100));
+  EXPECT_NE(read_error(cut).find("truncated or extended"), std::string::npos) << read_error(cut);
+  put_file_bytes(cut, bytes.substr(0, 300));
+  EXPECT_NE(read_error(cut).find("truncated inside its header"), std::string::npos) << read_error(cut);
+  // A zeroed seal: neither a seal nor an HDF5 signature at the start, so HDF5 is not asked to read it.
+  std::string zeroed = bytes;
+  std::fill(zeroed.begin(), zeroed.begin() + 512, '\0');
+  put_file_bytes(cut, zeroed);
+  EXPECT_NE(read_error(cut).find("not an HDF5 file"), std::string::npos) << read_error(cut);
 }
 
 }  // namespace

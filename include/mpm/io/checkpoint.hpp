@@ -3,6 +3,8 @@
 /// bit-exactly. The simulation state writer and reader are built on top of it.
 ///
 /// Layout of the file (HDF5 1.8-compatible, readable with h5dump):
+///   bytes 0-511         the seal, an HDF5 userblock (src/checkpoint_seal.hpp): length and FNV-1a 64 hash of
+///                       the rest of the file, checked before HDF5 reads it
 ///   /                   attributes "format" = "mpm-checkpoint" (string), "format_version" = 1 (int64)
 ///   /reals/NAME         1-D IEEE F64LE dataset (possibly of length 0)
 ///   /integers/NAME      1-D STD I64LE dataset (possibly of length 0)
@@ -49,7 +51,7 @@ std::filesystem::path checkpoint_temp_prefix(const std::filesystem::path& file);
 void write_checkpoint(const std::filesystem::path& file, const CheckpointData& data);
 
 /// Read a checkpoint; throws mpm::InputError("checkpoint FILE: ...") naming the file and what is wrong when it
-/// is missing, not HDF5, lacks the format marker, has another format_version, or holds an object of the wrong
+/// is missing, not HDF5, sealed but changed or truncated since it was written, lacks the format marker, has another format_version, or holds an object of the wrong
 /// kind in one of its groups. HDF5's own error stack printing is silenced while it runs.
 CheckpointData read_checkpoint(const std::filesystem::path& file);
 
