@@ -97,6 +97,13 @@ void KinematicConstraints<Dim>::mark_mirrored(std::vector<std::uint8_t>& mask) c
 }
 
 template <int Dim>
+void KinematicConstraints<Dim>::count_mirror_copies(std::vector<std::uint8_t>& copies) const {
+  for (const Group& grp : groups_)
+    if (grp.component >= 0 && !grp.velocity)  // a symmetry plane: one component, no prescribed velocity
+      for (std::int32_t n : grp.nodes) copies[n] = static_cast<std::uint8_t>(2 * copies[n]);
+}
+
+template <int Dim>
 std::vector<typename KinematicConstraints<Dim>::Component> KinematicConstraints<Dim>::components() const {
   std::vector<Component> out;
   for (std::size_t g = 0; g < groups_.size(); ++g) {

@@ -78,7 +78,11 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
   // Guilkey 2008, Eq. (39)); the quarter bounds it by 4 CFL^2 sigma / E. No node of a body at rest seeded at 2 or
   // more particles per cell per axis is lighter (a face node gets 1/4 + 3/4 of a particle per row); a particle
   // that crosses into an empty cell makes one.
-  if (light_nodes_unbounded<Kernel>() && spec.reproject_light_nodes) light_node_mass_ = 0.25 * min_mass;
+  if (light_nodes_unbounded<Kernel>() && spec.reproject_light_nodes) {
+    light_node_mass_ = 0.25 * min_mass;
+    mirror_copies_.assign(grid_.size(), 1);
+    constraints_.count_mirror_copies(mirror_copies_);
+  }
   build_stencils();  // sizes the per-particle arrays, so that steps do not allocate
 }
 
@@ -148,9 +152,9 @@ void Simulation<Dim, Kernel>::step_usl(Real dt, Real accel_scale) {
   p2g<Scatter{.mass_momentum = true, .force = true}>(particles_, stencils_, order_, body_accel_, grid_);
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
-  const bool light = grid_velocity_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_, light_node_mass_);
+  grid_velocity_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
   constraints_.constrain_update(grid_, time_ + dt, dt);
-  if (!light) {
+  if (light_node_mass_ == 0 || !any_light(grid_, mirror_copies_, min_node_mass_, light_node_mass_)) {
     gather<Gather{.velocity = true, .position = true, .deformation = true}>(&GridNode<Dim>::v_new, dt);
     return;
   }
@@ -160,7 +164,7 @@ void Simulation<Dim, Kernel>::step_usl(Real dt, Real accel_scale) {
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   grid_velocity(grid_, min_node_mass_);
   constraints_.constrain_velocity(grid_, &GridNode<Dim>::v, time_ + dt);
-  reprojected_on_light_nodes(grid_, min_node_mass_, light_node_mass_);
+  reprojected_on_light_nodes(grid_, mirror_copies_, min_node_mass_, light_node_mass_);
   gather<Gather{.velocity = false, .position = true, .deformation = true}>(&GridNode<Dim>::v_new, dt);
 }
 

@@ -62,6 +62,10 @@ class KinematicConstraints {
   void mirror(Grid<Dim>& grid, NodeVelocity<Dim> field) const;
   /// Set mask[n] = 1 for every ghost node that copies a mirror node (mask sized to the grid).
   void mark_mirrored(std::vector<std::uint8_t>& mask) const;
+  /// Double copies[n] for every node on a symmetry plane, once per plane: such a node holds the mass of the body
+  /// alone, while the body with its mirror images would give it copies[n] times as much (2 on a plane, 4 where
+  /// two planes meet, 8 at a corner of three).
+  void count_mirror_copies(std::vector<std::uint8_t>& copies) const;
 
   /// One constrained velocity component of one node; `group` indexes names() and velocities().
   struct Component {

@@ -57,7 +57,8 @@ class Simulation {
     // Particles, their stencils, strips and scatter order; one node record per node.
     const std::size_t particle = ParticleSet<Dim>::bytes_per_particle() + sizeof(Stencil<Dim, Kernel>) +
                                  2 * sizeof(std::int32_t) + (body_force ? sizeof(Vec<Dim>) : 0);
-    return {static_cast<double>(particle), static_cast<double>(sizeof(GridNode<Dim>))};
+    // A node's mirror copies (1 B) when light nodes are re-projected.
+    return {static_cast<double>(particle), static_cast<double>(sizeof(GridNode<Dim>) + sizeof(std::uint8_t))};
   }
 
  private:
@@ -84,6 +85,7 @@ class Simulation {
   Real min_node_mass_;
   /// Nodes with less mass get the re-projected velocity for positions and gradients (USL, CD); 0: none.
   Real light_node_mass_ = 0;
+  std::vector<std::uint8_t> mirror_copies_;  ///< per node, with light nodes: KinematicConstraints::count_mirror_copies
   std::vector<StencilT> stencils_;
   std::vector<std::int32_t> strip_;
   /// The stencils match the particles' positions (the last moving G2P pass computed them), and whether a

@@ -128,25 +128,30 @@ void grid_update(Grid<Dim>& grid, const Vec<Dim>& gravity, Real dt, Real scale, 
                [&](std::ptrdiff_t n) { node_update(grid.nodes[n], gravity, dt, scale, min_mass); });
 }
 
-/// A node that carries mass, but less than `light_mass`.
+/// grid_velocity then grid_update, in one pass over the nodes.
 template <int Dim>
-inline bool light(const GridNode<Dim>& node, Real min_mass, Real light_mass) {
-  return node.m > min_mass && node.m < light_mass;
+void grid_velocity_update(Grid<Dim>& grid, const Vec<Dim>& gravity, Real dt, Real scale, Real min_mass) {
+  parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) {
+    node_velocity(grid.nodes[n], min_mass);
+    node_update(grid.nodes[n], gravity, dt, scale, min_mass);
+  });
 }
 
-/// grid_velocity then grid_update, in one pass over the nodes. Returns whether a node is light (see light()).
+/// A node that carries mass, but less than `light_mass` once its mirror images are counted (`copies`, see
+/// KinematicConstraints::count_mirror_copies).
 template <int Dim>
-bool grid_velocity_update(Grid<Dim>& grid, const Vec<Dim>& gravity, Real dt, Real scale, Real min_mass,
-                          Real light_mass = 0) {
-  bool any_light = false;
-#pragma omp parallel for schedule(static) reduction(|| : any_light)
-  for (std::ptrdiff_t n = 0; n < static_cast<std::ptrdiff_t>(grid.size()); ++n) {
-    GridNode<Dim>& node = grid.nodes[n];
-    any_light = any_light || light(node, min_mass, light_mass);
-    node_velocity(node, min_mass);
-    node_update(node, gravity, dt, scale, min_mass);
-  }
-  return any_light;
+inline bool light(const GridNode<Dim>& node, std::uint8_t copies, Real min_mass, Real light_mass) {
+  return node.m > min_mass && node.m * copies < light_mass;
+}
+
+/// Whether any node is light.
+template <int Dim>
+bool any_light(const Grid<Dim>& grid, const std::vector<std::uint8_t>& copies, Real min_mass, Real light_mass) {
+  bool found = false;
+#pragma omp parallel for schedule(static) reduction(|| : found)
+  for (std::ptrdiff_t n = 0; n < static_cast<std::ptrdiff_t>(grid.size()); ++n)
+    found = found || light(grid.nodes[n], copies[n], min_mass, light_mass);
+  return found;
 }
 
 /// On light nodes, the velocity that moves the particles and deforms them becomes the re-projected one:
@@ -154,10 +159,11 @@ bool grid_velocity_update(Grid<Dim>& grid, const Vec<Dim>& gravity, Real dt, Rea
 /// Wallstedt & Guilkey 2008, Eq. (51) at these nodes only). A mass-weighted mean of particle velocities, it
 /// stays bounded however small m_i is.
 template <int Dim>
-void reprojected_on_light_nodes(Grid<Dim>& grid, Real min_mass, Real light_mass) {
+void reprojected_on_light_nodes(Grid<Dim>& grid, const std::vector<std::uint8_t>& copies, Real min_mass,
+                                Real light_mass) {
   parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) {
     GridNode<Dim>& node = grid.nodes[n];
-    if (light(node, min_mass, light_mass)) node.v_new = node.v;
+    if (light(node, copies[n], min_mass, light_mass)) node.v_new = node.v;
   });
 }
 
