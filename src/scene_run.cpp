@@ -21,6 +21,8 @@
 #include "mpm/scene/budget.hpp"
 #include "mpm/io/vtk.hpp"
 #include "progress.hpp"
+#include "scene_checkpoint.hpp"
+#include "scene_frame.hpp"
 #include "scene_engines.hpp"
 #include "mpm/verification/error_norms.hpp"
 
@@ -29,20 +31,6 @@ namespace mpm {
 namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-using scene_engines::flat;
-using scene_engines::unflat;
-
-/// The scene's [check] block as an exact solution for ErrorNorms.
-template <int Dim>
-struct ExactFromScene {
-  const std::vector<ExpressionPtr>* u;
-  Vec<Dim> displacement(const Vec<Dim>& X, Real t) const {
-    double vars[Dim + 1];
-    for (int d = 0; d < Dim; ++d) vars[d] = X[d];
-    vars[Dim] = t;
-    return evaluate<Vec<Dim>>(*u, vars);
-  }
-};
 
 /// Energies and momentum of the particles: kinetic 1/2 m v^2 and the engine's strain (or internal) energy.
 template <int Dim>
@@ -57,7 +45,8 @@ class SceneRun {
   SceneRun(const Scene& sc, const RunOptions& o) : sc_(sc), o_(o), engine_(sc), sim_(engine_.sim()) {
     if (o.restart.empty()) return;
     try {
-      restore(io::read_checkpoint(o.restart));
+      scene_checkpoint::restore<Dim>(io::read_checkpoint(o.restart), engine_, acc_, "--restart " + o.restart.string());
+      previous_time_ = sim_.time();
     } catch (const InputError& e) {  // name the option: "checkpoint FILE: not an HDF5 file" alone is unclear
       const std::string what = e.what();
       throw InputError(what.rfind("--restart", 0) == 0 ? what : "--restart: " + what);
@@ -90,7 +79,7 @@ class SceneRun {
           in_step_ = false;
           compute_seconds_ += std::chrono::duration<double>(Clock::now() - step_start).count();
           account_work();
-          if (has_check()) error_.record(sim_.particles(), sim_.time(), ExactFromScene<Dim>{&sc_.exact_displacement});
+          if (has_check()) acc_.error.record(sim_.particles(), sim_.time(), ExactFromScene<Dim>{&sc_.exact_displacement});
           write_history_row();
           if (sc_.output_every > 0 && sim_.time() >= next_output_time() * (1 - 1e-12)) write_frame();
           if (o_.checkpoint_every > 0 && sim_.steps() % o_.checkpoint_every == 0) write_checkpoint();
@@ -110,7 +99,7 @@ class SceneRun {
       signal = failure.empty() && unfinished ? interrupt_requested() : 0;
       stopped = failure.empty() && unfinished && !signal;
       if (failure.empty()) {
-        if (!unfinished && (frames_ == 0 || last_frame_time_ < sim_.time())) write_frame();
+        if (!unfinished && (acc_.frames == 0 || acc_.last_frame_time < sim_.time())) write_frame();
         if (o_.checkpoint_every > 0 || unfinished) write_checkpoint();
       }
       flush_history();
@@ -138,7 +127,7 @@ class SceneRun {
 
  private:
   bool has_check() const { return !sc_.exact_displacement.empty(); }
-  Real next_output_time() const { return static_cast<Real>(frames_) * sc_.output_every; }
+  Real next_output_time() const { return static_cast<Real>(acc_.frames) * sc_.output_every; }
 
   /// Create the output folder; a fresh run clears the outputs of an earlier one, a restart keeps what came
   /// before its checkpoint.
@@ -162,7 +151,7 @@ class SceneRun {
       write_history_header();
     } else {
       series_ = fs::exists(pvd) ? io::PvdSeries::resume(pvd, sim_.time()) : io::PvdSeries(pvd);
-      frames_ = static_cast<std::int64_t>(series_.entries().size());
+      acc_.frames = static_cast<std::int64_t>(series_.entries().size());
       keep_history_until(sim_.steps());
     }
     history_.precision(17);
@@ -196,7 +185,7 @@ class SceneRun {
   void write_history_row() {
     const Totals<Dim> t = totals();
     history_ << sim_.steps() << ',' << sim_.time() << ',' << t.kinetic << ',' << t.strain << ','
-             << t.kinetic + t.strain << ',' << external_work_;
+             << t.kinetic + t.strain << ',' << acc_.external_work;
     for (int d = 0; d < Dim; ++d) history_ << ',' << t.momentum[d];
     for (const Vec<Dim>& r : engine_.reactions())
       for (int d = 0; d < Dim; ++d) history_ << ',' << r[d];
@@ -227,49 +216,19 @@ class SceneRun {
     const std::vector<Vec<Dim>> walls = engine_.reaction_velocities(sim_.time());
     const std::vector<Vec<Dim>> reactions = engine_.reactions();
     for (std::size_t g = 0; g < walls.size(); ++g) power += reactions[g].dot(walls[g]);
-    external_work_ += dt * power;
+    acc_.external_work += dt * power;
   }
 
   void write_frame() {
-    const ParticleSet<Dim>& p = sim_.particles();
-    const std::size_t n = p.size();
-    std::vector<double> points(3 * n, 0.0);
-    io::PointField velocity{"velocity", 3, std::vector<double>(3 * n, 0.0)};
-    io::PointField displacement{"displacement", 3, std::vector<double>(3 * n, 0.0)};
-    io::PointField stress{"stress", 6, std::vector<double>(6 * n, 0.0)};
-    io::PointField deformation{"F", 9, std::vector<double>(9 * n, 0.0)};
-    io::PointField J{"J", 1, {}}, volume{"volume", 1, {}}, mass{"mass", 1, {}}, material{"material", 1, {}};
-    io::PointField error{"error", 1, {}};
-    for (std::size_t i = 0; i < n; ++i) {
-      const Real Ji = p.F[i].determinant();
-      for (int d = 0; d < Dim; ++d) {
-        points[3 * i + d] = p.x[i][d];
-        velocity.values[3 * i + d] = p.v[i][d];
-        displacement.values[3 * i + d] = p.x[i][d] - p.X[i][d];
-      }
-      engine_.stress(i, &stress.values[6 * i]);
-      for (int a = 0; a < 3; ++a)
-        for (int c = 0; c < 3; ++c)
-          deformation.values[9 * i + 3 * a + c] = (a < Dim && c < Dim) ? p.F[i](a, c) : (a == c ? 1.0 : 0.0);
-      J.values.push_back(Ji);
-      volume.values.push_back(p.V[i]);
-      mass.values.push_back(p.m[i]);
-      material.values.push_back(p.material[i]);
-      if (has_check())
-        error.values.push_back(
-            ((p.x[i] - p.X[i]) - ExactFromScene<Dim>{&sc_.exact_displacement}.displacement(p.X[i], sim_.time())).norm());
-    }
+    std::vector<double> points;
     std::vector<io::PointField> fields;
-    for (io::PointField* f : {&velocity, &displacement, &stress, &deformation, &J, &volume, &mass, &material})
-      fields.push_back(std::move(*f));
-    if (has_check()) fields.push_back(std::move(error));
-    engine_.add_fields(fields);
+    frame_fields<Dim>(engine_, sc_.exact_displacement, sim_.time(), points, fields);
     std::ostringstream name;
-    name << "particles_" << std::setw(4) << std::setfill('0') << frames_ << ".vtp";
+    name << "particles_" << std::setw(4) << std::setfill('0') << acc_.frames << ".vtp";
     io::write_vtp(o_.out_dir / name.str(), points, fields);
     series_.add(sim_.time(), name.str());
-    ++frames_;
-    last_frame_time_ = sim_.time();
+    ++acc_.frames;
+    acc_.last_frame_time = sim_.time();
   }
 
   void write_summary(const std::string& failure, const char* status, double wall, int signal = 0) {
@@ -286,7 +245,7 @@ class SceneRun {
                      {"wall_seconds", wall},
                      {"compute_seconds", compute_seconds_},
                      {"particles", sim_.particles().size()},
-                     {"frames", frames_},
+                     {"frames", acc_.frames},
                      {"threads", num_threads()},
                      {"memory", {{"estimated_bytes", estimate_budget(sc_).memory_bytes},
                                  {"peak_bytes", 1024.0 * static_cast<double>(usage.ru_maxrss)}}}};
@@ -295,59 +254,16 @@ class SceneRun {
     engine_.summarize(j);
     if (!o_.restart.empty()) j["restarted_from"] = o_.restart.string();
     if (has_check())
-      j["error"] = {{"linf", failure.empty() ? error_.linf : 1.0}, {"l1", error_.l1()}, {"l2", error_.l2()}};
+      j["error"] = {{"linf", failure.empty() ? acc_.error.linf : 1.0}, {"l1", acc_.error.l1()}, {"l2", acc_.error.l2()}};
     if (failure.empty()) {  // after a failure the particle state is not valid: no energies from it
       const Totals<Dim> t = totals();
-      j["energy"] = {{"kinetic", t.kinetic}, {"strain", t.strain}, {"external_work", external_work_}};
+      j["energy"] = {{"kinetic", t.kinetic}, {"strain", t.strain}, {"external_work", acc_.external_work}};
     }
     io::write_file_atomically(o_.out_dir / "summary.json", j.dump(2) + '\n');
   }
 
-  // Checkpoints: the particle arrays, the clock and the run's accumulators, bit for bit.
   void write_checkpoint() {
-    const ParticleSet<Dim>& p = sim_.particles();
-    io::CheckpointData c;
-    c.texts["scene"] = sc_.text;
-    c.integer_scalars = {{"dim", Dim}, {"particles", static_cast<std::int64_t>(p.size())}, {"steps", sim_.steps()},
-                         {"frames", frames_}, {"error_samples", error_.samples}};
-    c.real_scalars = {{"time", sim_.time()}, {"external_work", external_work_}, {"last_frame_time", last_frame_time_},
-                      {"error_linf", error_.linf}, {"error_sum", error_.sum}, {"error_sum_sq", error_.sum_sq}};
-    c.reals = {{"x", flat(p.x)}, {"X", flat(p.X)}, {"v", flat(p.v)}, {"F", flat(p.F)}, {"m", p.m}, {"V0", p.V0},
-               {"l0", flat(p.l0)}, {"l", flat(p.l)}};
-    c.integers["material"] = std::vector<std::int64_t>(p.material.begin(), p.material.end());
-    engine_.save(c);
-    io::write_checkpoint(o_.out_dir / "checkpoint.h5", c);
-  }
-
-  void restore(const io::CheckpointData& c) {
-    const std::string where = "--restart " + o_.restart.string();
-    auto scalar = [&](const auto& map, const std::string& key) -> const auto& {
-      auto it = map.find(key);
-      if (it == map.end()) throw InputError(where + ": not a checkpoint of a scene run (no '" + key + "')");
-      return it->second;
-    };
-    ParticleSet<Dim>& p = sim_.particles();
-    if (scalar(c.integer_scalars, "dim") != Dim || scalar(c.integer_scalars, "particles") != static_cast<std::int64_t>(p.size()))
-      throw InputError(where + ": the checkpoint holds a different scene (dimension or particle count differ)");
-    auto array = [&](const std::string& key) -> const std::vector<double>& { return scalar(c.reals, key); };
-    unflat(array("x"), p.x, "x");
-    unflat(array("X"), p.X, "X");
-    unflat(array("v"), p.v, "v");
-    unflat(array("F"), p.F, "F");
-    unflat(array("l0"), p.l0, "l0");
-    unflat(array("l"), p.l, "l");
-    p.m = array("m");
-    p.V0 = array("V0");
-    const std::vector<std::int64_t>& mat = scalar(c.integers, "material");
-    for (std::size_t i = 0; i < p.size(); ++i) p.material[i] = static_cast<std::uint16_t>(mat.at(i));
-    engine_.load(c, where);
-    previous_time_ = sim_.time();
-    external_work_ = scalar(c.real_scalars, "external_work");
-    last_frame_time_ = scalar(c.real_scalars, "last_frame_time");
-    error_.linf = scalar(c.real_scalars, "error_linf");
-    error_.sum = scalar(c.real_scalars, "error_sum");
-    error_.sum_sq = scalar(c.real_scalars, "error_sum_sq");
-    error_.samples = scalar(c.integer_scalars, "error_samples");
+    io::write_checkpoint(o_.out_dir / "checkpoint.h5", scene_checkpoint::save<Dim>(sc_, engine_, acc_));
   }
 
   Totals<Dim> totals() const {
@@ -367,14 +283,11 @@ class SceneRun {
   decltype(engine_.sim())& sim_;
   io::PvdSeries series_{""};
   std::ofstream history_;
-  std::int64_t frames_ = 0;
-  Real last_frame_time_ = -1;
+  scene_checkpoint::Accumulators acc_;  // what a checkpoint carries beside the particles
   Real previous_time_ = 0;
-  Real external_work_ = 0;
   std::vector<Vec<Dim>> v_before_;  // particle velocities before the step, for the work of the loads
   bool in_step_ = false;             // inside sim_.step(): a failure there may leave the particles half-updated
   double compute_seconds_ = 0;  // inside the time steps, outputs excluded (this run only, not since t = 0)
-  ErrorNorms error_;
 };
 
 template <int Dim>

@@ -1,0 +1,64 @@
+#pragma once
+// The particle fields of one ParaView frame of a scene run (particles_NNNN.vtp).
+#include <vector>
+
+#include "mpm/io/vtk.hpp"
+#include "mpm/scene/expression.hpp"
+#include "mpm/particles/particles.hpp"
+
+namespace mpm {
+
+/// The scene's [check] block as an exact solution for ErrorNorms.
+template <int Dim>
+struct ExactFromScene {
+  const std::vector<ExpressionPtr>* u;
+  Vec<Dim> displacement(const Vec<Dim>& X, Real t) const {
+    double vars[Dim + 1];
+    for (int d = 0; d < Dim; ++d) vars[d] = X[d];
+    vars[Dim] = t;
+    return evaluate<Vec<Dim>>(*u, vars);
+  }
+};
+
+/// Points (3 coordinates each) and fields of the engine's particles at time t: velocity, displacement, Cauchy
+/// stress (xx yy zz xy xz yz), F (3 x 3), J, volume, mass, material, the [check] error |u - u_exact| when `exact`
+/// is given, and the engine's own fields.
+template <int Dim, class Engine>
+void frame_fields(const Engine& engine, const std::vector<ExpressionPtr>& exact, Real t, std::vector<double>& points,
+                  std::vector<io::PointField>& fields) {
+  const ParticleSet<Dim>& p = engine.sim().particles();
+  const std::size_t n = p.size();
+  points.assign(3 * n, 0.0);
+  io::PointField velocity{"velocity", 3, std::vector<double>(3 * n, 0.0)};
+  io::PointField displacement{"displacement", 3, std::vector<double>(3 * n, 0.0)};
+  io::PointField stress{"stress", 6, std::vector<double>(6 * n, 0.0)};
+  io::PointField deformation{"F", 9, std::vector<double>(9 * n, 0.0)};
+  io::PointField J{"J", 1, {}}, volume{"volume", 1, {}}, mass{"mass", 1, {}}, material{"material", 1, {}};
+  io::PointField error{"error", 1, {}};
+  for (io::PointField* f : {&J, &volume, &mass, &material, &error}) f->values.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Real Ji = p.F[i].determinant();
+    for (int d = 0; d < Dim; ++d) {
+      points[3 * i + d] = p.x[i][d];
+      velocity.values[3 * i + d] = p.v[i][d];
+      displacement.values[3 * i + d] = p.x[i][d] - p.X[i][d];
+    }
+    engine.stress(i, &stress.values[6 * i]);
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c)
+        deformation.values[9 * i + 3 * a + c] = (a < Dim && c < Dim) ? p.F[i](a, c) : (a == c ? 1.0 : 0.0);
+    J.values.push_back(Ji);
+    volume.values.push_back(p.V[i]);
+    mass.values.push_back(p.m[i]);
+    material.values.push_back(p.material[i]);
+    if (!exact.empty())
+      error.values.push_back(((p.x[i] - p.X[i]) - ExactFromScene<Dim>{&exact}.displacement(p.X[i], t)).norm());
+  }
+  fields.clear();
+  for (io::PointField* f : {&velocity, &displacement, &stress, &deformation, &J, &volume, &mass, &material})
+    fields.push_back(std::move(*f));
+  if (!exact.empty()) fields.push_back(std::move(error));
+  engine.add_fields(fields);
+}
+
+}  // namespace mpm
