@@ -17,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "block_scene.hpp"
 #include "mpm/io/checkpoint.hpp"
 #include "mpm/materials/neo_hookean.hpp"
 #include "mpm/verification/axis_aligned.hpp"
@@ -108,27 +109,7 @@ TEST(SceneRun, ProcessKilledWhileCheckpointingLeavesARestartableCheckpoint) {
   // A block large enough (129,600 particles, a ~19 MB checkpoint) that writes take a while; one checkpoint per
   // step, so most of the run is spent writing them. Kill while a temporary file exists: a write is under way.
   const fs::path dir = scratch("kill");
-  std::ofstream(dir / "scene.toml") << R"([simulation]
-end_time = 2e-3
-cfl = 0.5
-integrator = "usl"
-kernel = "linear"
-[grid]
-lo = [0.0, 0.0]
-hi = [1.0, 1.0]
-cells = [300, 300]
-faces = { y-min = "fixed" }
-[[materials]]
-name = "m"
-E = 1e6
-nu = 0.3
-density = 1000
-[[bodies]]
-shape = "box"
-lo = [0.2, 0.0]
-hi = [0.8, 0.6]
-velocity = [0.0, "-0.1 * y"]
-)";
+  std::ofstream(dir / "scene.toml") << mpm::testing::block_scene("2e-3");
   const fs::path out = dir / "out";
   const pid_t pid = fork();
   if (pid == 0) {
