@@ -216,8 +216,10 @@ template <int R, std::size_t Nodes>
 /// floor(v) for v > -16, without a libm call on baseline x86-64. Grid coordinates of particles inside the
 /// grid are >= -1. Rounding in v + 16 can only overshoot by one (just below an integer), which the comparison
 /// corrects.
-/// A coordinate outside [-16, 2^30] (a particle far off the grid, or NaN, which maps to 2^30) is clamped first,
-/// so that the conversion to int is defined; the run's failure check then reports the particle.
+/// The scalar overload clamps a coordinate outside [-16, 2^30] (a particle far off the grid, or NaN, which maps to
+/// 2^30) first, so that its conversion to int is defined. The lanes overload subtracts in unsigned arithmetic, so
+/// that a non-finite lane (converted to INT64_MIN by the instruction) wraps instead of overflowing; its index is
+/// never used, because the G2P pass that moved the particle reports it before the next transfer.
 inline constexpr Real floor_index_limit = 1 << 30;
 inline int floor_index(Real v) {
   const Real c = v < floor_index_limit ? (v > -16 ? v : -16) : floor_index_limit;
@@ -225,10 +227,9 @@ inline int floor_index(Real v) {
   return b - (c < b);
 }
 inline IntLanes floor_index(const RealLanes& v) {
-  const RealLanes low = broadcast(-16), high = broadcast(floor_index_limit);
-  const RealLanes c = v < high ? (v > low ? v : low) : high;
-  const IntLanes b = __builtin_convertvector(c + 16, IntLanes) - 16;
-  return b + (c < __builtin_convertvector(b, RealLanes));  // true is -1
+  using Unsigned = std::uint64_t __attribute__((vector_size(sizeof(IntLanes))));
+  const IntLanes b = (IntLanes)((Unsigned)__builtin_convertvector(v + 16, IntLanes) - 16);
+  return b + (v < __builtin_convertvector(b, RealLanes));  // true is -1
 }
 
 /// An index as a Real, for one value or lanes.
