@@ -54,7 +54,7 @@ class SceneRun {
   }
 
   int run() {
-    std::cout << describe(estimate_budget(sc_)) << std::endl;
+    std::cout << describe(budget_) << std::endl;
     if (o_.dry_run) return 0;
     const auto wall_start = Clock::now();
     const InterruptHandlers handlers;
@@ -91,7 +91,7 @@ class SceneRun {
         if (Engine::failure_keeps_state) write_checkpoint();
       } catch (const std::bad_alloc&) {
         failure = "out of memory at step " + std::to_string(sim_.steps() + 1) + " (estimated need " +
-                  std::to_string(estimate_budget(sc_).memory_bytes / 1e6) + " MB)";
+                  std::to_string(budget_.memory_bytes / 1e6) + " MB)";
         // Steps of the explicit engine allocate nothing: memory ran out in the outputs, after a good step.
         if (!in_step_ || Engine::failure_keeps_state) write_checkpoint();
       }
@@ -247,7 +247,7 @@ class SceneRun {
                      {"particles", sim_.particles().size()},
                      {"frames", acc_.frames},
                      {"threads", num_threads()},
-                     {"memory", {{"estimated_bytes", estimate_budget(sc_).memory_bytes},
+                     {"memory", {{"estimated_bytes", budget_.memory_bytes},
                                  {"peak_bytes", 1024.0 * static_cast<double>(usage.ru_maxrss)}}}};
     if (!failure.empty()) j["failure"] = failure;
     if (signal) j["signal"] = signal_name(signal);
@@ -279,6 +279,7 @@ class SceneRun {
 
   const Scene& sc_;
   const RunOptions& o_;
+  const Budget budget_ = estimate_budget(sc_);
   Engine engine_;
   decltype(engine_.sim())& sim_;
   io::PvdSeries series_{""};

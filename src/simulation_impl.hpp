@@ -160,10 +160,7 @@ void Simulation<Dim, Kernel>::step_usl(Real dt, Real accel_scale) {
   }
   // Light nodes: move and deform the particles with the velocity re-projected from their updated velocities there.
   gather<Gather{.velocity = true, .position = false, .deformation = false}>(&GridNode<Dim>::v_new, dt);
-  p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils_, order_, body_accel_, grid_);
-  constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
-  grid_velocity(grid_, min_node_mass_);
-  constraints_.constrain_velocity(grid_, &GridNode<Dim>::v, time_ + dt);
+  reproject_velocity(time_ + dt);
   reprojected_on_light_nodes(grid_, mirror_copies_, min_node_mass_, light_node_mass_);
   gather<Gather{.velocity = false, .position = true, .deformation = true}>(&GridNode<Dim>::v_new, dt);
 }
@@ -179,11 +176,18 @@ void Simulation<Dim, Kernel>::step_musl(Real dt, Real accel_scale) {
   grid_velocity_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
   constraints_.constrain_update(grid_, time_ + dt, dt);
   gather<Gather{.velocity = true, .position = false, .deformation = false}>(&GridNode<Dim>::v_new, dt);
+  reproject_velocity(time_ + dt);
+  gather<Gather{.velocity = false, .position = true, .deformation = true}>(&GridNode<Dim>::v, dt);
+}
+
+// The grid velocity v re-projected from the updated particle velocities, constrained at t_new (Wallstedt &
+// Guilkey 2008, Eq. (51)); the particles have not moved, so the nodal masses are those of the step.
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::reproject_velocity(Real t_new) {
   p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils_, order_, body_accel_, grid_);
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   grid_velocity(grid_, min_node_mass_);
-  constraints_.constrain_velocity(grid_, &GridNode<Dim>::v, time_ + dt);
-  gather<Gather{.velocity = false, .position = true, .deformation = true}>(&GridNode<Dim>::v, dt);
+  constraints_.constrain_velocity(grid_, &GridNode<Dim>::v, t_new);
 }
 
 template <int Dim, class Kernel>

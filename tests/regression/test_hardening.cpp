@@ -16,7 +16,7 @@
 #include <string>
 #include <thread>
 
-#include "block_scene.hpp"
+#include "support.hpp"
 #include "mpm/io/checkpoint.hpp"
 
 namespace {
@@ -25,19 +25,10 @@ namespace fs = std::filesystem;
 const fs::path source_dir = fs::path(__FILE__).parent_path().parent_path().parent_path();
 const std::string disks = (source_dir / "examples/colliding-disks/scene.toml").string();
 
-std::string slurp(const fs::path& f) {
-  std::ifstream is(f, std::ios::binary);
-  std::stringstream ss;
-  ss << is.rdbuf();
-  return ss.str();
-}
+using mpm::testing::slurp;
 
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("mpm_hardening_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+/// A fresh temporary folder per test.
+fs::path scratch(const std::string& name) { return mpm::testing::scratch("mpm_hardening", name); }
 
 struct Outcome {
   int status;
@@ -54,7 +45,7 @@ Outcome mpm(const std::string& args, const fs::path& dir, const std::string& pre
 
 int lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
-// The 129,600-particle block of block_scene.hpp, with `extra` appended, written as a scene file.
+// The 129,600-particle block of support.hpp, with `extra` appended, written as a scene file.
 fs::path block_scene(const fs::path& dir, const std::string& extra = "") {
   std::ofstream(dir / "block.toml") << mpm::testing::block_scene("4e-3") << extra;
   return dir / "block.toml";

@@ -17,7 +17,7 @@
 #include <thread>
 #include <vector>
 
-#include "block_scene.hpp"
+#include "support.hpp"
 #include "mpm/io/checkpoint.hpp"
 #include "mpm/materials/neo_hookean.hpp"
 #include "mpm/verification/axis_aligned.hpp"
@@ -27,20 +27,10 @@ namespace fs = std::filesystem;
 
 const fs::path source_dir = fs::path(__FILE__).parent_path().parent_path().parent_path();
 
-std::string slurp(const fs::path& f) {
-  std::ifstream is(f, std::ios::binary);
-  std::stringstream ss;
-  ss << is.rdbuf();
-  return ss.str();
-}
+using mpm::testing::slurp;
 
 /// A fresh temporary folder per test.
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("mpm_scene_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path scratch(const std::string& name) { return mpm::testing::scratch("mpm_scene", name); }
 
 int run(const std::string& args, const fs::path& log) {
   const std::string cmd = std::string(MPM_BINARY) + " run " + args + " >" + log.string() + " 2>&1";

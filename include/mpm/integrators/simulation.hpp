@@ -68,6 +68,7 @@ class Simulation {
   void step_usf(Real dt);
   void step_usl(Real dt, Real accel_scale);
   void step_musl(Real dt, Real accel_scale);
+  void reproject_velocity(Real t_new);
 
   // Stages shared by the integrators.
   void build_stencils();
