@@ -9,27 +9,10 @@
 
 #include "mpm/implicit/simulation.hpp"
 #include "implicit_tangent_impl.hpp"
+#include "mpm/materials/rate_step.hpp"
 
 namespace mpm {
 
-namespace implicit_detail {
-using Mat3 = Eigen::Matrix3d;
-
-inline Mat3 full(const SymTensor<3>& s) { return s.full(); }
-inline SymTensor<3> packed(const Mat3& m) {
-  SymTensor<3> s;
-  for (int a = 0; a < 3; ++a)
-    for (int b = a; b < 3; ++b) s(a, b) = m(a, b);
-  return s;
-}
-/// Embed a Dim x Dim tensor in the upper-left of a 3 x 3 one.
-template <int Dim>
-Mat3 embed(const Mat<Dim>& m) {
-  Mat3 out = Mat3::Zero();
-  out.template topLeftCorner<Dim, Dim>() = m;
-  return out;
-}
-}  // namespace implicit_detail
 
 /// The discrete momentum equation of one step as a NonlinearProblem over the free nodal unknowns.
 template <int Dim, class Kernel>
@@ -60,11 +43,12 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
       particles_(std::move(particles)),
       grid_(GridGeometry<Dim>{spec.grid_lo, spec.h, spec.cells, Kernel::ghost}),
       constraints_(spec.boundary, grid_.geometry),
-      layout_(grid_.geometry) {
+      layout_(grid_.geometry),
+      rigid_(spec.rigid_bodies, grid_.geometry) {
   ParticleSet<Dim>& p = particles_;
   const GridGeometry<Dim>& g = grid_.geometry;
   if (p.size() == 0) throw InputError("particles: the simulation has no particles");
-  state_.resize(p.size());
+  p.state.resize(p.size());
   const bool axisymmetric = Dim == 2 && spec_.geometry == Geometry::axisymmetric;
   Real min_mass = std::numeric_limits<Real>::max();
   for (std::size_t i = 0; i < p.size(); ++i) {
@@ -84,12 +68,6 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
   }
   min_node_mass_ = 1e-14 * min_mass;
   for (const ElastoPlastic& m : spec_.materials) modulus_ = std::max(modulus_, m.E);
-  for (const RigidBody<Dim>& body : spec_.rigid_bodies)
-    for (const Vec<Dim>& x : body.points)
-      if (!g.contains(x)) throw InputError("rigid body '" + body.name + "': a point lies outside the grid");
-  rigid_stencils_.resize(spec_.rigid_bodies.size());
-  rigid_displacement_.assign(spec_.rigid_bodies.size(), Vec<Dim>::Zero());
-  rigid_reactions_.assign(spec_.rigid_bodies.size(), Vec<Dim>::Zero());
   face_reactions_.assign(constraints_.names().size(), Vec<Dim>::Zero());
   mirrored_.assign(grid_.size(), 0);
   constraints_.mark_mirrored(mirrored_);
@@ -124,7 +102,7 @@ void ImplicitSimulation<Dim, Kernel>::restore(Real time, std::int64_t steps, Rea
   steps_ = steps;
   dt_ = dt;
   counters_ = counters;
-  rigid_displacement_ = rigid_displacement;
+  rigid_.restore(rigid_displacement);
 }
 
 template <int Dim, class Kernel>
@@ -263,19 +241,12 @@ void ImplicitSimulation<Dim, Kernel>::project(Real dt) {
     node.v = node.m > min_node_mass_ ? Vec<Dim>(node.v / node.m) : Vec<Dim>::Zero();
     f_ext_[n] = node.m * spec_.gravity;
   });
-  scatter_force(state_.sigma, f_k_);
-  for (std::size_t b = 0; b < spec_.rigid_bodies.size(); ++b) {
-    const RigidBody<Dim>& body = spec_.rigid_bodies[b];
-    rigid_stencils_[b].clear();
-    for (const Vec<Dim>& x0 : body.points) {
-      const Vec<Dim> x = x0 + rigid_displacement_[b];
-      if (!grid_.geometry.contains(x)) {
-        std::ostringstream os;
-        os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": rigid body '" << body.name << "' left the grid";
-        throw SimulationFailure(os.str());
-      }
-      rigid_stencils_[b].push_back(make_stencil<Dim, Kernel>(grid_.geometry, layout_, x, body.half_length));
-    }
+  scatter_force(particles_.state.sigma, f_k_);
+  if (!rigid_.empty()) {
+    std::ostringstream when;
+    when.precision(9);
+    when << "step " << steps_ + 1 << ", t = " << time_ + dt;
+    rigid_.template locate<Kernel>(grid_.geometry, when.str());
   }
 }
 
@@ -292,17 +263,14 @@ void ImplicitSimulation<Dim, Kernel>::build_dofs(Real t_new) {
     value[c.node * Dim + c.component] = face_velocity[c.group][c.component];
   }
   const int groups = static_cast<int>(face_velocity.size());
-  for (std::size_t b = 0; b < spec_.rigid_bodies.size(); ++b) {
-    const Vec<Dim> v = spec_.rigid_bodies[b].velocity(t_new);
-    for (const StencilT& s : rigid_stencils_[b])
-      for_each_node(s, layout_, [&](std::int32_t n, Real S, const Vec<Dim>&) {
-        if (S <= 0) return;
-        for (int c = 0; c < Dim; ++c) {
-          if (!spec_.rigid_bodies[b].imposes[c]) continue;
-          owner[n * Dim + c] = groups + static_cast<int>(b);
-          value[n * Dim + c] = v[c];
-        }
-      });
+  for (std::size_t b = 0; b < rigid_.size(); ++b) {
+    const Vec<Dim> v = rigid_.bodies()[b].velocity(t_new);
+    for (std::int32_t n : rigid_.nodes(b))
+      for (int c = 0; c < Dim; ++c) {
+        if (!rigid_.bodies()[b].imposes[c]) continue;
+        owner[n * Dim + c] = groups + static_cast<int>(b);
+        value[n * Dim + c] = v[c];
+      }
   }
   dof_node_.clear();
   dof_comp_.clear();
@@ -397,7 +365,6 @@ void ImplicitSimulation<Dim, Kernel>::node_velocity_from(const Eigen::VectorXd& 
 // divided by Y h^Dim dt (Sec. 3.2.2). The stress follows from the strain increments of v^L (Eqs 2.2.18-2.2.21).
 template <int Dim, class Kernel>
 bool ImplicitSimulation<Dim, Kernel>::evaluate(const Eigen::VectorXd& x, Real dt, Eigen::VectorXd& r) {
-  using namespace implicit_detail;
   last_x_ = x;
   node_velocity_from(x);
   const ParticleSet<Dim>& p = particles_;
@@ -411,7 +378,6 @@ bool ImplicitSimulation<Dim, Kernel>::evaluate(const Eigen::VectorXd& x, Real dt
   t.grad_v.resize(np);
   t.ok.resize(np);
   const Geometry geometry = Dim == 2 ? spec_.geometry : Geometry::plane_strain;
-  const OutOfPlane mode = geometry == Geometry::plane_stress ? OutOfPlane::plane_stress : OutOfPlane::given;
   parallel_for(static_cast<std::ptrdiff_t>(np), [&](std::ptrdiff_t i) {
     Mat<Dim> L = Mat<Dim>::Zero();
     Real v_r = 0;
@@ -419,23 +385,16 @@ bool ImplicitSimulation<Dim, Kernel>::evaluate(const Eigen::VectorXd& x, Real dt
       L += grid_.nodes[n].v_new * dS_ip.transpose();
       v_r += S_ip * grid_.nodes[n].v_new[0];
     });
-    // Strain and spin increments (Eqs 2.2.18-2.2.20); the hoop strain increment dt v_r / r in axisymmetry.
-    const Mat3 dL = embed<Dim>(dt * L);
-    Mat3 de = 0.5 * (dL + dL.transpose());
-    const Mat3 dW = 0.5 * (dL - dL.transpose());
-    if (geometry == Geometry::axisymmetric) de(2, 2) = dt * v_r / p.x[i][0];
     const ElastoPlastic& mat = spec_.materials[p.material[i]];
-    const StressUpdate u = update_stress(mat, full(state_.sigma[i]), state_.eps_bar[i], de, dW, mode);
-    de(2, 2) = u.d_eps_zz;
-    const Real stretch3 = geometry == Geometry::plane_strain ? 1.0 : state_.stretch3[i] * (1 + de(2, 2));
-    const Real J = (Mat<Dim>::Identity() + dt * L).determinant() * stretch3 / state_.stretch3[i];
-    t.ok[i] = J > 0 && stretch3 > 0 && u.sigma.allFinite();
-    t.sigma[i] = packed(u.sigma);
+    const MaterialState& state = p.state;
+    const RateStep u = rate_form_step<Dim>(mat, state.sigma[i], state.eps_bar[i], state.stretch3[i], p.V[i], dt * L,
+                                           geometry == Geometry::axisymmetric ? dt * v_r / p.x[i][0] : 0, geometry);
+    t.ok[i] = u.ok;
+    t.sigma[i] = u.sigma;
     t.eps_bar[i] = u.eps_bar;
-    t.work[i] = u.plastic_work * p.V[i];
-    // Internal energy increment with the mid-step stress (Eq. 2.2.16).
-    t.energy[i] = p.V[i] * (0.5 * (full(state_.sigma[i]) + u.sigma)).cwiseProduct(de).sum();
-    t.stretch3[i] = stretch3;
+    t.work[i] = u.work;
+    t.energy[i] = u.energy;
+    t.stretch3[i] = u.stretch3;
     t.grad_v[i] = L;
   });
   for (std::size_t i = 0; i < np; ++i)
@@ -462,14 +421,15 @@ template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::compute_reactions(Real dt) {
   const int groups = static_cast<int>(face_reactions_.size());
   for (Vec<Dim>& f : face_reactions_) f.setZero();
-  for (Vec<Dim>& f : rigid_reactions_) f.setZero();
+  std::vector<Vec<Dim>>& rigid_reactions = rigid_.reactions();
+  for (Vec<Dim>& f : rigid_reactions) f.setZero();
   const Real theta = spec_.theta;
   for (const Fixed& f : fixed_) {
     const GridNode<Dim>& node = grid_.nodes[f.node];
     const int c = f.component;
     const Real force = node.m * (f.value - node.v[c]) / dt -
                        ((1 - theta) * f_k_[f.node][c] + theta * f_trial_[f.node][c] + f_ext_[f.node][c]);
-    (f.owner < groups ? face_reactions_[f.owner] : rigid_reactions_[f.owner - groups])[c] += force;
+    (f.owner < groups ? face_reactions_[f.owner] : rigid_reactions[f.owner - groups])[c] += force;
   }
 }
 
@@ -506,18 +466,17 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
     p.v[i] = trial_.v[i];
     p.F[i] = (Mat<Dim>::Identity() + dt * trial_.grad_v[i]) * p.F[i];
     // The hoop stretch is r / R exactly; the plane-stress thickness stretch accumulates 1 + de_zz.
-    state_.stretch3[i] = axisymmetric ? p.x[i][0] / p.X[i][0] : trial_.stretch3[i];
-    p.V[i] = p.V0[i] * p.F[i].determinant() * state_.stretch3[i];
-    state_.sigma[i] = trial_.sigma[i];
-    state_.eps_bar[i] = trial_.eps_bar[i];
-    state_.energy[i] += trial_.energy[i];
+    particles_.state.stretch3[i] = axisymmetric ? p.x[i][0] / p.X[i][0] : trial_.stretch3[i];
+    p.V[i] = p.V0[i] * p.F[i].determinant() * particles_.state.stretch3[i];
+    particles_.state.sigma[i] = trial_.sigma[i];
+    particles_.state.eps_bar[i] = trial_.eps_bar[i];
+    particles_.state.energy[i] += trial_.energy[i];
     const ElastoPlastic& mat = spec_.materials[p.material[i]];
-    if (mat.specific_heat > 0) state_.temperature[i] += trial_.work[i] / (p.m[i] * mat.specific_heat);  // Eq. (2.3.5)
+    if (mat.specific_heat > 0) particles_.state.temperature[i] += trial_.work[i] / (p.m[i] * mat.specific_heat);  // Eq. (2.3.5)
     if (deformed_sizes)
       for (int d = 0; d < Dim; ++d) p.l[i][d] = p.l0[i][d] * p.F[i](d, d);
   });
-  for (std::size_t b = 0; b < spec_.rigid_bodies.size(); ++b)
-    rigid_displacement_[b] += dt * spec_.rigid_bodies[b].velocity(time_ + 0.5 * dt);
+  rigid_.advance(time_, dt);
 }
 
 }  // namespace mpm

@@ -68,8 +68,8 @@ bool ImplicitSimulation<Dim, Kernel>::factorise_tangent(const Eigen::VectorXd& x
       de(2, 2) = dt * v_r / p.x[i][0];
     }
     const ElastoPlastic& mat = spec_.materials[p.material[i]];
-    const Mat3 sigma_n = state_.sigma[i].full();
-    const Mat3 base = update_stress(mat, sigma_n, state_.eps_bar[i], de, dW, mode).sigma;
+    const Mat3 sigma_n = particles_.state.sigma[i].full();
+    const Mat3 base = update_stress(mat, sigma_n, particles_.state.eps_bar[i], de, dW, mode).sigma;
     // A step of 1e-7 of the strain increment (1e-13 at rest): a relative error near 1e-7 from truncation
     // and round-off alike, far below what a preconditioner needs.
     const Real delta = 1e-7 * std::max(de.cwiseAbs().maxCoeff(), 1e-6);
@@ -79,7 +79,7 @@ bool ImplicitSimulation<Dim, Kernel>::factorise_tangent(const Eigen::VectorXd& x
       de_k(a, b) += delta;
       if (a != b) de_k(b, a) += delta;
       T[static_cast<std::size_t>(i) * m + k] =
-          (update_stress(mat, sigma_n, state_.eps_bar[i], de_k, dW, mode).sigma - base) / delta;
+          (update_stress(mat, sigma_n, particles_.state.eps_bar[i], de_k, dW, mode).sigma - base) / delta;
     }
   });
   const auto n = static_cast<Eigen::Index>(dof_node_.size());

@@ -92,7 +92,9 @@ MemoryModel engine_memory(const Scene& sc) {
       if (sc.implicit)
         return ImplicitSimulation<Dim, Kernel>::memory_model(sc.implicit_step.newton.restart,
                                                              sc.implicit_step.frozen_jacobian);
-    return Simulation<Dim, Kernel>::memory_model(!sc.body_force.empty() || !sc.tractions.empty());
+    bool rate_form = false;
+    for (const SceneMaterial& m : sc.materials) rate_form = rate_form || m.model != SceneMaterial::Model::neo_hookean;
+    return Simulation<Dim, Kernel>::memory_model(!sc.body_force.empty() || !sc.tractions.empty(), rate_form);
   });
 }
 

@@ -124,6 +124,29 @@ BoundarySpec<Dim> boundary_of(const Scene& sc) {
   }
   return boundary;
 }
+
+/// The material table: Neo-Hookean or rate-form laws as the scene names them.
+std::vector<Material> materials_of(const Scene& sc) {
+  std::vector<Material> out;
+  for (const SceneMaterial& m : sc.materials)
+    out.push_back(m.model == SceneMaterial::Model::neo_hookean ? Material{m.law} : Material{m.rate_law});
+  return out;
+}
+
+/// Rigid boxes of points at ppc per cell per axis, with their prescribed velocities.
+template <int Dim>
+std::vector<RigidBody<Dim>> rigid_bodies_of(const Scene& sc) {
+  std::vector<RigidBody<Dim>> out;
+  for (const SceneRigidBody& r : sc.rigid_bodies) {
+    ParticleSet<Dim> points;
+    const Real spacing = sc.h / r.ppc;
+    fill_box<Dim>(points, to_vec<Dim>(r.lo), to_vec<Dim>(r.hi), spacing, 1.0, 0);
+    RigidBody<Dim> body{r.name, points.x, Vec<Dim>::Constant(0.5 * spacing), velocity_of<Dim>(r.velocity)};
+    for (int d = 0; d < Dim; ++d) body.imposes[d] = r.imposes[d];
+    out.push_back(std::move(body));
+  }
+  return out;
+}
 }  // namespace
 
 template <int Dim>
@@ -135,8 +158,10 @@ SimulationSpec<Dim> make_spec(const Scene& sc) {
   spec.integrator = sc.integrator;
   spec.kernel = sc.kernel;
   spec.gimp_length = sc.gimp_length;
-  for (const SceneMaterial& m : sc.materials) spec.materials.push_back(m.law);
+  spec.materials = materials_of(sc);
+  spec.geometry = sc.geometry;
   spec.boundary = boundary_of<Dim>(sc);
+  spec.rigid_bodies = rigid_bodies_of<Dim>(sc);
   spec.gravity = to_vec<Dim>(sc.gravity);
   spec.dt = sc.dt;
   spec.cfl = sc.cfl;
@@ -242,14 +267,7 @@ ImplicitSpec<Dim> make_implicit_spec(const Scene& sc) {
   spec.step = {sc.cfl, sc.dt, im.step_factor, im.start_factor, im.growth, im.max_retries};
   for (const SceneMaterial& m : sc.materials) spec.materials.push_back(m.rate_law);
   spec.boundary = boundary_of<Dim>(sc);
-  for (const SceneRigidBody& r : sc.rigid_bodies) {
-    ParticleSet<Dim> points;
-    const Real spacing = sc.h / r.ppc;
-    fill_box<Dim>(points, to_vec<Dim>(r.lo), to_vec<Dim>(r.hi), spacing, 1.0, 0);
-    RigidBody<Dim> body{r.name, points.x, Vec<Dim>::Constant(0.5 * spacing), velocity_of<Dim>(r.velocity)};
-    for (int d = 0; d < Dim; ++d) body.imposes[d] = r.imposes[d];
-    spec.rigid_bodies.push_back(std::move(body));
-  }
+  spec.rigid_bodies = rigid_bodies_of<Dim>(sc);
   spec.gravity = to_vec<Dim>(sc.gravity);
   validate(spec, sc.file.string());
   return spec;

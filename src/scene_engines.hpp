@@ -1,6 +1,6 @@
 #pragma once
 // The two engines a scene can run on, behind one small interface the scene runner uses: the explicit
-// Neo-Hookean integrators (Wallstedt & Guilkey 2008) and the implicit rate-form step (Sulsky & Kaul 2004).
+// integrators (Wallstedt & Guilkey 2008) and the implicit step (Sulsky & Kaul 2004).
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -45,7 +45,40 @@ auto naming_scene(const Scene& sc, Make&& make) {
   }
 }
 
-/// Explicit USF/USL/CD/MUSL with Neo-Hookean materials.
+/// The output fields of the rate-form state.
+inline void add_state_fields(const MaterialState& s, std::vector<io::PointField>& fields) {
+  fields.push_back({"plastic_strain", 1, s.eps_bar});
+  fields.push_back({"temperature_rise", 1, s.temperature});
+  fields.push_back({"internal_energy", 1, s.energy});
+}
+/// The rate-form state and the volumes in a checkpoint, and back.
+template <int Dim>
+void save_state(const ParticleSet<Dim>& p, io::CheckpointData& c) {
+  const MaterialState& s = p.state;
+  std::vector<double> sigma;
+  for (const SymTensor<3>& t : s.sigma) sigma.insert(sigma.end(), t.c.begin(), t.c.end());
+  c.reals["sigma"] = sigma;
+  c.reals["eps_bar"] = s.eps_bar;
+  c.reals["temperature"] = s.temperature;
+  c.reals["energy"] = s.energy;
+  c.reals["stretch3"] = s.stretch3;
+  c.reals["V"] = p.V;
+}
+template <int Dim>
+void load_state(const io::CheckpointData& c, const std::string& where, ParticleSet<Dim>& p) {
+  MaterialState& s = p.state;
+  const auto real = [&](const std::string& k) -> const std::vector<double>& { return entry(c.reals, k, where); };
+  const std::vector<double>& sigma = real("sigma");
+  if (sigma.size() != 6 * s.sigma.size()) throw InputError(where + ": array 'sigma' has the wrong size");
+  for (std::size_t i = 0; i < s.sigma.size(); ++i) std::copy_n(sigma.begin() + 6 * i, 6, s.sigma[i].c.begin());
+  for (auto [key, array] : {std::pair{"eps_bar", &s.eps_bar}, std::pair{"temperature", &s.temperature},
+                            std::pair{"energy", &s.energy}, std::pair{"stretch3", &s.stretch3}, std::pair{"V", &p.V}}) {
+    if (real(key).size() != p.size()) throw InputError(where + ": array '" + key + "' has the wrong size");
+    *array = real(key);
+  }
+}
+
+/// Explicit USF/USL/CD/MUSL with any materials.
 template <int Dim, class Kernel>
 class Explicit {
  public:
@@ -58,15 +91,31 @@ class Explicit {
 
   Simulation<Dim, Kernel>& sim() { return sim_; }
   const Simulation<Dim, Kernel>& sim() const { return sim_; }
-  std::vector<std::string> reaction_names() const { return sim_.constraints().names(); }
-  std::vector<Vec<Dim>> reactions() const { return sim_.constraints().reactions(); }
-  std::vector<Vec<Dim>> reaction_velocities(Real t) const { return sim_.constraints().velocities(t); }
-  /// Stored energy sum_p V0 W(F) (Wallstedt & Guilkey 2008, Eq. 54's potential).
+  std::vector<std::string> reaction_names() const {
+    std::vector<std::string> names = sim_.constraints().names();
+    for (const RigidBody<Dim>& b : spec_.rigid_bodies) names.push_back(b.name);
+    return names;
+  }
+  std::vector<Vec<Dim>> reactions() const {
+    std::vector<Vec<Dim>> r = sim_.constraints().reactions();
+    r.insert(r.end(), sim_.rigid_bodies().reactions().begin(), sim_.rigid_bodies().reactions().end());
+    return r;
+  }
+  std::vector<Vec<Dim>> reaction_velocities(Real t) const {
+    std::vector<Vec<Dim>> v = sim_.constraints().velocities(t);
+    for (const RigidBody<Dim>& b : spec_.rigid_bodies) v.push_back(b.velocity(t));
+    return v;
+  }
+  /// Stored energy sum_p V0 W(F) of the Neo-Hookean particles (Wallstedt & Guilkey 2008, Eq. 54's potential)
+  /// plus the internal energy of the rate-form ones (Sulsky & Kaul 2004, Eq. (2.2.16)).
   Real strain_energy() const {
     const ParticleSet<Dim>& p = sim_.particles();
     Real e = 0;
-    for (std::size_t i = 0; i < p.size(); ++i)
-      e += p.V0[i] * spec_.materials[p.material[i]].template energy_density<Dim>(p.F[i], p.F[i].determinant());
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const Material& m = spec_.materials[p.material[i]];
+      e += is_rate_form(m) ? p.state.energy[i]
+                           : p.V0[i] * std::get<NeoHookean>(m).template energy_density<Dim>(p.F[i], p.F[i].determinant());
+    }
     return e;
   }
   /// Acceleration of the external loads on particle i over the last step.
@@ -74,28 +123,40 @@ class Explicit {
     const std::vector<Vec<Dim>>& b = sim_.body_acceleration();
     return b.empty() ? spec_.gravity : Vec<Dim>(spec_.gravity + b[i]);
   }
-  /// Cauchy stress of particle i, xx yy zz xy xz yz; in 2-D zz is the plane-strain lambda ln J / J (Eq. 55).
+  /// Cauchy stress of particle i, xx yy zz xy xz yz; in 2-D a Neo-Hookean zz is the plane-strain lambda ln J / J
+  /// (Eq. 55).
   void stress(std::size_t i, double* out) const {
-    static constexpr int voigt[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
-    const ParticleSet<Dim>& p = sim_.particles();
-    const Real J = p.F[i].determinant();
-    for (int k = 0; k < 6; ++k) {
-      const int a = voigt[k][0], c = voigt[k][1];
-      out[k] = (a < Dim && c < Dim) ? p.sigma[i](a, c)
-               : a == c             ? spec_.materials[p.material[i]].lambda * std::log(J) / J
-                                    : 0.0;
-    }
+    const SymTensor<3> s = sim_.full_stress(i);
+    for (int k = 0; k < 6; ++k) out[k] = s.c[k];
   }
-  void add_fields(std::vector<io::PointField>&) const {}
+  void add_fields(std::vector<io::PointField>& fields) const {
+    if (!sim_.particles().state.empty()) add_state_fields(sim_.particles().state, fields);
+  }
   void summarize(nlohmann::json&) const {}
-  void save(io::CheckpointData&) const {}
-  /// Volume and stress follow from F exactly as the step computes them (Eqs 13 and 55).
+  void save(io::CheckpointData& c) const {
+    if (!sim_.particles().state.empty()) save_state(sim_.particles(), c);
+    if (!spec_.rigid_bodies.empty()) c.reals["rigid_displacement"] = flat(sim_.rigid_bodies().displacements());
+  }
+  /// Without rate-form materials, volume and stress follow from F exactly as the step computes them (Eqs 13 and
+  /// 55); with them, the checkpoint holds the state and the volumes.
   void load(const io::CheckpointData& c, const std::string& where) {
     ParticleSet<Dim>& p = sim_.particles();
+    if (!p.state.empty()) load_state(c, where, p);
     for (std::size_t i = 0; i < p.size(); ++i) {
+      const Material& m = spec_.materials.at(p.material[i]);
       const Real J = p.F[i].determinant();
-      p.V[i] = p.V0[i] * J;
-      p.sigma[i] = spec_.materials.at(p.material[i]).template stress<Dim>(p.F[i], J);
+      if (p.state.empty()) p.V[i] = p.V0[i] * J;
+      if (is_rate_form(m)) {
+        for (int a = 0; a < Dim; ++a)
+          for (int b = a; b < Dim; ++b) p.sigma[i](a, b) = p.state.sigma[i](a, b);
+      } else {
+        p.sigma[i] = std::get<NeoHookean>(m).template stress<Dim>(p.F[i], J);
+      }
+    }
+    if (!spec_.rigid_bodies.empty()) {
+      std::vector<Vec<Dim>> rigid(spec_.rigid_bodies.size());
+      unflat(entry(c.reals, "rigid_displacement", where), rigid, "rigid_displacement");
+      sim_.restore_rigid_bodies(rigid);
     }
     sim_.restore_clock(entry(c.real_scalars, "time", where), entry(c.integer_scalars, "steps", where));
   }
@@ -144,12 +205,7 @@ class Implicit {
     const SymTensor<3>& s = sim_.state().sigma[i];
     for (int k = 0; k < 6; ++k) out[k] = s.c[k];
   }
-  void add_fields(std::vector<io::PointField>& fields) const {
-    const ElastoPlasticState& s = sim_.state();
-    fields.push_back({"plastic_strain", 1, s.eps_bar});
-    fields.push_back({"temperature_rise", 1, s.temperature});
-    fields.push_back({"internal_energy", 1, s.energy});
-  }
+  void add_fields(std::vector<io::PointField>& fields) const { add_state_fields(sim_.state(), fields); }
   void summarize(nlohmann::json& j) const {
     const ImplicitCounters& c = sim_.counters();
     j["implicit"] = {{"theta", spec_.theta},
@@ -166,15 +222,7 @@ class Implicit {
                      {"step_retries", c.retries}};
   }
   void save(io::CheckpointData& c) const {
-    const ElastoPlasticState& s = sim_.state();
-    std::vector<double> sigma;
-    for (const SymTensor<3>& t : s.sigma) sigma.insert(sigma.end(), t.c.begin(), t.c.end());
-    c.reals["sigma"] = sigma;
-    c.reals["eps_bar"] = s.eps_bar;
-    c.reals["temperature"] = s.temperature;
-    c.reals["energy"] = s.energy;
-    c.reals["stretch3"] = s.stretch3;
-    c.reals["V"] = sim_.particles().V;
+    save_state(sim_.particles(), c);
     c.reals["rigid_displacement"] = flat(sim_.rigid_displacements());
     c.real_scalars["dt"] = sim_.next_dt();
     const ImplicitCounters& n = sim_.counters();
@@ -186,18 +234,9 @@ class Implicit {
     c.integer_scalars["preconditioner_builds"] = n.preconditioner_builds;
   }
   void load(const io::CheckpointData& c, const std::string& where) {
-    ElastoPlasticState& s = sim_.state();
-    const auto real = [&](const std::string& k) -> const std::vector<double>& { return entry(c.reals, k, where); };
-    const std::vector<double>& sigma = real("sigma");
-    if (sigma.size() != 6 * s.sigma.size()) throw InputError(where + ": array 'sigma' has the wrong size");
-    for (std::size_t i = 0; i < s.sigma.size(); ++i) std::copy_n(sigma.begin() + 6 * i, 6, s.sigma[i].c.begin());
-    s.eps_bar = real("eps_bar");
-    s.temperature = real("temperature");
-    s.energy = real("energy");
-    s.stretch3 = real("stretch3");
-    sim_.particles().V = real("V");
+    load_state(c, where, sim_.particles());
     std::vector<Vec<Dim>> rigid(spec_.rigid_bodies.size());
-    unflat(real("rigid_displacement"), rigid, "rigid_displacement");
+    unflat(entry(c.reals, "rigid_displacement", where), rigid, "rigid_displacement");
     const auto integer = [&](const std::string& k) { return entry(c.integer_scalars, k, where); };
     const ImplicitCounters n{integer("newton_iterations"), integer("krylov_iterations"),
                              integer("residual_evaluations"), integer("backtracks"), integer("retries"), integer("preconditioner_builds")};

@@ -269,8 +269,6 @@ void read_simulation(const Section& s, Scene& sc) {
   if (sc.threads < 0) s.fail("threads", "expected 0 (all cores) or a positive count");
   sc.geometry = parse_geometry(s.choice("geometry", "plane-strain", {"plane-strain", "plane-stress", "axisymmetric"}), "");
   if (s.has("geometry") && sc.dim != 2) s.fail("geometry", "applies to 2-D scenes only");
-  if (sc.geometry != Geometry::plane_strain && !sc.implicit)
-    s.fail("geometry", "plane stress and axisymmetry need integrator = \"implicit\" (rate-form materials)");
 }
 
 void read_grid(const Section& s, Scene& sc, const Locator& loc) {
@@ -336,7 +334,6 @@ void read_material(const Section& s, Scene& sc) {
   if (!(rho > 0)) s.fail("density", "expected a positive density [kg/m^3]");
   m.density = rho;
   if (m.model != SceneMaterial::Model::neo_hookean) {
-    if (sc.implicit == false) s.fail("model", "rate-form materials (hypoelastic, von-mises) need integrator = \"implicit\"");
     for (const char* k : {"lambda", "mu"})
       if (s.has(k)) s.fail(k, "give E and nu for the " + model + " model");
     const double E = s.required_number("E"), nu = s.required_number("nu");
@@ -370,6 +367,9 @@ void read_material(const Section& s, Scene& sc) {
     return;
   }
   if (sc.implicit) s.fail("model", "the implicit integrator needs a rate-form material: \"hypoelastic\" or \"von-mises\"");
+  if (sc.geometry != Geometry::plane_strain)
+    s.fail("model", "a Neo-Hookean material runs in plane strain; plane stress and axisymmetry need model = "
+                    "\"hypoelastic\" or \"von-mises\"");
   const bool young = s.has("E") || s.has("nu"), lame = s.has("lambda") || s.has("mu");
   if (young == lame) s.fail(young ? "lambda" : "E", "give either E and nu, or lambda and mu");
   if (young) {
@@ -609,8 +609,8 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
   if (sc.gimp_length > sc.h)  // Steffen et al. 2008, Sec. 4.1: the smoothing length lies in (0, h]
     Section(*sim, "simulation", loc, simulation_keys)
         .fail("gimp_length", "expected a smoothing length in (0, h] with h = " + std::to_string(sc.h) + " the cell size");
+  // Read and checked whatever the integrator, so that one scene runs implicitly or (--set) explicitly.
   if (const toml::table* im = top.table("implicit")) {
-    if (!sc.implicit) top.fail("implicit", "the [implicit] table needs integrator = \"implicit\" in [simulation]");
     read_implicit(Section(*im, "implicit", loc,
                           {"theta", "formulation", "solver", "newton_tolerance", "linear_tolerance", "derivative_step",
                            "restart", "max_newton", "max_krylov", "line_search", "max_backtracks", "forcing",
@@ -632,7 +632,6 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
                        "velocity", "displacement", "deformation_gradient"}),
               sc, k);
   const std::vector<const toml::table*> rigid = top.tables("rigid_bodies");
-  if (!rigid.empty() && !sc.implicit) top.fail("rigid_bodies", "rigid bodies need integrator = \"implicit\"");
   for (std::size_t k = 0; k < rigid.size(); ++k)
     read_rigid_body(Section(*rigid[k], "rigid_bodies[" + std::to_string(k) + "]", loc,
                             {"name", "shape", "lo", "hi", "ppc", "velocity", "contact_axes"}),
@@ -645,9 +644,10 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
     if (!sc.body_force.empty() || !sc.tractions.empty())
       top.fail("loads", "the implicit integrator takes gravity only (no body_force or traction yet)");
     if (top.has("check")) top.fail("check", "[check] applies to the explicit integrators only");
-    for (const SceneBody& b : sc.bodies)
-      if (!b.displacement.empty()) top.fail("bodies", "rate-form materials start undeformed: no initial displacement");
   }
+  for (const SceneBody& b : sc.bodies)
+    if (!b.displacement.empty() && sc.materials[b.material].model != SceneMaterial::Model::neo_hookean)
+      top.fail("bodies", "body '" + b.name + "': a rate-form material starts undeformed (no initial displacement)");
   if (const toml::table* check = top.table("check")) {
     const Section s(*check, "check", loc, {"displacement"});
     if (!s.has("displacement")) s.fail("displacement", "missing (the exact displacement, expressions of X, Y, Z, t)");

@@ -1,12 +1,15 @@
 #pragma once
 // Implementation of Simulation<Dim, Kernel>; included by the per-dimension instantiation files.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <variant>
 
 #include "mpm/core/errors.hpp"
 #include "mpm/integrators/simulation.hpp"
+#include "mpm/materials/rate_step.hpp"
 #include "mpm/transfer/p2g.hpp"
 
 namespace mpm {
@@ -44,7 +47,10 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
       particles_(std::move(particles)),
       grid_(detail::make_geometry<Dim, Kernel>(spec)),
       constraints_(spec.boundary, grid_.geometry),
-      sizes_(spec.kernel == KernelKind::cpgimp ? SizeUpdate::deformed : SizeUpdate::fixed) {
+      rigid_(spec.rigid_bodies, grid_.geometry),
+      sizes_(spec.kernel == KernelKind::cpgimp ? SizeUpdate::deformed : SizeUpdate::fixed),
+      neo_hookean_(neo_hookean_only(spec.materials)),
+      axisymmetric_(Dim == 2 && spec.geometry == Geometry::axisymmetric) {
   const GridGeometry<Dim>& g = grid_.geometry;
   ParticleSet<Dim>& p = particles_;
   if (p.size() == 0) throw InputError("particles: the simulation has no particles");
@@ -60,6 +66,14 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
     if (p.material[i] >= spec.materials.size())
       throw InputError(at + ": material index " + std::to_string(p.material[i]) + " has no material");
     if (!p.v[i].allFinite()) throw InputError(at + ": velocity must be finite");
+    const Material& material = spec.materials[p.material[i]];
+    if (is_rate_form(material) && !(p.F[i] - Mat<Dim>::Identity()).isZero(0))
+      throw InputError(at + ": the rate-form materials start undeformed (F = I)");
+    if (axisymmetric_) {
+      if (!(p.X[i][0] > 0)) throw InputError(at + ": axisymmetric particles need radius x > 0");
+      p.m[i] *= p.X[i][0];  // per radian: m_p = rho r_p A_p
+      p.V0[i] *= p.X[i][0];
+    }
     if (spec.kernel == KernelKind::ugimp && spec.gimp_length > 0) p.l[i].setConstant(0.5 * spec.gimp_length);
     if (spec.kernel == KernelKind::ugimp || spec.kernel == KernelKind::cpgimp)
       for (int d = 0; d < Dim; ++d)
@@ -68,7 +82,7 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
     const Real J = p.F[i].determinant();
     p.V[i] = p.V0[i] * J;
     if (!(J > 0)) throw InputError(at + ": deformation gradient must have det F > 0");
-    p.sigma[i] = spec.materials[p.material[i]].template stress<Dim>(p.F[i], J);
+    if (!is_rate_form(material)) p.sigma[i] = std::get<NeoHookean>(material).template stress<Dim>(p.F[i], J);
     min_mass = std::min(min_mass, p.m[i]);
   }
   // Nodes lighter than this are treated as empty (round-off level against the lightest particle).
@@ -79,11 +93,40 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
   // more particles per cell per axis is lighter (a face node gets 1/4 + 3/4 of a particle per row); a particle
   // that crosses into an empty cell makes one.
   if (light_nodes_unbounded<Kernel>() && spec.reproject_light_nodes) {
-    light_node_mass_ = 0.25 * min_mass;
+    light_node_mass_.mass = 0.25 * min_mass;
+    if (axisymmetric_) {  // a quarter of the lightest particle per unit radius, at the node's radius
+      Real min_per_radius = std::numeric_limits<Real>::max();
+      for (std::size_t i = 0; i < p.size(); ++i) min_per_radius = std::min(min_per_radius, p.m[i] / p.X[i][0]);
+      light_node_mass_.per_radius = 0.25 * min_per_radius;
+      light_node_mass_.lo = g.lo[0];
+      light_node_mass_.h = g.h;
+      light_node_mass_.nodes_along = g.nodes_along(0);
+      light_node_mass_.ghost = g.ghost;
+    }
     mirror_copies_.assign(grid_.size(), 1);
     constraints_.count_mirror_copies(mirror_copies_);
   }
+  if (neo_hookean_.empty()) {
+    p.state.resize(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) p.state.sigma[i] = full_stress(i);
+    grad_v_.assign(p.size(), Mat<Dim>::Zero());
+    if (axisymmetric_) hoop_rate_.assign(p.size(), 0);
+  }
   build_stencils();  // sizes the per-particle arrays, so that steps do not allocate
+}
+
+template <int Dim, class Kernel>
+SymTensor<3> Simulation<Dim, Kernel>::full_stress(std::size_t i) const {
+  const ParticleSet<Dim>& p = particles_;
+  const Material& material = spec_.materials[p.material[i]];
+  if (is_rate_form(material)) return p.state.sigma[i];
+  // Neo-Hookean: the in-plane stress, and lambda ln J / J out of plane (plane strain, uniaxial strain in 1-D).
+  const Real J = p.F[i].determinant();
+  const NeoHookean& law = std::get<NeoHookean>(material);
+  SymTensor<3> s;
+  for (int a = 0; a < 3; ++a)
+    for (int c = a; c < 3; ++c) s(a, c) = a < Dim && c < Dim ? p.sigma[i](a, c) : a == c ? law.lambda * std::log(J) / J : 0.0;
+  return s;
 }
 
 template <int Dim, class Kernel>
@@ -91,9 +134,15 @@ Real Simulation<Dim, Kernel>::next_dt() const {
   if (spec_.dt > 0) return spec_.dt;
   const ParticleSet<Dim>& p = particles_;
   Real speed = 0;
+  if (!neo_hookean_.empty()) {
 #pragma omp parallel for reduction(max : speed)
-  for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(p.size()); ++i)
-    speed = std::max(speed, spec_.materials[p.material[i]].wave_speed(p.V[i] / p.V0[i]) + p.v[i].norm());
+    for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(p.size()); ++i)
+      speed = std::max(speed, neo_hookean_[p.material[i]].wave_speed(p.V[i] / p.V0[i]) + p.v[i].norm());
+  } else {
+#pragma omp parallel for reduction(max : speed)
+    for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(p.size()); ++i)
+      speed = std::max(speed, wave_speed(spec_.materials[p.material[i]], p.V[i] / p.V0[i]) + p.v[i].norm());
+  }
   return spec_.cfl * spec_.h / speed;
 }
 
@@ -117,6 +166,7 @@ void Simulation<Dim, Kernel>::step(Real max_dt) {
       step_musl(dt, first_scale);
       break;
   }
+  rigid_.advance(time_, dt);
   time_ += dt;
   ++steps_;
 }
@@ -136,11 +186,13 @@ void Simulation<Dim, Kernel>::step_usf(Real dt) {
   grid_velocity(grid_, min_node_mass_);
   for (GridNode<Dim>& node : grid_.nodes) node.v_new = node.v;
   constraints_.constrain_velocity(grid_, &GridNode<Dim>::v_new, time_);
+  rigid_.constrain_velocity(grid_, &GridNode<Dim>::v_new, time_);
   gather<Gather{.velocity = false, .position = false, .deformation = true}>(&GridNode<Dim>::v_new, dt);
   p2g<Scatter{.mass_momentum = false, .force = true}>(particles_, stencils_, order_, body_accel_, grid_);
+  if (axisymmetric_) add_hoop_force();
   constraints_.fold_and_mirror(grid_, NodeFields::force);
   grid_update(grid_, spec_.gravity, dt, 1.0, min_node_mass_);
-  constraints_.constrain_update(grid_, time_ + dt, dt);
+  constrain_update(time_ + dt, dt);
   gather<Gather{.velocity = true, .position = true, .deformation = false}>(&GridNode<Dim>::v_new, dt);
 }
 
@@ -150,11 +202,12 @@ template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::step_usl(Real dt, Real accel_scale) {
   build_stencils();
   p2g<Scatter{.mass_momentum = true, .force = true}>(particles_, stencils_, order_, body_accel_, grid_);
+  if (axisymmetric_) add_hoop_force();
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
   grid_velocity_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
-  constraints_.constrain_update(grid_, time_ + dt, dt);
-  if (light_node_mass_ == 0 || !any_light(grid_, mirror_copies_, min_node_mass_, light_node_mass_)) {
+  constrain_update(time_ + dt, dt);
+  if (!light_node_mass_.any() || !any_light(grid_, mirror_copies_, min_node_mass_, light_node_mass_)) {
     gather<Gather{.velocity = true, .position = true, .deformation = true}>(&GridNode<Dim>::v_new, dt);
     return;
   }
@@ -171,10 +224,11 @@ template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::step_musl(Real dt, Real accel_scale) {
   build_stencils();
   p2g<Scatter{.mass_momentum = true, .force = true}>(particles_, stencils_, order_, body_accel_, grid_);
+  if (axisymmetric_) add_hoop_force();
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
   grid_velocity_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
-  constraints_.constrain_update(grid_, time_ + dt, dt);
+  constrain_update(time_ + dt, dt);
   gather<Gather{.velocity = true, .position = false, .deformation = false}>(&GridNode<Dim>::v_new, dt);
   reproject_velocity(time_ + dt);
   gather<Gather{.velocity = false, .position = true, .deformation = true}>(&GridNode<Dim>::v, dt);
@@ -188,6 +242,13 @@ void Simulation<Dim, Kernel>::reproject_velocity(Real t_new) {
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   grid_velocity(grid_, min_node_mass_);
   constraints_.constrain_velocity(grid_, &GridNode<Dim>::v, t_new);
+  rigid_.constrain_velocity(grid_, &GridNode<Dim>::v, t_new);
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::constrain_update(Real t_new, Real dt) {
+  constraints_.constrain_update(grid_, t_new, dt);
+  rigid_.constrain_update(grid_, t_new, dt);
 }
 
 template <int Dim, class Kernel>
@@ -198,19 +259,86 @@ void Simulation<Dim, Kernel>::build_stencils() {
   if (strips_changed_) order_.build(strip_, ScatterOrder::strip_count<Dim, Kernel::width>(grid_.geometry));
   stencils_current_ = strips_changed_ = false;
   evaluate_body_force();
+  if (!rigid_.empty()) {
+    std::ostringstream when;
+    when.precision(9);
+    when << "step " << steps_ + 1 << ", t = " << time_;
+    rigid_.template locate<Kernel>(grid_.geometry, when.str());
+  }
 }
 
 template <int Dim, class Kernel>
 template <Gather what>
 void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
+  StencilTargets<Dim, Kernel> next{stencils_, strip_};
+  StencilTargets<Dim, Kernel>* targets = what.position ? &next : nullptr;
+  ParticleFault fault;
+  if (!neo_hookean_.empty()) {
+    fault = g2p<what>(particles_, stencils_, grid_, v_grid, dt, NeoHookeanLanes{neo_hookean_}, sizes_, targets);
+  } else {
+    const RecordRates<Dim> rates{grad_v_, hoop_rate_, axisymmetric_};
+    fault = g2p<what>(particles_, stencils_, grid_, v_grid, dt, rates, sizes_, targets);
+    if constexpr (what.deformation) {
+      const ParticleFault stress = update_stress(dt);
+      fault.index = std::min(fault.index, stress.index);
+    }
+  }
+  check(fault, dt);
   if constexpr (what.position) {
-    StencilTargets<Dim, Kernel> next{stencils_, strip_};
-    check(g2p<what>(particles_, stencils_, grid_, v_grid, dt, spec_.materials, sizes_, &next), dt);
     stencils_current_ = true;
     strips_changed_ = strips_changed_ || next.strip_changed.load();
-  } else {
-    check(g2p<what>(particles_, stencils_, grid_, v_grid, dt, spec_.materials, sizes_), dt);
   }
+}
+
+// The stress of each particle from its material: Neo-Hookean from F (Wallstedt & Guilkey 2008, Eq. (55)), a
+// rate-form law from the velocity gradient over the step (rate_form_step). The hoop stretch accumulates
+// 1 + dt v_r / r; the temperature rises with the plastic work (Sulsky & Kaul 2004, Eq. (2.3.5)).
+template <int Dim, class Kernel>
+ParticleFault Simulation<Dim, Kernel>::update_stress(Real dt) {
+  ParticleSet<Dim>& p = particles_;
+  MaterialState& s = p.state;
+  std::atomic<std::int64_t> first_fault{ParticleFault::none};
+  parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
+    const Material& material = spec_.materials[p.material[i]];
+    bool ok = true;
+    if (const auto* law = std::get_if<ElastoPlastic>(&material)) {
+      const Mat<Dim> dL = dt * grad_v_[i];
+      const Real J_step = (Mat<Dim>::Identity() + dL).determinant();
+      const Real V_start = p.V[i] / J_step * s.stretch3[i];  // G2P set V = V0 det F of the new F
+      const RateStep r = rate_form_step<Dim>(*law, s.sigma[i], s.eps_bar[i], s.stretch3[i], V_start, dL,
+                                             axisymmetric_ ? dt * hoop_rate_[i] : 0, spec_.geometry);
+      ok = r.ok;
+      s.sigma[i] = r.sigma;
+      s.eps_bar[i] = r.eps_bar;
+      s.energy[i] += r.energy;
+      if (law->specific_heat > 0) s.temperature[i] += r.work / (p.m[i] * law->specific_heat);
+      s.stretch3[i] = r.stretch3;
+      p.V[i] = p.V0[i] * p.F[i].determinant() * r.stretch3;
+      for (int a = 0; a < Dim; ++a)
+        for (int c = a; c < Dim; ++c) p.sigma[i](a, c) = r.sigma(a, c);
+    } else {
+      const Real J = p.F[i].determinant();
+      ok = J > 0;
+      if (ok) p.sigma[i] = std::get<NeoHookean>(material).template stress<Dim>(p.F[i], J);
+      s.sigma[i] = full_stress(static_cast<std::size_t>(i));
+    }
+    if (ok) return;
+    std::int64_t cur = first_fault.load(std::memory_order_relaxed);
+    while (i < cur && !first_fault.compare_exchange_weak(cur, i)) {
+    }
+  });
+  return ParticleFault{first_fault.load()};
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::add_hoop_force() {
+  const ParticleSet<Dim>& p = particles_;
+  const NodeLayout<Dim> layout(grid_.geometry);
+  order_.for_each([&](std::int32_t i) {
+    const Real hoop = p.V[i] * p.state.sigma[i](2, 2) / p.x[i][0];
+    for_each_node(stencils_[i], layout,
+                  [&](std::int32_t n, Real S_ip, const Vec<Dim>&) { grid_.nodes[n].a[0] -= hoop * S_ip; });
+  });
 }
 
 template <int Dim, class Kernel>
@@ -234,6 +362,11 @@ void Simulation<Dim, Kernel>::check(ParticleFault fault, Real dt) const {
     cause = "left the grid at " + detail::format<Dim>(p.x[i]);
   else if (!(J > 0))
     cause = "det F = " + std::to_string(J) + " <= 0 (material inverted)";
+  else if (!p.state.empty() && !(p.state.stretch3[i] > 0 && p.V[i] > 0))
+    cause = "volume V / V0 = " + std::to_string(p.V[i] / p.V0[i]) + " with out-of-plane stretch " +
+            std::to_string(p.state.stretch3[i]) + " (material inverted)";
+  else if (!p.state.empty() && !p.state.sigma[i].full().allFinite())
+    cause = "non-finite stress from the material update";
   else
     cause = "cpGIMP half-lengths " + detail::format<Dim>(p.l[i]) + " left (0, h/2] (deformation too large)";
   std::ostringstream os;
@@ -247,7 +380,9 @@ double Simulation<Dim, Kernel>::bytes_per_particle() const {
   const double n = static_cast<double>(particles_.size());
   return static_cast<double>(particles_.bytes_per_particle()) + sizeof(StencilT) +
          static_cast<double>(order_.bytes() + strip_.capacity() * sizeof(std::int32_t) +
-                             body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes()) /
+                             body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes() +
+                             (particles_.state.empty() ? 0 : particles_.size() * MaterialState::bytes_per_particle()) +
+                             grad_v_.capacity() * sizeof(Mat<Dim>) + hoop_rate_.capacity() * sizeof(Real)) /
              n;
 }
 

@@ -52,11 +52,26 @@ void validate(const SimulationSpec<Dim>& s) {
   require(s.grid_lo.allFinite(), "grid.lo: must be finite");
   require(!s.materials.empty(), "materials: at least one material is required");
   for (std::size_t k = 0; k < s.materials.size(); ++k) {
-    const NeoHookean& m = s.materials[k];
     const std::string key = "materials[" + std::to_string(k) + "]";
+    if (is_rate_form(s.materials[k])) {
+      validate(std::get<ElastoPlastic>(s.materials[k]), key);
+      continue;
+    }
+    const NeoHookean& m = std::get<NeoHookean>(s.materials[k]);
     require(m.rho0 > 0, key + ".density: must be positive");
     require(m.mu > 0, key + ": shear modulus must be positive (E > 0 and -1 < nu < 0.5)");
     require(m.lambda + 2.0 * m.mu / Dim > 0 || Dim == 1, key + ": bulk modulus must be positive (nu < 0.5)");
+    require(s.geometry == Geometry::plane_strain,
+            key + ": Neo-Hookean materials run in plane strain; plane stress and axisymmetry need a rate-form "
+                  "material (hypoelastic or von-mises)");
+  }
+  require(Dim == 2 || s.geometry == Geometry::plane_strain,
+          "simulation.geometry: plane stress and axisymmetry are 2-D models");
+  require(s.geometry != Geometry::axisymmetric || s.grid_lo[0] >= 0,
+          "grid.lo: an axisymmetric grid must lie at radius x >= 0");
+  for (const RigidBody<Dim>& b : s.rigid_bodies) {
+    require(!b.points.empty(), "rigid body '" + b.name + "': has no points");
+    require(static_cast<bool>(b.velocity), "rigid body '" + b.name + "': needs a velocity");
   }
   if (s.dt > 0) {
     require(std::isfinite(s.dt), "dt: must be finite");

@@ -23,6 +23,7 @@
 #include "mpm/shape/kernels.hpp"
 #include "mpm/shape/stencil.hpp"
 #include "mpm/transfer/g2p.hpp"
+#include "mpm/transfer/g2p_stress.hpp"
 #include "mpm/transfer/p2g.hpp"
 #include "mpm/transfer/scatter_order.hpp"
 
@@ -195,7 +196,8 @@ TYPED_TEST(TransferTest, g2p_reproduces_linear_velocity_field_and_its_gradient) 
 
     const mpm::ParticleFault fault =
         mpm::g2p<mpm::Gather{.velocity = false, .position = true, .deformation = true}>(
-            p, t.stencils, grid, &mpm::GridNode<Dim>::v_new, dt, materials, mpm::SizeUpdate::fixed);
+            p, t.stencils, grid, &mpm::GridNode<Dim>::v_new, dt, mpm::NeoHookeanLanes{materials},
+            mpm::SizeUpdate::fixed);
     EXPECT_FALSE(fault) << "particle " << fault.index;
 
     for (std::size_t i = 0; i < p.size(); ++i) {

@@ -19,23 +19,6 @@
 
 namespace mpm {
 
-/// Material state the rate-form constitutive models carry on each particle, beside the ParticleSet.
-struct ElastoPlasticState {
-  std::vector<SymTensor<3>> sigma;  ///< Cauchy stress with the out-of-plane (zz or hoop) component [Pa]
-  std::vector<Real> eps_bar;        ///< equivalent plastic strain (Sulsky & Kaul 2004, Eq. 2.1.18)
-  std::vector<Real> temperature;    ///< temperature rise from plastic work (Eq. 2.3.5) [K]
-  std::vector<Real> energy;         ///< internal energy of the particle (Eq. 2.2.16) [J, per unit thickness or radian]
-  std::vector<Real> stretch3;       ///< out-of-plane stretch: 1 (plane strain), F_zz (plane stress), r/R (axisymmetric)
-
-  void resize(std::size_t n) {
-    sigma.assign(n, SymTensor<3>{});
-    eps_bar.assign(n, 0);
-    temperature.assign(n, 0);
-    energy.assign(n, 0);
-    stretch3.assign(n, 1);
-  }
-};
-
 /// Work counters of a run, reported in summary.json.
 struct ImplicitCounters {
   std::int64_t newton_iterations = 0;
@@ -64,7 +47,7 @@ class ImplicitSimulation {
   /// estimate, measured within a factor 2 on the examples).
   static MemoryModel memory_model(int krylov_restart, bool frozen_jacobian) {
     constexpr double vec = sizeof(Vec<Dim>), real = sizeof(Real);
-    const double state = sizeof(SymTensor<3>) + 4 * real;                                   // ElastoPlasticState
+    const double state = MaterialState::bytes_per_particle();
     const double trial = sizeof(SymTensor<3>) + 4 * real + sizeof(Mat<Dim>) + 2 * vec + 1;  // Trial
     const double particle = ParticleSet<Dim>::bytes_per_particle() + state + trial + sizeof(Stencil<Dim, Kernel>) +
                             2 * sizeof(std::int32_t);
@@ -86,17 +69,17 @@ class ImplicitSimulation {
 
   const ParticleSet<Dim>& particles() const { return particles_; }
   ParticleSet<Dim>& particles() { return particles_; }
-  const ElastoPlasticState& state() const { return state_; }
-  ElastoPlasticState& state() { return state_; }
+  const MaterialState& state() const { return particles_.state; }
+  MaterialState& state() { return particles_.state; }
   const KinematicConstraints<Dim>& constraints() const { return constraints_; }
   const ImplicitSpec<Dim>& spec() const { return spec_; }
   const ImplicitCounters& counters() const { return counters_; }
   /// Force [N per unit thickness or per radian] each grid-face constraint (in constraints().names() order)
   /// and each rigid body applied to the material over the last step.
   const std::vector<Vec<Dim>>& face_reactions() const { return face_reactions_; }
-  const std::vector<Vec<Dim>>& rigid_reactions() const { return rigid_reactions_; }
+  const std::vector<Vec<Dim>>& rigid_reactions() const { return rigid_.reactions(); }
   /// Displacement of each rigid body since t = 0 [m].
-  const std::vector<Vec<Dim>>& rigid_displacements() const { return rigid_displacement_; }
+  const std::vector<Vec<Dim>>& rigid_displacements() const { return rigid_.displacements(); }
   /// Newton iterations of the last step (0 for theta = 0).
   int last_newton_iterations() const { return last_newton_; }
 
@@ -136,7 +119,6 @@ class ImplicitSimulation {
 
   ImplicitSpec<Dim> spec_;
   ParticleSet<Dim> particles_;
-  ElastoPlasticState state_;
   Grid<Dim> grid_;
   KinematicConstraints<Dim> constraints_;
   NodeLayout<Dim> layout_;
@@ -145,7 +127,7 @@ class ImplicitSimulation {
   std::vector<StencilT> stencils_;
   std::vector<std::int32_t> strip_;
   ScatterOrder order_;
-  std::vector<std::vector<StencilT>> rigid_stencils_;
+  RigidBodies<Dim> rigid_;
   // Nodes: internal force at t^k, external force, and the trial internal force of the last evaluation.
   std::vector<Vec<Dim>> f_k_, f_ext_, f_trial_;
   std::vector<Vec<Dim>> v_star_;  // momentum formulation: P_i^L / m_i
@@ -163,7 +145,7 @@ class ImplicitSimulation {
   Trial trial_;
   Eigen::VectorXd last_x_;
   ImplicitCounters counters_;
-  std::vector<Vec<Dim>> face_reactions_, rigid_reactions_, rigid_displacement_;
+  std::vector<Vec<Dim>> face_reactions_;
   Real explicit_dt_ = 0, dt_ = 0, time_ = 0;
   std::int64_t steps_ = 0;
   int last_newton_ = 0;

@@ -7,16 +7,14 @@
 #include <vector>
 
 #include "mpm/boundary/boundary.hpp"
+#include "mpm/boundary/rigid_body.hpp"
+#include "mpm/core/model_geometry.hpp"
 #include "mpm/core/types.hpp"
 #include "mpm/implicit/newton_krylov.hpp"
 #include "mpm/integrators/spec.hpp"
 #include "mpm/materials/elastoplastic.hpp"
 
 namespace mpm {
-
-/// How a 2-D model stands for a 3-D body: plane strain (eps_zz = 0), plane stress (sigma_zz = 0), or a body of
-/// revolution about x = 0 with (x, y) = (r, z) (hoop strain rate v_r / r; masses and volumes per radian).
-enum class Geometry { plane_strain, plane_stress, axisymmetric };
 
 /// The unknown of the implicit equations: nodal velocity (symmetric system, Sulsky & Kaul 2004 Eq. 2.4.11) or
 /// nodal momentum (non-symmetric, Sec. 3.2.1, Eqs 3.2.3-3.2.7).
@@ -37,25 +35,6 @@ struct StepControl {
   Real start_factor = 1;    ///< first step / explicit step (capped at step_factor)
   Real growth = 1.2;        ///< step ratio between consecutive steps while below the target
   int max_retries = 8;      ///< halvings allowed for one step
-};
-
-template <int Dim>
-constexpr std::array<bool, Dim> filled(bool value) {
-  std::array<bool, Dim> a{};
-  a.fill(value);
-  return a;
-}
-
-/// A rigid body: material points moving at a prescribed velocity that impose it on every node they touch
-/// (no-slip contact through the single velocity field, Sulsky & Kaul 2004 Secs 3.1.1 and 3.2.7).
-template <int Dim>
-struct RigidBody {
-  std::string name;
-  std::vector<Vec<Dim>> points;  ///< material point positions at t = 0 [m]
-  Vec<Dim> half_length = Vec<Dim>::Zero();  ///< GIMP half-lengths of its points [m]
-  VelocityFn<Dim> velocity;      ///< v(t) [m/s]
-  /// Components the body imposes: all (no-slip contact, the default), or some (free slip along the others).
-  std::array<bool, Dim> imposes = filled<Dim>(true);
 };
 
 template <int Dim>
@@ -81,10 +60,8 @@ struct ImplicitSpec {
   Vec<Dim> gravity = Vec<Dim>::Zero();  ///< [m/s^2]
 };
 
-Geometry parse_geometry(std::string_view name, std::string_view key);
 Formulation parse_formulation(std::string_view name, std::string_view key);
 ImplicitSolver parse_solver(std::string_view name, std::string_view key);
-std::string_view to_string(Geometry g);
 std::string_view to_string(Formulation f);
 std::string_view to_string(ImplicitSolver s);
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "mpm/boundary/boundary.hpp"
+#include "mpm/boundary/rigid_body.hpp"
 #include "mpm/core/memory.hpp"
 #include "mpm/grid/grid.hpp"
 #include "mpm/integrators/spec.hpp"
@@ -12,6 +13,8 @@
 #include "mpm/shape/kernels.hpp"
 #include "mpm/shape/stencil.hpp"
 #include "mpm/transfer/g2p.hpp"
+#include "mpm/transfer/g2p_stress.hpp"
+#include "mpm/transfer/p2g.hpp"
 #include "mpm/transfer/scatter_order.hpp"
 
 namespace mpm {
@@ -41,6 +44,10 @@ class Simulation {
   }
   const Grid<Dim>& grid() const { return grid_; }
   const KinematicConstraints<Dim>& constraints() const { return constraints_; }
+  const RigidBodies<Dim>& rigid_bodies() const { return rigid_; }
+  /// The Cauchy stress of particle i with its out-of-plane components [Pa] (a Neo-Hookean particle's from its
+  /// in-plane stress and F).
+  SymTensor<3> full_stress(std::size_t i) const;
   /// Body accelerations b(X_p, t^n) the last step used (empty without a body force).
   const std::vector<Vec<Dim>>& body_acceleration() const { return body_accel_; }
   /// Continue from a saved state: the particles are set already; this sets the clock (restarts).
@@ -48,15 +55,19 @@ class Simulation {
     time_ = time;
     steps_ = steps;
   }
+  /// Continue from saved rigid-body displacements (restarts).
+  void restore_rigid_bodies(const std::vector<Vec<Dim>>& displacement) { rigid_.restore(displacement); }
   const SimulationSpec<Dim>& spec() const { return spec_; }
   /// Heap bytes held by the simulation (particles, stencils, scatter order, grid) per particle.
   double bytes_per_particle() const;
   /// The bytes a simulation will hold, from the arrays the constructor sizes (a body force adds one
-  /// acceleration per particle).
-  static MemoryModel memory_model(bool body_force) {
+  /// acceleration per particle; a rate-form material its state and the rates the stress update reads).
+  static MemoryModel memory_model(bool body_force, bool rate_form) {
     // Particles, their stencils, strips and scatter order; one node record per node.
-    const std::size_t particle = ParticleSet<Dim>::bytes_per_particle() + sizeof(Stencil<Dim, Kernel>) +
-                                 2 * sizeof(std::int32_t) + (body_force ? sizeof(Vec<Dim>) : 0);
+    const std::size_t particle =
+        ParticleSet<Dim>::bytes_per_particle() + sizeof(Stencil<Dim, Kernel>) + 2 * sizeof(std::int32_t) +
+        (body_force ? sizeof(Vec<Dim>) : 0) +
+        (rate_form ? MaterialState::bytes_per_particle() + sizeof(Mat<Dim>) + sizeof(Real) : 0);
     // A node's mirror copies (1 B) when light nodes are re-projected.
     return {static_cast<double>(particle), static_cast<double>(sizeof(GridNode<Dim>) + sizeof(std::uint8_t))};
   }
@@ -69,6 +80,8 @@ class Simulation {
   void step_usl(Real dt, Real accel_scale);
   void step_musl(Real dt, Real accel_scale);
   void reproject_velocity(Real t_new);
+  /// Impose the faces' and the rigid bodies' velocities at t_new on the advanced grid velocity.
+  void constrain_update(Real t_new, Real dt);
 
   // Stages shared by the integrators.
   void build_stencils();
@@ -76,16 +89,29 @@ class Simulation {
   template <Gather what>
   void gather(NodeVelocity<Dim> v_grid, Real dt);
   void evaluate_body_force();
+  /// The hoop term of the internal force in axisymmetry, f_r -= V_p sigma_thetatheta S_ip / r_p (Sulsky &
+  /// Schreyer 1996), added to the scattered forces.
+  void add_hoop_force();
+  /// The stress update of the rate-form (and, in a mixed table, Neo-Hookean) particles from the rates the last
+  /// deforming G2P pass recorded.
+  ParticleFault update_stress(Real dt);
   void check(ParticleFault fault, Real dt) const;
 
   SimulationSpec<Dim> spec_;
   ParticleSet<Dim> particles_;
   Grid<Dim> grid_;
   KinematicConstraints<Dim> constraints_;
+  RigidBodies<Dim> rigid_;
   SizeUpdate sizes_;
+  /// Every material Neo-Hookean: their laws, for the stress in G2P's lanes (empty otherwise).
+  std::vector<NeoHookean> neo_hookean_;
+  bool axisymmetric_;
+  /// Rates the stress update reads when a material is rate-form: grad v [1/s] and v_r / r [1/s].
+  std::vector<Mat<Dim>> grad_v_;
+  std::vector<Real> hoop_rate_;
   Real min_node_mass_;
-  /// Nodes with less mass get the re-projected velocity for positions and gradients (USL, CD); 0: none.
-  Real light_node_mass_ = 0;
+  /// Nodes with less mass get the re-projected velocity for positions and gradients (USL, CD); none when unset.
+  LightMass<Dim> light_node_mass_;
   std::vector<std::uint8_t> mirror_copies_;  ///< per node, with light nodes: KinematicConstraints::count_mirror_copies
   std::vector<StencilT> stencils_;
   std::vector<std::int32_t> strip_;

@@ -6,9 +6,11 @@
 #include <vector>
 
 #include "mpm/boundary/boundary.hpp"
+#include "mpm/boundary/rigid_body.hpp"
+#include "mpm/core/model_geometry.hpp"
 #include "mpm/core/types.hpp"
 #include "mpm/grid/grid.hpp"
-#include "mpm/materials/neo_hookean.hpp"
+#include "mpm/materials/material.hpp"
 
 namespace mpm {
 
@@ -33,8 +35,13 @@ struct SimulationSpec {
   /// uGIMP smoothing length l (full particle width used by the kernel, 0 < l <= h, Steffen et al. 2008
   /// Sec. 4.1); 0 uses each particle's own size.
   Real gimp_length = 0;
-  std::vector<NeoHookean> materials;
+  /// Neo-Hookean (hyperelastic) and rate-form (hypoelastic, von Mises) materials, in any mix.
+  std::vector<Material> materials;
+  /// 2-D only: plane strain, or with rate-form materials plane stress and axisymmetry (masses and volumes of
+  /// the particles given per unit thickness become per radian, times r).
+  Geometry geometry = Geometry::plane_strain;
   BoundarySpec<Dim> boundary;
+  std::vector<RigidBody<Dim>> rigid_bodies;
   Vec<Dim> gravity = Vec<Dim>::Zero();  ///< [m/s^2]
   BodyForceFn<Dim> body_force;          ///< optional b(X, t), evaluated at the start of each step
   Real dt = 0;                          ///< fixed time step [s], or 0 to use the CFL number

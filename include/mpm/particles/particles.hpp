@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "mpm/core/types.hpp"
+#include "mpm/materials/state.hpp"
 
 namespace mpm {
 
@@ -22,6 +23,9 @@ struct ParticleSet {
   std::vector<Vec<Dim>> l;              ///< current GIMP half-lengths l_p [m]
   std::vector<SymTensor<Dim>> sigma;    ///< Cauchy stress [Pa]
   std::vector<std::uint16_t> material;  ///< index into the material table
+  /// State of the rate-form materials (sized by the engine when a rate-form material is present; sigma above is
+  /// then its in-plane part).
+  MaterialState state;
 
   std::size_t size() const { return x.size(); }
 
@@ -50,7 +54,7 @@ struct ParticleSet {
     material.reserve(n);
   }
 
-  /// Bytes of one particle's fields.
+  /// Bytes of one particle's fields, without the rate-form state.
   static constexpr std::size_t bytes_per_particle() {
     return 4 * sizeof(Vec<Dim>) + sizeof(Vec<Dim>) + sizeof(Mat<Dim>) + 3 * sizeof(Real) +
            sizeof(SymTensor<Dim>) + sizeof(std::uint16_t);

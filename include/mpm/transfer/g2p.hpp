@@ -10,7 +10,6 @@
 
 #include "mpm/core/parallel.hpp"
 #include "mpm/grid/grid.hpp"
-#include "mpm/materials/neo_hookean.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/shape/stencil.hpp"
 #include "mpm/transfer/lanes.hpp"
@@ -40,12 +39,14 @@ struct ParticleFault {
 /// simd::lanes (LaneBlock), one particle per lane.
 /// A pass that moves the particles can also compute their stencils at the new positions for the next step,
 /// into `next` when given: the positions are then at hand, and no separate pass over the particles is needed.
-/// Returns the lowest-index particle whose new state is non-finite, has J <= 0 or left the grid.
-template <Gather what, int Dim, class Kernel>
+/// A deforming pass hands each block's F, J, velocity gradient, interpolated radial velocity and radius at the
+/// start of the step to `stress` (transfer/g2p_stress.hpp). Returns the lowest-index particle whose new state is
+/// non-finite, has J <= 0 or left the grid.
+template <Gather what, int Dim, class Kernel, class Stress>
 ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils,
-                  const Grid<Dim>& grid, NodeVelocity<Dim> v_grid, Real dt,
-                  const std::vector<NeoHookean>& materials, SizeUpdate sizes,
+                  const Grid<Dim>& grid, NodeVelocity<Dim> v_grid, Real dt, const Stress& stress, SizeUpdate sizes,
                   StencilTargets<Dim, Kernel>* next = nullptr) {
+  constexpr bool interpolate_velocity = what.position || (what.deformation && Stress::reads_velocity);
   constexpr int W = LaneBlock::width;
   const NodeLayout<Dim> layout(grid.geometry);
   const GridGeometry<Dim>& geo = grid.geometry;
@@ -63,7 +64,7 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
         if constexpr (what.position || what.deformation) {
           const RealLanes v_i =
               s.gather(nodes, offset, [&](const GridNode<Dim>& node) -> const Real& { return (node.*v_grid)[c]; });
-          if constexpr (what.position) v_p[c] += S_ip * v_i;
+          if constexpr (interpolate_velocity) v_p[c] += S_ip * v_i;
           if constexpr (what.deformation)  // grad v = sum_i v_i (x) grad S_ip
             for (int e = 0; e < Dim; ++e) grad_v[c][e] += dS_ip[e] * v_i;
         }
@@ -71,6 +72,8 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
     });
     simd::MaskLanes ok = simd::MaskLanes{} == 0;  // all lanes true
     RecordLanes<Vec<Dim>> x;
+    RealLanes r_start{};
+    if constexpr (what.deformation && Stress::reads_velocity) r_start = block.load(p.x)[0];
     if constexpr (what.velocity || what.position) {
       RecordLanes<Vec<Dim>> v = block.load(p.v);
       if constexpr (what.velocity) {
@@ -103,22 +106,8 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
       block.store(p.V, {block.load(p.V0)[0] * J});
       const simd::MaskLanes valid = (J > 0) & (J - J == 0);
       ok &= valid;
-      RealLanes lambda = simd::broadcast(materials[0].lambda), mu = simd::broadcast(materials[0].mu);
-      if (materials.size() > 1) {
-        const IntLanes material = block.load_indices(p.material) * reals_in<NeoHookean>;
-        lambda = simd::gather(&materials[0].lambda, material);
-        mu = simd::gather(&materials[0].mu, material);
-      }
       // A lane with an invalid J keeps its stress and half-lengths (the run stops).
-      RealLanes sigma_new[sym_size<Dim>];
-      NeoHookean::cauchy<Dim>(F, J, lambda, mu, sigma_new);
-      RecordLanes<SymTensor<Dim>> sigma;
-      std::copy_n(sigma_new, sym_size<Dim>, sigma.begin());
-      if (!simd::all(valid)) {
-        const RecordLanes<SymTensor<Dim>> sigma_old = block.load(p.sigma);
-        for (int c = 0; c < sym_size<Dim>; ++c) sigma[c] = valid ? sigma[c] : sigma_old[c];
-      }
-      block.store(p.sigma, sigma);
+      stress(block, p, F, J, valid, grad_v, v_p[0], r_start);
       if (sizes == SizeUpdate::deformed) {
         const RecordLanes<Vec<Dim>> l0 = block.load(p.l0);
         RecordLanes<Vec<Dim>> l = block.load(p.l);

@@ -1,6 +1,7 @@
 #pragma once
 /// Particle-to-grid transfers: mass, momentum and force scattered through the precomputed stencils.
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <vector>
 
@@ -137,6 +138,22 @@ void grid_velocity_update(Grid<Dim>& grid, const Vec<Dim>& gravity, Real dt, Rea
   });
 }
 
+/// The mass below which a node is light: a fixed mass, or in axisymmetry, where masses are per radian and grow
+/// with the radius, a mass per unit radius times the node's radius |r_i|.
+template <int Dim>
+struct LightMass {
+  Real mass = 0;        ///< [kg]; 0: no node is light
+  Real per_radius = 0;  ///< [kg/m per radian]; > 0 in axisymmetry, which then ignores `mass`
+  Real lo = 0, h = 1;   ///< the grid's radial origin and cell width [m]
+  int nodes_along = 1, ghost = 0;
+
+  bool any() const { return mass > 0 || per_radius > 0; }
+  Real operator()(std::ptrdiff_t n) const {
+    if (per_radius == 0) return mass;
+    return per_radius * std::abs(lo + h * static_cast<Real>(n % nodes_along - ghost));
+  }
+};
+
 /// A node that carries mass, but less than `light_mass` once its mirror images are counted (`copies`, see
 /// KinematicConstraints::count_mirror_copies).
 template <int Dim>
@@ -146,11 +163,12 @@ inline bool light(const GridNode<Dim>& node, std::uint8_t copies, Real min_mass,
 
 /// Whether any node is light.
 template <int Dim>
-bool any_light(const Grid<Dim>& grid, const std::vector<std::uint8_t>& copies, Real min_mass, Real light_mass) {
+bool any_light(const Grid<Dim>& grid, const std::vector<std::uint8_t>& copies, Real min_mass,
+               const LightMass<Dim>& light_mass) {
   bool found = false;
 #pragma omp parallel for schedule(static) reduction(|| : found)
   for (std::ptrdiff_t n = 0; n < static_cast<std::ptrdiff_t>(grid.size()); ++n)
-    found = found || light(grid.nodes[n], copies[n], min_mass, light_mass);
+    found = found || light(grid.nodes[n], copies[n], min_mass, light_mass(n));
   return found;
 }
 
@@ -160,10 +178,10 @@ bool any_light(const Grid<Dim>& grid, const std::vector<std::uint8_t>& copies, R
 /// stays bounded however small m_i is.
 template <int Dim>
 void reprojected_on_light_nodes(Grid<Dim>& grid, const std::vector<std::uint8_t>& copies, Real min_mass,
-                                Real light_mass) {
+                                const LightMass<Dim>& light_mass) {
   parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) {
     GridNode<Dim>& node = grid.nodes[n];
-    if (light(node, copies[n], min_mass, light_mass)) node.v_new = node.v;
+    if (light(node, copies[n], min_mass, light_mass(n))) node.v_new = node.v;
   });
 }
 

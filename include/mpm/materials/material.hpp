@@ -1,0 +1,68 @@
+#pragma once
+/// The material interface both engines use. A material is a value type with its parameters: a hyperelastic
+/// law gives the stress from F (NeoHookean), a rate-form law advances it from the velocity gradient over a
+/// step (ElastoPlastic: hypoelastic or von Mises); the per-particle state of the rate-form laws is a
+/// MaterialState owned by the particle set. Loops visit the variant once per particle or take a lane policy
+/// when every material is of one kind (transfer/g2p_stress.hpp).
+#include <type_traits>
+#include <variant>
+#include <vector>
+
+#include "mpm/core/model_geometry.hpp"
+#include "mpm/materials/elastoplastic.hpp"
+#include "mpm/materials/neo_hookean.hpp"
+
+namespace mpm {
+
+using Material = std::variant<NeoHookean, ElastoPlastic>;
+
+/// Whether a material advances its stress from the rate of deformation (and needs a MaterialState).
+inline bool is_rate_form(const Material& m) { return !std::holds_alternative<NeoHookean>(m); }
+
+/// Reference density rho0 [kg/m^3].
+inline Real reference_density(const Material& m) {
+  return std::visit([](const auto& law) { return law.rho0; }, m);
+}
+
+/// Dilatational wave speed at volume ratio J [m/s].
+inline Real wave_speed(const Material& m, Real J) {
+  return std::visit(
+      [J](const auto& law) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(law)>, NeoHookean>)
+          return law.wave_speed(J);
+        else
+          return law.wave_speed(law.rho0 / J);
+      },
+      m);
+}
+
+/// Young's modulus of the small-strain limit [Pa] (the implicit residual's scale).
+inline Real young_modulus(const Material& m) {
+  return std::visit(
+      [](const auto& law) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(law)>, NeoHookean>)
+          return law.mu * (3 * law.lambda + 2 * law.mu) / (law.lambda + law.mu);
+        else
+          return law.E;
+      },
+      m);
+}
+
+/// Whether any material of a table is rate-form.
+inline bool any_rate_form(const std::vector<Material>& materials) {
+  for (const Material& m : materials)
+    if (is_rate_form(m)) return true;
+  return false;
+}
+
+/// The Neo-Hookean laws of a table whose materials are all Neo-Hookean (empty otherwise), for the lane path.
+inline std::vector<NeoHookean> neo_hookean_only(const std::vector<Material>& materials) {
+  std::vector<NeoHookean> out;
+  for (const Material& m : materials) {
+    if (is_rate_form(m)) return {};
+    out.push_back(std::get<NeoHookean>(m));
+  }
+  return out;
+}
+
+}  // namespace mpm
