@@ -9,7 +9,7 @@
 
 #include "mpm/implicit/simulation.hpp"
 #include "implicit_tangent_impl.hpp"
-#include "mpm/materials/rate_step.hpp"
+#include "mpm/materials/material_step.hpp"
 
 namespace mpm {
 
@@ -56,18 +56,25 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
     if (!g.contains(p.x[i])) throw InputError(at + " lies outside the grid");
     if (!(p.m[i] > 0) || !(p.V0[i] > 0)) throw InputError(at + ": mass and volume must be positive");
     if (p.material[i] >= spec_.materials.size()) throw InputError(at + ": material index has no material");
-    if (!(p.F[i] - Mat<Dim>::Identity()).isZero(0))
+    const Material& material = spec_.materials[p.material[i]];
+    if (is_rate_form(material) && !(p.F[i] - Mat<Dim>::Identity()).isZero(0))
       throw InputError(at + ": the rate-form materials start undeformed (F = I)");
+    const Real J = p.F[i].determinant();
+    if (!(J > 0)) throw InputError(at + ": deformation gradient must have det F > 0");
     if (axisymmetric) {
       if (!(p.X[i][0] > 0)) throw InputError(at + ": axisymmetric particles need radius x > 0");
       p.m[i] *= p.X[i][0];  // per radian: m_p = rho r_p A_p
       p.V0[i] *= p.X[i][0];
     }
-    p.V[i] = p.V0[i];
+    p.V[i] = p.V0[i] * J;
+    if (const auto* law = std::get_if<NeoHookean>(&material)) {  // the stress of F and its stored energy V0 W(F)
+      p.state.sigma[i] = neo_hookean_stress<Dim>(*law, law->template stress<Dim>(p.F[i], J), J);
+      p.state.energy[i] = p.V0[i] * law->template energy_density<Dim>(p.F[i], J);
+    }
     min_mass = std::min(min_mass, p.m[i]);
   }
   min_node_mass_ = 1e-14 * min_mass;
-  for (const ElastoPlastic& m : spec_.materials) modulus_ = std::max(modulus_, m.E);
+  for (const Material& m : spec_.materials) modulus_ = std::max(modulus_, young_modulus(m));
   face_reactions_.assign(constraints_.names().size(), Vec<Dim>::Zero());
   mirrored_.assign(grid_.size(), 0);
   constraints_.mark_mirrored(mirrored_);
@@ -86,8 +93,15 @@ Real ImplicitSimulation<Dim, Kernel>::wave_speed_limit() const {
   const ParticleSet<Dim>& p = particles_;
   Real speed = 0;
   for (std::size_t i = 0; i < p.size(); ++i)
-    speed = std::max(speed, spec_.materials[p.material[i]].wave_speed(p.m[i] / p.V[i]) + p.v[i].norm());
+    speed = std::max(speed, wave_speed_of(spec_.materials[p.material[i]], i) + p.v[i].norm());
   return speed;
+}
+
+template <int Dim, class Kernel>
+Real ImplicitSimulation<Dim, Kernel>::wave_speed_of(const Material& material, std::size_t i) const {
+  const ParticleSet<Dim>& p = particles_;
+  if (const auto* law = std::get_if<ElastoPlastic>(&material)) return law->wave_speed(p.m[i] / p.V[i]);
+  return wave_speed(material, p.V[i] / p.V0[i]);
 }
 
 template <int Dim, class Kernel>
@@ -242,6 +256,7 @@ void ImplicitSimulation<Dim, Kernel>::project(Real dt) {
     f_ext_[n] = node.m * spec_.gravity;
   });
   scatter_force(particles_.state.sigma, f_k_);
+  if (spec_.body_force) add_body_force(dt);
   if (!rigid_.empty()) {
     std::ostringstream when;
     when.precision(9);
@@ -321,6 +336,26 @@ void ImplicitSimulation<Dim, Kernel>::scatter_force(const std::vector<SymTensor<
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { f[n] = grid_.nodes[n].a; });
 }
 
+// The body force's share of the external force, f_i += sum_p S_ip m_p b_p, with b_p = (1 - theta) b(X_p, t^k) +
+// theta b(X_p, t^{k+1}) blended as the internal forces are (Sulsky & Kaul 2004, Eq. (2.4.1)).
+template <int Dim, class Kernel>
+void ImplicitSimulation<Dim, Kernel>::add_body_force(Real dt) {
+  const ParticleSet<Dim>& p = particles_;
+  const Real theta = spec_.theta, t0 = time_, t1 = time_ + dt;
+  body_accel_.resize(p.size());
+  parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
+    body_accel_[i] = (1 - theta) * spec_.body_force(p.X[i], t0) + theta * spec_.body_force(p.X[i], t1);
+  });
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
+  order_.for_each([&](std::int32_t i) {
+    const Vec<Dim> f_p = p.m[i] * body_accel_[i];
+    for_each_node(stencils_[i], layout_,
+                  [&](std::int32_t n, Real S_ip, const Vec<Dim>&) { grid_.nodes[n].a += S_ip * f_p; });
+  });
+  constraints_.fold_and_mirror(grid_, NodeFields::force);
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { f_ext_[n] += grid_.nodes[n].a; });
+}
+
 // Put the trial unknowns on the nodes as the Lagrangian velocity v_i^L (in v_new): free components from x,
 // prescribed ones from the constraints, mirrored ghosts reflected. In the momentum formulation x holds P_i^L:
 // the particle velocities follow from Eq. (3.2.6) and v_i^L is their projection, Eq. (3.2.7).
@@ -385,10 +420,11 @@ bool ImplicitSimulation<Dim, Kernel>::evaluate(const Eigen::VectorXd& x, Real dt
       L += grid_.nodes[n].v_new * dS_ip.transpose();
       v_r += S_ip * grid_.nodes[n].v_new[0];
     });
-    const ElastoPlastic& mat = spec_.materials[p.material[i]];
     const MaterialState& state = p.state;
-    const RateStep u = rate_form_step<Dim>(mat, state.sigma[i], state.eps_bar[i], state.stretch3[i], p.V[i], dt * L,
-                                           geometry == Geometry::axisymmetric ? dt * v_r / p.x[i][0] : 0, geometry);
+    const MaterialStep u =
+        material_step<Dim>(spec_.materials[p.material[i]], state.sigma[i], state.eps_bar[i], state.stretch3[i], p.V[i],
+                           p.V0[i], p.F[i], dt * L, geometry == Geometry::axisymmetric ? dt * v_r / p.x[i][0] : 0,
+                           geometry);
     t.ok[i] = u.ok;
     t.sigma[i] = u.sigma;
     t.eps_bar[i] = u.eps_bar;
@@ -471,8 +507,9 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
     particles_.state.sigma[i] = trial_.sigma[i];
     particles_.state.eps_bar[i] = trial_.eps_bar[i];
     particles_.state.energy[i] += trial_.energy[i];
-    const ElastoPlastic& mat = spec_.materials[p.material[i]];
-    if (mat.specific_heat > 0) particles_.state.temperature[i] += trial_.work[i] / (p.m[i] * mat.specific_heat);  // Eq. (2.3.5)
+    const auto* law = std::get_if<ElastoPlastic>(&spec_.materials[p.material[i]]);
+    if (law && law->specific_heat > 0)
+      particles_.state.temperature[i] += trial_.work[i] / (p.m[i] * law->specific_heat);  // Sulsky & Kaul 2004, Eq. (2.3.5)
     if (deformed_sizes)
       for (int d = 0; d < Dim; ++d) p.l[i][d] = p.l0[i][d] * p.F[i](d, d);
   });

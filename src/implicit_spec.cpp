@@ -69,7 +69,7 @@ void validate(const ImplicitSpec<Dim>& s, const std::string& where) {
           at + "implicit.step_factor: theta = 0 is explicit and conditionally stable; expected step_factor <= 1");
   require(!s.materials.empty(), at + "materials: at least one material is required");
   for (std::size_t k = 0; k < s.materials.size(); ++k)
-    validate(s.materials[k], at + "materials[" + std::to_string(k) + "]");
+    validate(s.materials[k], at + "materials[" + std::to_string(k) + "]", Dim, s.geometry);
   require(s.gravity.allFinite(), at + "gravity: must be finite");
   for (const RigidBody<Dim>& b : s.rigid_bodies) {
     require(!b.points.empty(), at + "rigid body '" + b.name + "': has no points");

@@ -10,6 +10,7 @@
 
 #include "mpm/core/parallel.hpp"
 #include "mpm/implicit/simulation.hpp"
+#include "mpm/materials/material_step.hpp"
 
 namespace mpm {
 
@@ -24,10 +25,10 @@ struct ImplicitSimulation<Dim, Kernel>::TangentFactor {
 // volumes and start-of-step stresses are fixed, so F depends on the unknowns only through
 //   v^L (the unknowns themselves, or in the momentum formulation their re-projection Q P^L, Eqs 3.2.6-3.2.7)
 //   -> strain increments de_p = dt sym(sum_j v_j^L (x) grad N_j), plus the hoop term dt v_r / r
-//   -> sigma_p(de_p) by update_stress -> f_i^L = -sum_p V_p (sigma_p grad N_i + hoop)   (Eqs 2.2.18-2.4.7)
+//   -> sigma_p(de_p) by material_step -> f_i^L = -sum_p V_p (sigma_p grad N_i + hoop)   (Eqs 2.2.18-2.4.7)
 // hence dF/dx = scale (D - theta dt K Q), D = I (momentum) or the nodal masses (velocity), K = df^L/dv^L,
 // Q = I in the velocity formulation. The material tangent d sigma / d de is a forward difference of
-// update_stress at each particle's trial strain, one call per independent strain component; only the
+// material_step at each particle's trial strain, one call per independent strain component; only the
 // dependence of the Jaumann spin on v^L is left out (a relative error of order sigma / E). Returns false when F
 // cannot be evaluated at x; a singular tangent leaves the solve unpreconditioned.
 template <int Dim, class Kernel>
@@ -41,7 +42,6 @@ bool ImplicitSimulation<Dim, Kernel>::factorise_tangent(const Eigen::VectorXd& x
   const ParticleSet<Dim>& p = particles_;
   const std::size_t np = p.size();
   const Geometry geometry = Dim == 2 ? spec_.geometry : Geometry::plane_strain;
-  const OutOfPlane mode = geometry == Geometry::plane_stress ? OutOfPlane::plane_stress : OutOfPlane::given;
   // The independent strain components (a <= b): the in-plane ones, and the hoop strain in axisymmetry.
   std::vector<std::pair<int, int>> basis;
   for (int a = 0; a < Dim; ++a)
@@ -57,29 +57,36 @@ bool ImplicitSimulation<Dim, Kernel>::factorise_tangent(const Eigen::VectorXd& x
   // T[p m + k] = d sigma / d de(a_k, b_k), with de(a, b) and de(b, a) moving together.
   std::vector<Mat3> T(np * static_cast<std::size_t>(m));
   parallel_for(static_cast<std::ptrdiff_t>(np), [&](std::ptrdiff_t i) {
-    Mat3 dL = Mat3::Zero();
-    dL.template topLeftCorner<Dim, Dim>() = dt * trial_.grad_v[i];
-    Mat3 de = 0.5 * (dL + dL.transpose());
-    const Mat3 dW = 0.5 * (dL - dL.transpose());
+    const Mat<Dim> dL = dt * trial_.grad_v[i];
+    Real hoop_increment = 0;
     if (hoop >= 0) {
       Real v_r = 0;
       for_each_node(stencils_[i], layout_,
                     [&](std::int32_t n, Real S_ip, const Vec<Dim>&) { v_r += S_ip * grid_.nodes[n].v_new[0]; });
-      de(2, 2) = dt * v_r / p.x[i][0];
+      hoop_increment = dt * v_r / p.x[i][0];
     }
-    const ElastoPlastic& mat = spec_.materials[p.material[i]];
-    const Mat3 sigma_n = particles_.state.sigma[i].full();
-    const Mat3 base = update_stress(mat, sigma_n, particles_.state.eps_bar[i], de, dW, mode).sigma;
+    const MaterialState& s = particles_.state;
+    const auto stress_at = [&](const Mat<Dim>& dL_k, Real hoop_k) {
+      return material_step<Dim>(spec_.materials[p.material[i]], s.sigma[i], s.eps_bar[i], s.stretch3[i], p.V[i],
+                                p.V0[i], p.F[i], dL_k, hoop_k, geometry)
+          .sigma.full();
+    };
+    const Mat3 base = stress_at(dL, hoop_increment);
     // A step of 1e-7 of the strain increment (1e-13 at rest): a relative error near 1e-7 from truncation
-    // and round-off alike, far below what a preconditioner needs.
-    const Real delta = 1e-7 * std::max(de.cwiseAbs().maxCoeff(), 1e-6);
+    // and round-off alike, far below what a preconditioner needs. A symmetric change of dL moves de alone.
+    const Mat<Dim> de = 0.5 * (dL + dL.transpose());
+    const Real delta = 1e-7 * std::max({de.cwiseAbs().maxCoeff(), std::abs(hoop_increment), 1e-6});
     for (int k = 0; k < m; ++k) {
-      Mat3 de_k = de;
       const auto [a, b] = basis[static_cast<std::size_t>(k)];
-      de_k(a, b) += delta;
-      if (a != b) de_k(b, a) += delta;
-      T[static_cast<std::size_t>(i) * m + k] =
-          (update_stress(mat, sigma_n, particles_.state.eps_bar[i], de_k, dW, mode).sigma - base) / delta;
+      Mat<Dim> dL_k = dL;
+      Real hoop_k = hoop_increment;
+      if (k == hoop) {
+        hoop_k += delta;
+      } else {
+        dL_k(a, b) += delta;
+        if (a != b) dL_k(b, a) += delta;
+      }
+      T[static_cast<std::size_t>(i) * m + k] = (stress_at(dL_k, hoop_k) - base) / delta;
     }
   });
   const auto n = static_cast<Eigen::Index>(dof_node_.size());

@@ -133,6 +133,33 @@ std::vector<Material> materials_of(const Scene& sc) {
   return out;
 }
 
+/// The scene's body force and tractions as one body acceleration b(X, t); empty when it has neither.
+template <int Dim>
+BodyForceFn<Dim> body_force_of(const Scene& sc) {
+  std::vector<TractionLoad<Dim>> tractions;
+  for (const SceneTraction& t : sc.tractions) {
+    const SceneBody& b = sc.bodies[t.body];
+    const Real s = sc.h / b.ppc;
+    const int axis = t.face / 2;
+    // The outermost lattice layer at the face: fill_box seeds layers at lo + (k + 1/2) s, k < n.
+    const Real layers = std::floor((b.hi[axis] - b.lo[axis]) / s + 1e-9);
+    const Real outermost = t.face % 2 ? b.lo[axis] + (layers - 0.5) * s : b.lo[axis] + 0.5 * s;
+    tractions.push_back({axis, outermost, 0.25 * s, to_vec<Dim>(b.lo), to_vec<Dim>(b.hi),
+                         1 / (sc.materials[b.material].density * s), t.traction});
+  }
+  if (sc.body_force.empty() && tractions.empty()) return {};
+  return [body = sc.body_force, tractions](const Vec<Dim>& X, Real t) {
+    Vec<Dim> b = Vec<Dim>::Zero();
+    double vars[Dim + 1];
+    for (int d = 0; d < Dim; ++d) vars[d] = X[d];
+    vars[Dim] = t;
+    if (!body.empty()) b = evaluate<Vec<Dim>>(body, vars);
+    for (const TractionLoad<Dim>& tr : tractions)
+      if (tr.loads(X)) b += tr.inv_rho_s * evaluate<Vec<Dim>>(tr.traction, std::span<const double>(&vars[Dim], 1));
+    return b;
+  };
+}
+
 /// Rigid boxes of points at ppc per cell per axis, with their prescribed velocities.
 template <int Dim>
 std::vector<RigidBody<Dim>> rigid_bodies_of(const Scene& sc) {
@@ -167,29 +194,7 @@ SimulationSpec<Dim> make_spec(const Scene& sc) {
   spec.cfl = sc.cfl;
   spec.reproject_light_nodes = sc.reproject_light_nodes;
 
-  std::vector<TractionLoad<Dim>> tractions;
-  for (const SceneTraction& t : sc.tractions) {
-    const SceneBody& b = sc.bodies[t.body];
-    const Real s = sc.h / b.ppc;
-    const int axis = t.face / 2;
-    // The outermost lattice layer at the face: fill_box seeds layers at lo + (k + 1/2) s, k < n.
-    const Real layers = std::floor((b.hi[axis] - b.lo[axis]) / s + 1e-9);
-    const Real outermost = t.face % 2 ? b.lo[axis] + (layers - 0.5) * s : b.lo[axis] + 0.5 * s;
-    tractions.push_back({axis, outermost, 0.25 * s, to_vec<Dim>(b.lo), to_vec<Dim>(b.hi),
-                         1 / (sc.materials[b.material].density * s), t.traction});
-  }
-  if (!sc.body_force.empty() || !tractions.empty()) {
-    spec.body_force = [body = sc.body_force, tractions](const Vec<Dim>& X, Real t) {
-      Vec<Dim> b = Vec<Dim>::Zero();
-      double vars[Dim + 1];
-      for (int d = 0; d < Dim; ++d) vars[d] = X[d];
-      vars[Dim] = t;
-      if (!body.empty()) b = evaluate<Vec<Dim>>(body, vars);
-      for (const TractionLoad<Dim>& tr : tractions)
-        if (tr.loads(X)) b += tr.inv_rho_s * evaluate<Vec<Dim>>(tr.traction, std::span<const double>(&vars[Dim], 1));
-      return b;
-    };
-  }
+  spec.body_force = body_force_of<Dim>(sc);
   validate(spec);
   return spec;
 }
@@ -265,10 +270,11 @@ ImplicitSpec<Dim> make_implicit_spec(const Scene& sc) {
   spec.newton = im.newton;
   spec.frozen_jacobian = im.frozen_jacobian;
   spec.step = {sc.cfl, sc.dt, im.step_factor, im.start_factor, im.growth, im.max_retries};
-  for (const SceneMaterial& m : sc.materials) spec.materials.push_back(m.rate_law);
+  spec.materials = materials_of(sc);
   spec.boundary = boundary_of<Dim>(sc);
   spec.rigid_bodies = rigid_bodies_of<Dim>(sc);
   spec.gravity = to_vec<Dim>(sc.gravity);
+  spec.body_force = body_force_of<Dim>(sc);
   validate(spec, sc.file.string());
   return spec;
 }

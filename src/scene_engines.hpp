@@ -194,13 +194,17 @@ class Implicit {
     for (const RigidBody<Dim>& b : spec_.rigid_bodies) v.push_back(b.velocity(t));
     return v;
   }
-  /// Internal energy sum_p e_p (Sulsky & Kaul 2004, Eq. 2.2.16): stored plus dissipated.
+  /// Internal energy sum_p e_p (Sulsky & Kaul 2004, Eq. 2.2.16): stored plus dissipated; a Neo-Hookean
+  /// particle's is its stored energy V0 W(F).
   Real strain_energy() const {
     Real e = 0;
     for (Real ep : sim_.state().energy) e += ep;
     return e;
   }
-  Vec<Dim> load_acceleration(std::size_t) const { return spec_.gravity; }
+  Vec<Dim> load_acceleration(std::size_t i) const {
+    const std::vector<Vec<Dim>>& b = sim_.body_acceleration();
+    return b.empty() ? spec_.gravity : Vec<Dim>(spec_.gravity + b[i]);
+  }
   void stress(std::size_t i, double* out) const {
     const SymTensor<3>& s = sim_.state().sigma[i];
     for (int k = 0; k < 6; ++k) out[k] = s.c[k];

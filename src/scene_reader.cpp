@@ -366,7 +366,6 @@ void read_material(const Section& s, Scene& sc) {
     sc.materials.push_back(m);
     return;
   }
-  if (sc.implicit) s.fail("model", "the implicit integrator needs a rate-form material: \"hypoelastic\" or \"von-mises\"");
   if (sc.geometry != Geometry::plane_strain)
     s.fail("model", "a Neo-Hookean material runs in plane strain; plane stress and axisymmetry need model = "
                     "\"hypoelastic\" or \"von-mises\"");
@@ -640,11 +639,6 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
     read_loads(Section(*loads, "loads", loc, {"gravity", "body_force", "traction"}), sc, loc);
   else
     sc.gravity.assign(static_cast<std::size_t>(sc.dim), 0.0);
-  if (sc.implicit) {
-    if (!sc.body_force.empty() || !sc.tractions.empty())
-      top.fail("loads", "the implicit integrator takes gravity only (no body_force or traction yet)");
-    if (top.has("check")) top.fail("check", "[check] applies to the explicit integrators only");
-  }
   for (const SceneBody& b : sc.bodies)
     if (!b.displacement.empty() && sc.materials[b.material].model != SceneMaterial::Model::neo_hookean)
       top.fail("bodies", "body '" + b.name + "': a rate-form material starts undeformed (no initial displacement)");

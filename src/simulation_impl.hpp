@@ -9,7 +9,7 @@
 
 #include "mpm/core/errors.hpp"
 #include "mpm/integrators/simulation.hpp"
-#include "mpm/materials/rate_step.hpp"
+#include "mpm/materials/material_step.hpp"
 #include "mpm/transfer/p2g.hpp"
 
 namespace mpm {
@@ -120,13 +120,7 @@ SymTensor<3> Simulation<Dim, Kernel>::full_stress(std::size_t i) const {
   const ParticleSet<Dim>& p = particles_;
   const Material& material = spec_.materials[p.material[i]];
   if (is_rate_form(material)) return p.state.sigma[i];
-  // Neo-Hookean: the in-plane stress, and lambda ln J / J out of plane (plane strain, uniaxial strain in 1-D).
-  const Real J = p.F[i].determinant();
-  const NeoHookean& law = std::get<NeoHookean>(material);
-  SymTensor<3> s;
-  for (int a = 0; a < 3; ++a)
-    for (int c = a; c < 3; ++c) s(a, c) = a < Dim && c < Dim ? p.sigma[i](a, c) : a == c ? law.lambda * std::log(J) / J : 0.0;
-  return s;
+  return neo_hookean_stress<Dim>(std::get<NeoHookean>(material), p.sigma[i], p.F[i].determinant());
 }
 
 template <int Dim, class Kernel>
@@ -305,7 +299,7 @@ ParticleFault Simulation<Dim, Kernel>::update_stress(Real dt) {
       const Mat<Dim> dL = dt * grad_v_[i];
       const Real J_step = (Mat<Dim>::Identity() + dL).determinant();
       const Real V_start = p.V[i] / J_step * s.stretch3[i];  // G2P set V = V0 det F of the new F
-      const RateStep r = rate_form_step<Dim>(*law, s.sigma[i], s.eps_bar[i], s.stretch3[i], V_start, dL,
+      const MaterialStep r = rate_form_step<Dim>(*law, s.sigma[i], s.eps_bar[i], s.stretch3[i], V_start, dL,
                                              axisymmetric_ ? dt * hoop_rate_[i] : 0, spec_.geometry);
       ok = r.ok;
       s.sigma[i] = r.sigma;

@@ -51,20 +51,8 @@ void validate(const SimulationSpec<Dim>& s) {
   for (int d = 0; d < Dim; ++d) require(s.cells[d] >= 1, "grid.cells: every axis needs at least 1 cell");
   require(s.grid_lo.allFinite(), "grid.lo: must be finite");
   require(!s.materials.empty(), "materials: at least one material is required");
-  for (std::size_t k = 0; k < s.materials.size(); ++k) {
-    const std::string key = "materials[" + std::to_string(k) + "]";
-    if (is_rate_form(s.materials[k])) {
-      validate(std::get<ElastoPlastic>(s.materials[k]), key);
-      continue;
-    }
-    const NeoHookean& m = std::get<NeoHookean>(s.materials[k]);
-    require(m.rho0 > 0, key + ".density: must be positive");
-    require(m.mu > 0, key + ": shear modulus must be positive (E > 0 and -1 < nu < 0.5)");
-    require(m.lambda + 2.0 * m.mu / Dim > 0 || Dim == 1, key + ": bulk modulus must be positive (nu < 0.5)");
-    require(s.geometry == Geometry::plane_strain,
-            key + ": Neo-Hookean materials run in plane strain; plane stress and axisymmetry need a rate-form "
-                  "material (hypoelastic or von-mises)");
-  }
+  for (std::size_t k = 0; k < s.materials.size(); ++k)
+    validate(s.materials[k], "materials[" + std::to_string(k) + "]", Dim, s.geometry);
   require(Dim == 2 || s.geometry == Geometry::plane_strain,
           "simulation.geometry: plane stress and axisymmetry are 2-D models");
   require(s.geometry != Geometry::axisymmetric || s.grid_lo[0] >= 0,

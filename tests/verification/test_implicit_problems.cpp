@@ -187,7 +187,7 @@ TEST(Axisymmetric, UniformExpansionInOneStep) {
   spec.step.step_factor = spec.step.start_factor = 1000;
   Sim sim(spec, p);
   sim.step();
-  const ElastoPlastic& m = spec.materials[0];
+  const ElastoPlastic& m = std::get<ElastoPlastic>(spec.materials[0]);
   const double eps = 0.001 * sim.time() / 0.3, lambda = m.lambda(), mu = m.mu();
   double worst = 0;
   for (const SymTensor<3>& s : sim.state().sigma)

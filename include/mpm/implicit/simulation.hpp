@@ -74,6 +74,8 @@ class ImplicitSimulation {
   const KinematicConstraints<Dim>& constraints() const { return constraints_; }
   const ImplicitSpec<Dim>& spec() const { return spec_; }
   const ImplicitCounters& counters() const { return counters_; }
+  /// Body accelerations b_p the last step used (empty without a body force) [m/s^2].
+  const std::vector<Vec<Dim>>& body_acceleration() const { return body_accel_; }
   /// Force [N per unit thickness or per radian] each grid-face constraint (in constraints().names() order)
   /// and each rigid body applied to the material over the last step.
   const std::vector<Vec<Dim>>& face_reactions() const { return face_reactions_; }
@@ -104,11 +106,14 @@ class ImplicitSimulation {
   void build_dofs(Real t_new);
   void scatter_momentum(const std::vector<Vec<Dim>>& v_p, NodeVelocity<Dim> field);
   void scatter_force(const std::vector<SymTensor<3>>& sigma, std::vector<Vec<Dim>>& f);
+  void add_body_force(Real dt);
   void node_velocity_from(const Eigen::VectorXd& x);
   bool evaluate(const Eigen::VectorXd& x, Real dt, Eigen::VectorXd& r);
   void accept(Real dt);
   void compute_reactions(Real dt);
   Real wave_speed_limit() const;
+  /// Dilatational wave speed of particle i [m/s].
+  Real wave_speed_of(const Material& material, std::size_t i) const;
   bool factorise_tangent(const Eigen::VectorXd& x, Real dt);
   /// The residual's scale 1 / (Y h^Dim dt) (Sulsky & Kaul 2004, Sec. 3.2.2).
   Real residual_scale(Real dt) const;
@@ -145,7 +150,7 @@ class ImplicitSimulation {
   Trial trial_;
   Eigen::VectorXd last_x_;
   ImplicitCounters counters_;
-  std::vector<Vec<Dim>> face_reactions_;
+  std::vector<Vec<Dim>> face_reactions_, body_accel_;
   Real explicit_dt_ = 0, dt_ = 0, time_ = 0;
   std::int64_t steps_ = 0;
   int last_newton_ = 0;

@@ -12,7 +12,7 @@
 #include "mpm/core/types.hpp"
 #include "mpm/implicit/newton_krylov.hpp"
 #include "mpm/integrators/spec.hpp"
-#include "mpm/materials/elastoplastic.hpp"
+#include "mpm/materials/material.hpp"
 
 namespace mpm {
 
@@ -54,10 +54,13 @@ struct ImplicitSpec {
   /// the paper).
   bool frozen_jacobian = false;
   StepControl step;
-  std::vector<ElastoPlastic> materials;
+  /// Neo-Hookean and rate-form materials (Neo-Hookean in plane strain only).
+  std::vector<Material> materials;
   BoundarySpec<Dim> boundary;
   std::vector<RigidBody<Dim>> rigid_bodies;
   Vec<Dim> gravity = Vec<Dim>::Zero();  ///< [m/s^2]
+  /// Optional b(X, t) [m/s^2]; a step takes (1 - theta) b(X, t^k) + theta b(X, t^{k+1}).
+  BodyForceFn<Dim> body_force;
 };
 
 Formulation parse_formulation(std::string_view name, std::string_view key);

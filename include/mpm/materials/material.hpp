@@ -4,10 +4,12 @@
 /// step (ElastoPlastic: hypoelastic or von Mises); the per-particle state of the rate-form laws is a
 /// MaterialState owned by the particle set. Loops visit the variant once per particle or take a lane policy
 /// when every material is of one kind (transfer/g2p_stress.hpp).
+#include <string>
 #include <type_traits>
 #include <variant>
 #include <vector>
 
+#include "mpm/core/errors.hpp"
 #include "mpm/core/model_geometry.hpp"
 #include "mpm/materials/elastoplastic.hpp"
 #include "mpm/materials/neo_hookean.hpp"
@@ -46,6 +48,20 @@ inline Real young_modulus(const Material& m) {
           return law.E;
       },
       m);
+}
+
+/// Check a material of a Dim-dimensional run in a geometry; throw InputError naming `where` ("materials[0]") and
+/// what was expected.
+inline void validate(const Material& m, const std::string& where, int dim, Geometry geometry) {
+  if (const auto* law = std::get_if<ElastoPlastic>(&m)) return validate(*law, where);
+  const NeoHookean& law = std::get<NeoHookean>(m);
+  if (!(law.rho0 > 0)) throw InputError(where + ".density: must be positive");
+  if (!(law.mu > 0)) throw InputError(where + ": shear modulus must be positive (E > 0 and -1 < nu < 0.5)");
+  if (!(law.lambda + 2.0 * law.mu / dim > 0 || dim == 1))
+    throw InputError(where + ": bulk modulus must be positive (nu < 0.5)");
+  if (geometry != Geometry::plane_strain)
+    throw InputError(where + ": Neo-Hookean materials run in plane strain; plane stress and axisymmetry need a "
+                             "rate-form material (hypoelastic or von-mises)");
 }
 
 /// Whether any material of a table is rate-form.

@@ -1,0 +1,100 @@
+#pragma once
+/// One particle's stress update over a step for any material, shared by the explicit and implicit engines.
+#include <cmath>
+#include <variant>
+
+#include "mpm/core/model_geometry.hpp"
+#include "mpm/core/types.hpp"
+#include "mpm/materials/material.hpp"
+
+namespace mpm {
+
+/// A Dim x Dim tensor in the upper-left of a 3 x 3 one.
+template <int Dim>
+Mat3 embed(const Mat<Dim>& m) {
+  Mat3 out = Mat3::Zero();
+  out.template topLeftCorner<Dim, Dim>() = m;
+  return out;
+}
+
+/// The packed form of a symmetric 3 x 3 tensor.
+inline SymTensor<3> packed(const Mat3& m) {
+  SymTensor<3> s;
+  for (int a = 0; a < 3; ++a)
+    for (int b = a; b < 3; ++b) s(a, b) = m(a, b);
+  return s;
+}
+
+/// The state of a particle at the end of a step.
+struct MaterialStep {
+  SymTensor<3> sigma;  ///< Cauchy stress [Pa]
+  Real eps_bar;        ///< equivalent plastic strain
+  Real work;           ///< plastic work of the step [J, per unit thickness or radian]
+  Real energy;         ///< internal (or stored) energy increment of the step [J, per unit thickness or radian]
+  Real stretch3;       ///< out-of-plane stretch
+  bool ok;             ///< J > 0, a positive out-of-plane stretch and a finite stress
+};
+
+/// Advance a particle of volume V over a step whose velocity-gradient increment is dL = dt grad v and whose hoop
+/// strain increment (axisymmetric) is dt v_r / r. Strain and spin increments: Sulsky & Kaul 2004,
+/// Eqs (2.2.18)-(2.2.20); the stress: update_stress; the internal energy with the mid-step stress: Sulsky & Kaul
+/// 2004, Eq. (2.2.16).
+template <int Dim>
+MaterialStep rate_form_step(const ElastoPlastic& mat, const SymTensor<3>& sigma, Real eps_bar, Real stretch3, Real V,
+                        const Mat<Dim>& dL, Real hoop_increment, Geometry geometry) {
+  const Mat3 dL3 = embed<Dim>(dL);
+  Mat3 de = 0.5 * (dL3 + dL3.transpose());
+  const Mat3 dW = 0.5 * (dL3 - dL3.transpose());
+  if (geometry == Geometry::axisymmetric) de(2, 2) = hoop_increment;
+  const OutOfPlane mode = geometry == Geometry::plane_stress ? OutOfPlane::plane_stress : OutOfPlane::given;
+  const Mat3 sigma_n = sigma.full();
+  const StressUpdate u = update_stress(mat, sigma_n, eps_bar, de, dW, mode);
+  de(2, 2) = u.d_eps_zz;
+  MaterialStep out;
+  out.stretch3 = geometry == Geometry::plane_strain ? 1.0 : stretch3 * (1 + de(2, 2));
+  const Real J = (Mat<Dim>::Identity() + dL).determinant() * out.stretch3 / stretch3;
+  out.ok = J > 0 && out.stretch3 > 0 && u.sigma.allFinite();
+  out.sigma = packed(u.sigma);
+  out.eps_bar = u.eps_bar;
+  out.work = u.plastic_work * V;
+  out.energy = V * (0.5 * (sigma_n + u.sigma)).cwiseProduct(de).sum();  // Sulsky & Kaul 2004, Eq. (2.2.16)
+  return out;
+}
+
+/// The Neo-Hookean Cauchy stress with its out-of-plane components: Wallstedt & Guilkey 2008, Eq. (55) in the plane,
+/// lambda ln J / J out of it (plane strain in 2-D, uniaxial strain in 1-D).
+template <int Dim>
+SymTensor<3> neo_hookean_stress(const NeoHookean& law, const SymTensor<Dim>& in_plane, Real J) {
+  SymTensor<3> s;
+  for (int a = 0; a < 3; ++a)
+    for (int c = a; c < 3; ++c) s(a, c) = a < Dim && c < Dim ? in_plane(a, c) : a == c ? law.lambda * std::log(J) / J : 0.0;
+  return s;
+}
+
+/// A Neo-Hookean particle of reference volume V0 and deformation gradient F over a step with dL = dt grad v:
+/// F_new = (I + dL) F (Wallstedt & Guilkey 2008, Eq. (11)), the stress of Eq. (55), and the change of the stored
+/// energy V0 W(F).
+template <int Dim>
+MaterialStep hyperelastic_step(const NeoHookean& law, const Mat<Dim>& F, Real V0, const Mat<Dim>& dL) {
+  const Mat<Dim> F_new = (Mat<Dim>::Identity() + dL) * F;
+  const Real J = F_new.determinant();
+  MaterialStep out{};
+  out.stretch3 = 1;
+  out.ok = J > 0 && std::isfinite(J);
+  if (!out.ok) return out;
+  out.sigma = neo_hookean_stress<Dim>(law, law.template stress<Dim>(F_new, J), J);
+  out.energy = V0 * (law.template energy_density<Dim>(F_new, J) - law.template energy_density<Dim>(F, F.determinant()));
+  out.ok = out.sigma.full().allFinite();
+  return out;
+}
+
+/// One particle over a step, whatever its material: hyperelastic_step or rate_form_step.
+template <int Dim>
+MaterialStep material_step(const Material& material, const SymTensor<3>& sigma, Real eps_bar, Real stretch3, Real V,
+                           Real V0, const Mat<Dim>& F, const Mat<Dim>& dL, Real hoop_increment, Geometry geometry) {
+  if (const auto* law = std::get_if<NeoHookean>(&material)) return hyperelastic_step<Dim>(*law, F, V0, dL);
+  return rate_form_step<Dim>(std::get<ElastoPlastic>(material), sigma, eps_bar, stretch3, V, dL, hoop_increment,
+                             geometry);
+}
+
+}  // namespace mpm
