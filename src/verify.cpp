@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include "mpm/core/errors.hpp"
+#include "mpm/implicit/simulation.hpp"
 #include "mpm/integrators/simulation.hpp"
 #include "mpm/verification/axis_aligned.hpp"
 #include "mpm/verification/bar_1d.hpp"
@@ -38,6 +39,43 @@ ParticleTable table_of(const ParticleSet<Dim>& p, const Exact& exact, Real t) {
   return tab;
 }
 
+/// The implicit engine's spec of the same problem: steps of the explicit CFL step, a tight Newton solve.
+template <int Dim>
+ImplicitSpec<Dim> implicit_spec_of(const SimulationSpec<Dim>& s, Real theta) {
+  ImplicitSpec<Dim> is;
+  is.grid_lo = s.grid_lo;
+  is.h = s.h;
+  is.cells = s.cells;
+  is.kernel = s.kernel;
+  is.materials = s.materials;
+  is.boundary = s.boundary;
+  is.gravity = s.gravity;
+  is.body_force = s.body_force;
+  is.theta = theta;
+  is.step.cfl = s.cfl;
+  is.step.dt = s.dt;
+  is.newton.newton_tolerance = 1e-10;
+  is.newton.linear_tolerance = 1e-6;
+  return is;
+}
+
+/// Step a simulation to the end time, recording the error after every step.
+template <class Sim, class Exact>
+void run_to_end(Sim& sim, const Exact& exact, ParticleTable* final_state, VerifyResult& r) {
+  try {
+    while (sim.time() < r.end_time * (1 - 1e-14)) {
+      sim.step(r.end_time - sim.time());
+      r.error.record(sim.particles(), sim.time(), exact);
+    }
+  } catch (const SimulationFailure& e) {
+    r.ok = false;
+    r.failure = e.what();
+    r.error.linf = 1;
+  }
+  r.steps = sim.steps();
+  if (final_state) *final_state = table_of(sim.particles(), exact, sim.time());
+}
+
 template <class Exact>
 VerifyResult run_case(const Exact& exact, const VerifyOptions& o, ParticleTable* final_state) {
   constexpr int Dim = Exact::dim;
@@ -66,19 +104,14 @@ VerifyResult run_case(const Exact& exact, const VerifyOptions& o, ParticleTable*
   VerifyResult r;
   r.end_time = o.end_time > 0 ? o.end_time : exact.period();
   with_kernel(o.kernel, [&]<class K>() {
-    Simulation<Dim, K> sim(spec, std::move(p));
-    try {
-      while (sim.time() < r.end_time * (1 - 1e-14)) {
-        sim.step(r.end_time - sim.time());
-        r.error.record(sim.particles(), sim.time(), exact);
+    if constexpr (Dim >= 2) {
+      if (o.implicit) {
+        ImplicitSimulation<Dim, K> sim(implicit_spec_of(spec, o.theta), std::move(p));
+        return run_to_end(sim, exact, final_state, r);
       }
-    } catch (const SimulationFailure& e) {
-      r.ok = false;
-      r.failure = e.what();
-      r.error.linf = 1;
     }
-    r.steps = sim.steps();
-    if (final_state) *final_state = table_of(sim.particles(), exact, sim.time());
+    Simulation<Dim, K> sim(spec, std::move(p));
+    run_to_end(sim, exact, final_state, r);
   });
   return r;
 }
@@ -95,6 +128,21 @@ std::string_view to_string(VerifyCase c) {
   return case_names[static_cast<std::size_t>(c)];
 }
 
+std::string_view integrator_name(const VerifyOptions& o) {
+  return o.implicit ? "implicit" : to_string(o.integrator);
+}
+
+void set_integrator(VerifyOptions& o, std::string_view name, std::string_view key) {
+  o.implicit = name == "implicit";
+  if (o.implicit) return;
+  try {
+    o.integrator = parse_integrator(name, key);
+  } catch (const InputError&) {
+    throw InputError(std::string(key) + ": unknown name '" + std::string(name) +
+                     "' (expected one of usf, usl, cd, musl, implicit)");
+  }
+}
+
 int dimension(VerifyCase c, const VerifyOptions& o) {
   if (c == VerifyCase::bar_1d) return 1;
   return c == VerifyCase::axis_aligned && o.dim == 3 ? 3 : 2;
@@ -106,6 +154,7 @@ void validate(const VerifyOptions& o) {
   if (!(o.cfl > 0 && o.cfl <= 1)) throw InputError("--cfl: expected a number in (0, 1]");
   if (!(o.amplitude >= 0)) throw InputError("--amplitude: expected a non-negative amplitude");
   if (!(o.end_time >= 0)) throw InputError("--end-time: expected a non-negative time (0: one period)");
+  if (!(o.theta >= 0 && o.theta <= 1)) throw InputError("--theta: expected a number in [0, 1]");
 }
 
 VerifyResult verify(VerifyCase c, const VerifyOptions& o, ParticleTable* final_state) {
@@ -114,6 +163,8 @@ VerifyResult verify(VerifyCase c, const VerifyOptions& o, ParticleTable* final_s
     throw InputError("--dim: the " + std::string(to_string(c)) + " case is " +
                      (c == VerifyCase::axis_aligned ? std::string("2-D or 3-D")
                                                     : std::to_string(dimension(c, o)) + "-D only"));
+  if (o.implicit && dimension(c, o) == 1)
+    throw InputError("--integrator: the implicit integrator needs a 2-D or 3-D case");
   switch (c) {
     case VerifyCase::bar_1d:
       return run_case(Bar1D{o.amplitude, NeoHookean::from_young_poisson(1e7, 0.0, 1000)}, o, final_state);

@@ -21,13 +21,22 @@ std::string_view to_string(VerifyCase c);
 struct VerifyOptions {
   int dim = 0;  ///< 0: the case's own (axis-aligned: 2, or 3 when asked)
   KernelKind kernel = KernelKind::cpgimp;
-  Integrator integrator = Integrator::cd;
+  Integrator integrator = Integrator::cd;  ///< the explicit integrator, unless `implicit`
+  /// The implicit integrator of Sulsky & Kaul 2004 (2-D and 3-D cases): theta-blended steps of the explicit
+  /// CFL step, solved by Newton-GMRES to a residual of 1e-10 (linear tolerance 1e-6), far below the errors.
+  bool implicit = false;
+  Real theta = 1;  ///< the implicit blend: 1 backward Euler, 0.5 the midpoint rule
   int cells = 32;        ///< cells per axis across the body's reference extent
   int ppc = 2;           ///< particles per cell per axis
   Real cfl = 0.4;        ///< dt = cfl h / max_p(c_p + |v_p|)
   Real amplitude = 0.1;  ///< A of the manufactured displacement [m]
   Real end_time = 0;     ///< 0: one period of the motion
 };
+
+/// "implicit", or the explicit integrator's name.
+std::string_view integrator_name(const VerifyOptions& o);
+/// Set the integrator from a name: an explicit one, or "implicit"; throws InputError naming `key`.
+void set_integrator(VerifyOptions& o, std::string_view name, std::string_view key);
 
 /// The dimension a case runs in with these options.
 int dimension(VerifyCase c, const VerifyOptions& o);
@@ -52,7 +61,8 @@ struct ParticleTable {
 /// step. When `final_state` is given it receives the particles at the end (also after a failure).
 VerifyResult verify(VerifyCase c, const VerifyOptions& o, ParticleTable* final_state = nullptr);
 
-/// Throw InputError for impossible options (cells < 2, ppc < 1, cfl outside (0, 1], amplitude, end time).
+/// Throw InputError for impossible options (cells < 2, ppc < 1, cfl outside (0, 1], amplitude, end time, theta
+/// outside [0, 1]).
 void validate(const VerifyOptions& o);
 
 }  // namespace mpm
