@@ -77,6 +77,7 @@ void validate(const ImplicitSpec<Dim>& s, const std::string& where) {
   }
 }
 
+template void validate<1>(const ImplicitSpec<1>&, const std::string&);
 template void validate<2>(const ImplicitSpec<2>&, const std::string&);
 template void validate<3>(const ImplicitSpec<3>&, const std::string&);
 

@@ -88,8 +88,7 @@ double wave_speed_at_rest(const Scene& sc) {
 template <int Dim>
 MemoryModel engine_memory(const Scene& sc) {
   return with_kernel(sc.kernel, [&]<class Kernel>() {
-    if constexpr (Dim >= 2)
-      if (sc.implicit)
+    if (sc.implicit)
         return ImplicitSimulation<Dim, Kernel>::memory_model(sc.implicit_step.newton.restart,
                                                              sc.implicit_step.frozen_jacobian);
     bool rate_form = false;

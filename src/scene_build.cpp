@@ -282,6 +282,7 @@ ImplicitSpec<Dim> make_implicit_spec(const Scene& sc) {
 template SimulationSpec<1> make_spec<1>(const Scene&);
 template SimulationSpec<2> make_spec<2>(const Scene&);
 template SimulationSpec<3> make_spec<3>(const Scene&);
+template ImplicitSpec<1> make_implicit_spec<1>(const Scene&);
 template ImplicitSpec<2> make_implicit_spec<2>(const Scene&);
 template ImplicitSpec<3> make_implicit_spec<3>(const Scene&);
 template ParticleSet<1> seed_bodies<1>(const Scene&);

@@ -251,7 +251,6 @@ void read_simulation(const Section& s, Scene& sc) {
   const std::string integrator = s.choice("integrator", "usl", {"usf", "usl", "cd", "musl", "implicit"});
   sc.implicit = integrator == "implicit";
   if (!sc.implicit) sc.integrator = parse_integrator(integrator);
-  if (sc.implicit && sc.dim == 1) s.fail("integrator", "the implicit integrator needs a 2-D or 3-D scene");
   sc.kernel = parse_kernel(s.choice("kernel", "cpgimp", {"linear", "ugimp", "cpgimp", "bspline2", "bspline3"}));
   sc.gimp_length = s.number("gimp_length", 0);
   if (sc.gimp_length < 0) s.fail("gimp_length", "expected a non-negative length [m]");

@@ -104,11 +104,9 @@ VerifyResult run_case(const Exact& exact, const VerifyOptions& o, ParticleTable*
   VerifyResult r;
   r.end_time = o.end_time > 0 ? o.end_time : exact.period();
   with_kernel(o.kernel, [&]<class K>() {
-    if constexpr (Dim >= 2) {
-      if (o.implicit) {
-        ImplicitSimulation<Dim, K> sim(implicit_spec_of(spec, o.theta), std::move(p));
-        return run_to_end(sim, exact, final_state, r);
-      }
+    if (o.implicit) {
+      ImplicitSimulation<Dim, K> sim(implicit_spec_of(spec, o.theta), std::move(p));
+      return run_to_end(sim, exact, final_state, r);
     }
     Simulation<Dim, K> sim(spec, std::move(p));
     run_to_end(sim, exact, final_state, r);
@@ -163,8 +161,6 @@ VerifyResult verify(VerifyCase c, const VerifyOptions& o, ParticleTable* final_s
     throw InputError("--dim: the " + std::string(to_string(c)) + " case is " +
                      (c == VerifyCase::axis_aligned ? std::string("2-D or 3-D")
                                                     : std::to_string(dimension(c, o)) + "-D only"));
-  if (o.implicit && dimension(c, o) == 1)
-    throw InputError("--integrator: the implicit integrator needs a 2-D or 3-D case");
   switch (c) {
     case VerifyCase::bar_1d:
       return run_case(Bar1D{o.amplitude, NeoHookean::from_young_poisson(1e7, 0.0, 1000)}, o, final_state);

@@ -22,7 +22,7 @@ struct VerifyOptions {
   int dim = 0;  ///< 0: the case's own (axis-aligned: 2, or 3 when asked)
   KernelKind kernel = KernelKind::cpgimp;
   Integrator integrator = Integrator::cd;  ///< the explicit integrator, unless `implicit`
-  /// The implicit integrator of Sulsky & Kaul 2004 (2-D and 3-D cases): theta-blended steps of the explicit
+  /// The implicit integrator of Sulsky & Kaul 2004: theta-blended steps of the explicit
   /// CFL step, solved by Newton-GMRES to a residual of 1e-10 (linear tolerance 1e-6), far below the errors.
   bool implicit = false;
   Real theta = 1;  ///< the implicit blend: 1 backward Euler, 0.5 the midpoint rule

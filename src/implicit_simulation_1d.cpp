@@ -1,0 +1,9 @@
+// Explicit instantiation of the 1-D implicit simulation for every kernel.
+#include "implicit_simulation_impl.hpp"
+
+namespace mpm {
+template class ImplicitSimulation<1, LinearKernel>;
+template class ImplicitSimulation<1, GimpKernel>;
+template class ImplicitSimulation<1, QuadraticBSplineKernel>;
+template class ImplicitSimulation<1, CubicBSplineKernel>;
+}  // namespace mpm
