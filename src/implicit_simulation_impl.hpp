@@ -426,7 +426,7 @@ bool ImplicitSimulation<Dim, Kernel>::evaluate(const Eigen::VectorXd& x, Real dt
     const MaterialState& state = p.state;
     const MaterialStep u =
         material_step<Dim>(spec_.materials[p.material[i]], state.sigma[i], state.eps_bar[i], state.stretch3[i], p.V[i],
-                           p.V0[i], p.F[i], dt * L, geometry == Geometry::axisymmetric ? dt * v_r / p.x[i][0] : 0,
+                           p.V0[i], p.F[i], dt * L, dt, geometry == Geometry::axisymmetric ? dt * v_r / p.x[i][0] : 0,
                            geometry);
     t.ok[i] = u.ok;
     t.sigma[i] = u.sigma;

@@ -1,5 +1,6 @@
 #include "mpm/implicit/spec.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -70,6 +71,10 @@ void validate(const ImplicitSpec<Dim>& s, const std::string& where) {
   require(!s.materials.empty(), at + "materials: at least one material is required");
   for (std::size_t k = 0; k < s.materials.size(); ++k)
     validate(s.materials[k], at + "materials[" + std::to_string(k) + "]", Dim, s.geometry);
+  Real modulus = 0;
+  for (const Material& m : s.materials) modulus = std::max(modulus, young_modulus(m));
+  require(modulus > 0, at + "materials: the implicit residual is scaled by the stiffest material's modulus "
+                            "(Sulsky & Kaul 2004, Sec. 3.2.2): give a fluid a bulk_modulus > 0");
   require(s.gravity.allFinite(), at + "gravity: must be finite");
   for (const RigidBody<Dim>& b : s.rigid_bodies) {
     require(!b.points.empty(), at + "rigid body '" + b.name + "': has no points");

@@ -80,8 +80,7 @@ double count_body(const Scene& sc, const SceneBody& b) {
 double wave_speed_at_rest(const Scene& sc) {
   double c = 0;
   for (const SceneMaterial& m : sc.materials)
-    c = std::max(c, m.model == SceneMaterial::Model::neo_hookean ? m.law.wave_speed(1.0)
-                                                                  : m.rate_law.wave_speed(m.density));
+    c = std::max(c, wave_speed(m.law, 1.0));
   return c;
 }
 
@@ -92,7 +91,7 @@ MemoryModel engine_memory(const Scene& sc) {
         return ImplicitSimulation<Dim, Kernel>::memory_model(sc.implicit_step.newton.restart,
                                                              sc.implicit_step.frozen_jacobian);
     bool rate_form = false;
-    for (const SceneMaterial& m : sc.materials) rate_form = rate_form || m.model != SceneMaterial::Model::neo_hookean;
+    for (const SceneMaterial& m : sc.materials) rate_form = rate_form || is_rate_form(m.law);
     return Simulation<Dim, Kernel>::memory_model(!sc.body_force.empty() || !sc.tractions.empty(), rate_form);
   });
 }

@@ -125,11 +125,10 @@ BoundarySpec<Dim> boundary_of(const Scene& sc) {
   return boundary;
 }
 
-/// The material table: Neo-Hookean or rate-form laws as the scene names them.
+/// The material table.
 std::vector<Material> materials_of(const Scene& sc) {
   std::vector<Material> out;
-  for (const SceneMaterial& m : sc.materials)
-    out.push_back(m.model == SceneMaterial::Model::neo_hookean ? Material{m.law} : Material{m.rate_law});
+  for (const SceneMaterial& m : sc.materials) out.push_back(m.law);
   return out;
 }
 

@@ -284,8 +284,8 @@ void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
   }
 }
 
-// The stress of each particle from its material: Neo-Hookean from F (Wallstedt & Guilkey 2008, Eq. (55)), a
-// rate-form law from the velocity gradient over the step (rate_form_step). The hoop stretch accumulates
+// The stress of each particle from its material: Neo-Hookean from F (Wallstedt & Guilkey 2008, Eq. (55)), the
+// others from the velocity gradient over the step (material_step). The hoop stretch accumulates
 // 1 + dt v_r / r; the temperature rises with the plastic work (Sulsky & Kaul 2004, Eq. (2.3.5)).
 template <int Dim, class Kernel>
 ParticleFault Simulation<Dim, Kernel>::update_stress(Real dt) {
@@ -295,17 +295,21 @@ ParticleFault Simulation<Dim, Kernel>::update_stress(Real dt) {
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
     const Material& material = spec_.materials[p.material[i]];
     bool ok = true;
-    if (const auto* law = std::get_if<ElastoPlastic>(&material)) {
+    if (is_rate_form(material)) {
+      // G2P has advanced F and set V = V0 det F: the step starts from (I + dL)^-1 F and V / det(I + dL).
       const Mat<Dim> dL = dt * grad_v_[i];
-      const Real J_step = (Mat<Dim>::Identity() + dL).determinant();
-      const Real V_start = p.V[i] / J_step * s.stretch3[i];  // G2P set V = V0 det F of the new F
-      const MaterialStep r = rate_form_step<Dim>(*law, s.sigma[i], s.eps_bar[i], s.stretch3[i], V_start, dL,
-                                             axisymmetric_ ? dt * hoop_rate_[i] : 0, spec_.geometry);
+      const Mat<Dim> step = Mat<Dim>::Identity() + dL;
+      const Real V_start = p.V[i] / step.determinant() * s.stretch3[i];
+      const MaterialStep r =
+          material_step<Dim>(material, s.sigma[i], s.eps_bar[i], s.stretch3[i], V_start, p.V0[i],
+                             Mat<Dim>(step.inverse() * p.F[i]), dL, dt, axisymmetric_ ? dt * hoop_rate_[i] : 0,
+                             spec_.geometry);
       ok = r.ok;
       s.sigma[i] = r.sigma;
       s.eps_bar[i] = r.eps_bar;
       s.energy[i] += r.energy;
-      if (law->specific_heat > 0) s.temperature[i] += r.work / (p.m[i] * law->specific_heat);
+      const auto* law = std::get_if<ElastoPlastic>(&material);
+      if (law && law->specific_heat > 0) s.temperature[i] += r.work / (p.m[i] * law->specific_heat);
       s.stretch3[i] = r.stretch3;
       p.V[i] = p.V0[i] * p.F[i].determinant() * r.stretch3;
       for (int a = 0; a < Dim; ++a)

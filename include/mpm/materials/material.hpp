@@ -13,12 +13,14 @@
 #include "mpm/core/model_geometry.hpp"
 #include "mpm/materials/elastoplastic.hpp"
 #include "mpm/materials/neo_hookean.hpp"
+#include "mpm/materials/newtonian_fluid.hpp"
 
 namespace mpm {
 
-using Material = std::variant<NeoHookean, ElastoPlastic>;
+using Material = std::variant<NeoHookean, ElastoPlastic, NewtonianFluid>;
 
-/// Whether a material advances its stress from the rate of deformation (and needs a MaterialState).
+/// Whether a material's stress depends on the rate of deformation (and needs a MaterialState): every material but
+/// the Neo-Hookean one.
 inline bool is_rate_form(const Material& m) { return !std::holds_alternative<NeoHookean>(m); }
 
 /// Reference density rho0 [kg/m^3].
@@ -30,22 +32,25 @@ inline Real reference_density(const Material& m) {
 inline Real wave_speed(const Material& m, Real J) {
   return std::visit(
       [J](const auto& law) {
-        if constexpr (std::is_same_v<std::decay_t<decltype(law)>, NeoHookean>)
-          return law.wave_speed(J);
-        else
+        if constexpr (std::is_same_v<std::decay_t<decltype(law)>, ElastoPlastic>)
           return law.wave_speed(law.rho0 / J);
+        else
+          return law.wave_speed(J);
       },
       m);
 }
 
-/// Young's modulus of the small-strain limit [Pa] (the implicit residual's scale).
+/// Young's modulus of the small-strain limit [Pa] (the implicit residual's scale; a fluid's bulk modulus).
 inline Real young_modulus(const Material& m) {
   return std::visit(
       [](const auto& law) {
-        if constexpr (std::is_same_v<std::decay_t<decltype(law)>, NeoHookean>)
+        using Law = std::decay_t<decltype(law)>;
+        if constexpr (std::is_same_v<Law, NeoHookean>)
           return law.mu * (3 * law.lambda + 2 * law.mu) / (law.lambda + law.mu);
-        else
+        else if constexpr (std::is_same_v<Law, ElastoPlastic>)
           return law.E;
+        else
+          return law.bulk;
       },
       m);
 }
@@ -54,6 +59,13 @@ inline Real young_modulus(const Material& m) {
 /// what was expected.
 inline void validate(const Material& m, const std::string& where, int dim, Geometry geometry) {
   if (const auto* law = std::get_if<ElastoPlastic>(&m)) return validate(*law, where);
+  if (const auto* fluid = std::get_if<NewtonianFluid>(&m)) {
+    validate(*fluid, where);
+    if (geometry != Geometry::plane_strain)
+      throw InputError(where + ": Newtonian fluids run in plane strain; plane stress and axisymmetry need a "
+                               "hypoelastic or von-mises material");
+    return;
+  }
   const NeoHookean& law = std::get<NeoHookean>(m);
   if (!(law.rho0 > 0)) throw InputError(where + ".density: must be positive");
   if (!(law.mu > 0)) throw InputError(where + ": shear modulus must be positive (E > 0 and -1 < nu < 0.5)");

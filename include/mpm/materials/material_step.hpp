@@ -88,11 +88,30 @@ MaterialStep hyperelastic_step(const NeoHookean& law, const Mat<Dim>& F, Real V0
   return out;
 }
 
-/// One particle over a step, whatever its material: hyperelastic_step or rate_form_step.
+/// A Newtonian fluid particle of volume V and deformation gradient F over a step dt with dL = dt grad v: the stress
+/// of Sulsky & Kaul 2004, Eq. (2.1.7) at the end of the step (J of F_new = (I + dL) F, the rate dL / dt), and the
+/// internal energy with the mid-step stress (Sulsky & Kaul 2004, Eq. (2.2.16)), which takes in the dissipation.
+template <int Dim>
+MaterialStep fluid_step(const NewtonianFluid& law, const SymTensor<3>& sigma, Real V, const Mat<Dim>& F,
+                        const Mat<Dim>& dL, Real dt) {
+  const Real J = ((Mat<Dim>::Identity() + dL) * F).determinant();
+  const Mat3 de = embed<Dim>(0.5 * (dL + dL.transpose()));
+  const Mat3 s = law.stress(de / dt, J);
+  MaterialStep out{};
+  out.stretch3 = 1;
+  out.sigma = packed(s);
+  out.energy = V * (0.5 * (sigma.full() + s)).cwiseProduct(de).sum();  // Sulsky & Kaul 2004, Eq. (2.2.16)
+  out.ok = J > 0 && s.allFinite();
+  return out;
+}
+
+/// One particle over a step dt, whatever its material: hyperelastic_step, rate_form_step or fluid_step.
 template <int Dim>
 MaterialStep material_step(const Material& material, const SymTensor<3>& sigma, Real eps_bar, Real stretch3, Real V,
-                           Real V0, const Mat<Dim>& F, const Mat<Dim>& dL, Real hoop_increment, Geometry geometry) {
+                           Real V0, const Mat<Dim>& F, const Mat<Dim>& dL, Real dt, Real hoop_increment,
+                           Geometry geometry) {
   if (const auto* law = std::get_if<NeoHookean>(&material)) return hyperelastic_step<Dim>(*law, F, V0, dL);
+  if (const auto* law = std::get_if<NewtonianFluid>(&material)) return fluid_step<Dim>(*law, sigma, V, F, dL, dt);
   return rate_form_step<Dim>(std::get<ElastoPlastic>(material), sigma, eps_bar, stretch3, V, dL, hoop_increment,
                              geometry);
 }

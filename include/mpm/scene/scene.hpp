@@ -9,7 +9,7 @@
 #include "mpm/boundary/boundary.hpp"
 #include "mpm/implicit/spec.hpp"
 #include "mpm/integrators/spec.hpp"
-#include "mpm/materials/neo_hookean.hpp"
+#include "mpm/materials/material.hpp"
 #include "mpm/scene/expression.hpp"
 
 namespace mpm {
@@ -20,17 +20,14 @@ struct SceneFace {
   std::vector<ExpressionPtr> velocity;  ///< one expression of t per component (kind == velocity)
 };
 
-/// A material: Neo-Hookean (explicit integrators), or a rate-form hypoelastic / von Mises law (the implicit
-/// integrator, Sulsky & Kaul 2004).
+/// A material: Neo-Hookean, a rate-form hypoelastic / von Mises law (Sulsky & Kaul 2004), or a Newtonian fluid.
 struct SceneMaterial {
-  enum class Model { neo_hookean, hypoelastic, von_mises } model = Model::neo_hookean;
   std::string name;
-  double density = 0;     ///< [kg/m^3]
-  NeoHookean law;         ///< model == neo_hookean
-  ElastoPlastic rate_law;  ///< hypoelastic or von_mises
+  double density = 0;  ///< [kg/m^3]
+  Material law;
 };
 
-/// A rigid box of material points moving at a prescribed velocity v(t) (implicit integrator).
+/// A rigid box of material points moving at a prescribed velocity v(t).
 struct SceneRigidBody {
   std::string name;
   std::vector<double> lo, hi;            ///< box corners [m]
