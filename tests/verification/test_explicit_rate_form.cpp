@@ -13,6 +13,7 @@
 #include "mpm/integrators/simulation.hpp"
 #include "mpm/scene/build.hpp"
 #include "mpm/scene/scene.hpp"
+#include "support.hpp"
 
 namespace {
 namespace fs = std::filesystem;
@@ -28,13 +29,7 @@ Sim load(const std::string& scene, const std::string& integrator, std::vector<st
   return Sim(make_spec<2>(sc), seed_bodies<2>(sc));
 }
 
-struct Spread {
-  double min = 1e300, max = -1e300;
-  void add(double v) {
-    min = std::min(min, v);
-    max = std::max(max, v);
-  }
-};
+using mpm::testing::Spread;
 
 // The rigid body drives the bar's end at v = 0.001 over l = 0.3 (the other end a symmetry plane), so the
 // hypoelastic plane-stress uniaxial stress is E v t / l = 33.3 at t = 10 (Sulsky & Kaul 2004, Sec. 3.1.1; its 34.5

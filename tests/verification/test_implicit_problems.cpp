@@ -9,6 +9,7 @@
 #include "mpm/implicit/simulation.hpp"
 #include "mpm/scene/build.hpp"
 #include "mpm/scene/scene.hpp"
+#include "support.hpp"
 
 namespace {
 namespace fs = std::filesystem;
@@ -23,13 +24,7 @@ Sim load(const std::string& scene, const std::vector<std::string>& overrides) {
   return Sim(make_implicit_spec<2>(sc), seed_bodies<2>(sc));
 }
 
-struct Spread {
-  double min = 1e300, max = -1e300;
-  void add(double v) {
-    min = std::min(min, v);
-    max = std::max(max, v);
-  }
-};
+using mpm::testing::Spread;
 
 // The rigid body drives the node at x = 0.4 at v = 0.001 while the node at x = 0.7 stays put, so the bar strains
 // uniformly at rate v / l, l = 0.3, and the hypoelastic uniaxial stress is E' v t / l with E' = E in plane stress
