@@ -32,8 +32,10 @@ TEST(RateFormRestart, IsBitwise) {
   const std::string history = slurp(fs::path(one) / "history.csv");
   EXPECT_GT(history.size(), 1000u);
   EXPECT_EQ(history, slurp(fs::path(two) / "history.csv"));
-  for (const auto& f : fs::directory_iterator(one))
-    if (f.path().extension() == ".vtp") EXPECT_EQ(slurp(f.path()), slurp(fs::path(two) / f.path().filename())) << f.path();
+  for (const auto& f : fs::directory_iterator(one)) {
+    if (f.path().extension() != ".vtp") continue;
+    EXPECT_EQ(slurp(f.path()), slurp(fs::path(two) / f.path().filename())) << f.path();
+  }
   fs::remove_all(dir);
 }
 
