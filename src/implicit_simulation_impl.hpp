@@ -252,6 +252,7 @@ void ImplicitSimulation<Dim, Kernel>::project(Real dt) {
       grid_.nodes[n].v += S_ip * mv_p;
     });
   });
+  halo_.sum_into_owners(grid_);
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
     GridNode<Dim>& node = grid_.nodes[n];
@@ -316,6 +317,7 @@ void ImplicitSimulation<Dim, Kernel>::scatter_momentum(const std::vector<Vec<Dim
     for_each_node(stencils_[i], layout_,
                   [&](std::int32_t n, Real S_ip, const Vec<Dim>&) { grid_.nodes[n].*field += S_ip * mv_p; });
   });
+  halo_.sum_into_owners(grid_);
   constraints_.fold_and_mirror(grid_, field);
 }
 
@@ -335,6 +337,7 @@ void ImplicitSimulation<Dim, Kernel>::scatter_force(const std::vector<SymTensor<
       if (axisymmetric) node.a[0] -= hoop * S_ip;
     });
   });
+  halo_.sum_into_owners(grid_);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { f[n] = grid_.nodes[n].a; });
 }
@@ -355,6 +358,7 @@ void ImplicitSimulation<Dim, Kernel>::add_body_force(Real dt) {
     for_each_node(stencils_[i], layout_,
                   [&](std::int32_t n, Real S_ip, const Vec<Dim>&) { grid_.nodes[n].a += S_ip * f_p; });
   });
+  halo_.sum_into_owners(grid_);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { f_ext_[n] += grid_.nodes[n].a; });
 }
@@ -376,6 +380,7 @@ void ImplicitSimulation<Dim, Kernel>::node_velocity_from(const Eigen::VectorXd& 
   }
   for (const Fixed& f : fixed_) grid_.nodes[f.node].v_new[f.component] = f.value;
   constraints_.mirror(grid_, &GridNode<Dim>::v_new);
+  halo_.copy_to_ghosts(grid_);
   if (!momentum) return;
   for (std::size_t n = 0; n < grid_.size(); ++n) v_star_[n] = grid_.nodes[n].v_new;  // P_i^L / m_i
   // v_p^L = v_p^k + sum_i (P_i^L - P_i^k) N_i(x_p) / m_i (Eq. 3.2.6: the momentum change is dt times the force).
@@ -396,6 +401,7 @@ void ImplicitSimulation<Dim, Kernel>::node_velocity_from(const Eigen::VectorXd& 
   });
   for (const Fixed& f : fixed_) grid_.nodes[f.node].v_new[f.component] = f.value;
   constraints_.mirror(grid_, &GridNode<Dim>::v_new);
+  halo_.copy_to_ghosts(grid_);
 }
 
 // F(x) of Sulsky & Kaul 2004, Eq. (2.4.12), in the form (P^L - P^k) - dt ((1 - theta) f^k + theta f^L + f^ext)

@@ -175,16 +175,13 @@ void Simulation<Dim, Kernel>::run_until(Real t_end) {
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::step_usf(Real dt) {
   build_stencils();
-  p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils_, order_, body_accel_, grid_);
-  constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
+  scatter<Scatter{.mass_momentum = true, .force = false}>();
   grid_velocity(grid_, min_node_mass_);
   for (GridNode<Dim>& node : grid_.nodes) node.v_new = node.v;
   constraints_.constrain_velocity(grid_, &GridNode<Dim>::v_new, time_);
   rigid_.constrain_velocity(grid_, &GridNode<Dim>::v_new, time_);
   gather<Gather{.velocity = false, .position = false, .deformation = true}>(&GridNode<Dim>::v_new, dt);
-  p2g<Scatter{.mass_momentum = false, .force = true}>(particles_, stencils_, order_, body_accel_, grid_);
-  if (axisymmetric_) add_hoop_force();
-  constraints_.fold_and_mirror(grid_, NodeFields::force);
+  scatter<Scatter{.mass_momentum = false, .force = true}>();
   grid_update(grid_, spec_.gravity, dt, 1.0, min_node_mass_);
   constrain_update(time_ + dt, dt);
   gather<Gather{.velocity = true, .position = true, .deformation = false}>(&GridNode<Dim>::v_new, dt);
@@ -195,10 +192,7 @@ void Simulation<Dim, Kernel>::step_usf(Real dt) {
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::step_usl(Real dt, Real accel_scale) {
   build_stencils();
-  p2g<Scatter{.mass_momentum = true, .force = true}>(particles_, stencils_, order_, body_accel_, grid_);
-  if (axisymmetric_) add_hoop_force();
-  constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
-  constraints_.fold_and_mirror(grid_, NodeFields::force);
+  scatter<Scatter{.mass_momentum = true, .force = true}>();
   grid_velocity_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
   constrain_update(time_ + dt, dt);
   if (!light_node_mass_.any() || !any_light(grid_, mirror_copies_, min_node_mass_, light_node_mass_)) {
@@ -217,10 +211,7 @@ void Simulation<Dim, Kernel>::step_usl(Real dt, Real accel_scale) {
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::step_musl(Real dt, Real accel_scale) {
   build_stencils();
-  p2g<Scatter{.mass_momentum = true, .force = true}>(particles_, stencils_, order_, body_accel_, grid_);
-  if (axisymmetric_) add_hoop_force();
-  constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
-  constraints_.fold_and_mirror(grid_, NodeFields::force);
+  scatter<Scatter{.mass_momentum = true, .force = true}>();
   grid_velocity_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
   constrain_update(time_ + dt, dt);
   gather<Gather{.velocity = true, .position = false, .deformation = false}>(&GridNode<Dim>::v_new, dt);
@@ -232,8 +223,7 @@ void Simulation<Dim, Kernel>::step_musl(Real dt, Real accel_scale) {
 // Guilkey 2008, Eq. (51)); the particles have not moved, so the nodal masses are those of the step.
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::reproject_velocity(Real t_new) {
-  p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils_, order_, body_accel_, grid_);
-  constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
+  scatter<Scatter{.mass_momentum = true, .force = false}>();
   grid_velocity(grid_, min_node_mass_);
   constraints_.constrain_velocity(grid_, &GridNode<Dim>::v, t_new);
   rigid_.constrain_velocity(grid_, &GridNode<Dim>::v, t_new);
@@ -262,8 +252,20 @@ void Simulation<Dim, Kernel>::build_stencils() {
 }
 
 template <int Dim, class Kernel>
+template <Scatter what>
+void Simulation<Dim, Kernel>::scatter() {
+  p2g<what>(particles_, stencils_, order_, body_accel_, grid_);
+  if constexpr (what.force)
+    if (axisymmetric_) add_hoop_force();
+  halo_.sum_into_owners(grid_);
+  if constexpr (what.mass_momentum) constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
+  if constexpr (what.force) constraints_.fold_and_mirror(grid_, NodeFields::force);
+}
+
+template <int Dim, class Kernel>
 template <Gather what>
 void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
+  halo_.copy_to_ghosts(grid_);
   StencilTargets<Dim, Kernel> next{stencils_, strip_};
   StencilTargets<Dim, Kernel>* targets = what.position ? &next : nullptr;
   ParticleFault fault;

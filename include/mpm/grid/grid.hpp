@@ -17,6 +17,9 @@ struct GridGeometry {
   Real h = 1.0;                    ///< cell width [m], equal along every axis
   IVec<Dim> cells{};               ///< cells per axis in the physical domain
   int ghost = 1;                   ///< extra node layers beyond each face
+  /// Global index of node (0, ..., 0): the arrays are local to this box of the grid, node and cell indices in
+  /// messages, checkpoints and outputs are global (zero in one process).
+  IVec<Dim> offset{};
 
   int nodes_along(int d) const { return cells[d] + 1 + 2 * ghost; }
   std::size_t node_count() const {
@@ -35,6 +38,12 @@ struct GridGeometry {
     std::ptrdiff_t f = 0;
     for (int d = Dim - 1; d >= 0; --d) f = f * nodes_along(d) + (i[d] + ghost);
     return f;
+  }
+  /// The global index of local node i.
+  IVec<Dim> global(const IVec<Dim>& i) const {
+    IVec<Dim> g;
+    for (int d = 0; d < Dim; ++d) g[d] = i[d] + offset[d];
+    return g;
   }
   /// Grid coordinates of a flat node index.
   IVec<Dim> coords(std::ptrdiff_t f) const {

@@ -11,6 +11,7 @@
 #include "mpm/boundary/boundary.hpp"
 #include "mpm/core/memory.hpp"
 #include "mpm/grid/grid.hpp"
+#include "mpm/grid/halo.hpp"
 #include "mpm/implicit/spec.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/shape/kernels.hpp"
@@ -125,6 +126,7 @@ class ImplicitSimulation {
   ImplicitSpec<Dim> spec_;
   ParticleSet<Dim> particles_;
   Grid<Dim> grid_;
+  Halo<Dim> halo_;
   KinematicConstraints<Dim> constraints_;
   NodeLayout<Dim> layout_;
   Real min_node_mass_ = 0;

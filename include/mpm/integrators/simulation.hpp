@@ -8,6 +8,7 @@
 #include "mpm/boundary/rigid_body.hpp"
 #include "mpm/core/memory.hpp"
 #include "mpm/grid/grid.hpp"
+#include "mpm/grid/halo.hpp"
 #include "mpm/integrators/spec.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/shape/kernels.hpp"
@@ -85,7 +86,10 @@ class Simulation {
 
   // Stages shared by the integrators.
   void build_stencils();
-  /// A G2P pass; one that moves the particles also computes their stencils at the new positions.
+  /// A P2G pass with its hoop force in axisymmetry, the halo sum and the symmetry folds.
+  template <Scatter what>
+  void scatter();
+  /// A G2P pass after the halo copy; one that moves the particles also computes their stencils at the new positions.
   template <Gather what>
   void gather(NodeVelocity<Dim> v_grid, Real dt);
   void evaluate_body_force();
@@ -100,6 +104,7 @@ class Simulation {
   SimulationSpec<Dim> spec_;
   ParticleSet<Dim> particles_;
   Grid<Dim> grid_;
+  Halo<Dim> halo_;
   KinematicConstraints<Dim> constraints_;
   RigidBodies<Dim> rigid_;
   SizeUpdate sizes_;
