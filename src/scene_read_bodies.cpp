@@ -1,0 +1,139 @@
+// Reading the bodies, rigid bodies and loads of a scene.
+#include "mpm/scene/budget.hpp"
+#include "scene_section.hpp"
+
+namespace mpm::scene_reading {
+
+namespace {
+/// Empty when [lo, hi] lies inside the grid, else "lo" or "hi" (the side that leaves it).
+std::string outside_grid(const Scene& sc, const std::vector<double>& lo, const std::vector<double>& hi) {
+  for (int d = 0; d < sc.dim; ++d)
+    if (lo[d] < sc.grid_lo[d] - 1e-12) return "lo";
+  for (int d = 0; d < sc.dim; ++d)
+    if (hi[d] > sc.grid_hi[d] + 1e-12) return "hi";
+  return "";
+}
+
+/// The grid's extent for messages, e.g. "[0, 1] x [0, 2]".
+std::string grid_extent(const Scene& sc) {
+  std::ostringstream os;
+  for (int d = 0; d < sc.dim; ++d) os << (d ? " x [" : "[") << sc.grid_lo[d] << ", " << sc.grid_hi[d] << "]";
+  return os.str();
+}
+
+}  // namespace
+
+void read_body(const Section& s, Scene& sc, std::size_t index) {
+  const auto n = static_cast<std::size_t>(sc.dim);
+  SceneBody b;
+  b.name = s.text("name", "body " + std::to_string(index));
+  const std::string shape = s.choice("shape", "box", {"box", "disk", "sphere", "ring", "file"});
+  if (shape == "box") {
+    b.shape = SceneBody::Shape::box;
+    b.lo = s.numbers("lo", n);
+    b.hi = s.numbers("hi", n);
+    for (std::size_t d = 0; d < n; ++d)
+      if (!(b.hi[d] > b.lo[d])) s.fail("hi", "expected hi > lo on every axis");
+    const std::string side = outside_grid(sc, b.lo, b.hi);
+    if (!side.empty()) s.fail(side, "the box must lie inside the grid " + grid_extent(sc));
+  } else if (shape == "file") {
+    b.shape = SceneBody::Shape::file;
+    b.file = s.text("file", "");
+    if (b.file.empty()) s.fail("file", "missing (a CSV file of positions and volumes)");
+    if (b.file.is_relative()) b.file = sc.file.parent_path() / b.file;
+    if (!std::filesystem::exists(b.file)) s.fail("file", "cannot open " + b.file.string());
+  } else {
+    if ((shape == "disk" && sc.dim != 2) || (shape == "sphere" && sc.dim != 3))
+      s.fail("shape", "\"disk\" is for 2-D scenes, \"sphere\" for 3-D");
+    if (shape == "ring" && sc.dim == 1) s.fail("shape", "\"ring\" needs a 2-D or 3-D scene");
+    b.shape = shape == "ring" ? SceneBody::Shape::ring : SceneBody::Shape::disk;
+    b.center = s.numbers("center", n);
+    b.radius = s.required_number("radius");
+    if (!(b.radius > 0)) s.fail("radius", "expected a positive radius [m]");
+    if (b.shape == SceneBody::Shape::ring) {
+      b.inner_radius = s.required_number("inner_radius");
+      if (!(b.inner_radius >= 0 && b.inner_radius < b.radius))
+        s.fail("inner_radius", "expected 0 <= inner_radius < radius");
+    }
+    std::vector<double> lo = b.center, hi = b.center;
+    for (std::size_t d = 0; d < n; ++d) lo[d] -= b.radius, hi[d] += b.radius;
+    if (!outside_grid(sc, lo, hi).empty())
+      s.fail("radius", "the " + shape + " (center +- radius) must lie inside the grid " + grid_extent(sc));
+  }
+  b.ppc = s.integer("ppc", 2);
+  if (b.ppc < 1 || b.ppc > limits::max_ppc)
+    s.fail("ppc", "expected at least 1 and at most " + std::to_string(limits::max_ppc) +
+                     " particles per cell per axis");
+  const std::string material = s.text("material", sc.materials.size() == 1 ? sc.materials[0].name : "");
+  if (material.empty()) s.fail("material", "missing (the name of a [[materials]] entry)");
+  auto found = std::find_if(sc.materials.begin(), sc.materials.end(),
+                            [&](const SceneMaterial& m) { return m.name == material; });
+  if (found == sc.materials.end()) {
+    std::vector<std::string> names;
+    for (const SceneMaterial& m : sc.materials) names.push_back(m.name);
+    s.fail("material", "no material named '" + material + "' (defined: " + join(names) + ")");
+  }
+  b.material = static_cast<std::size_t>(found - sc.materials.begin());
+  if (s.has("velocity")) b.velocity = s.expressions("velocity", n, position_vars[n - 1], sc.constants);
+  if (s.has("displacement"))
+    b.displacement = s.expressions("displacement", n, reference_vars[n - 1], sc.constants);
+  if (s.has("deformation_gradient")) {
+    if (!s.has("displacement")) s.fail("deformation_gradient", "needs the matching initial displacement");
+    b.deformation = s.expressions("deformation_gradient", n * n, reference_vars[n - 1], sc.constants);
+  }
+  sc.bodies.push_back(std::move(b));
+}
+
+void read_loads(const Section& s, Scene& sc, const Locator& loc) {
+  const auto n = static_cast<std::size_t>(sc.dim);
+  sc.gravity = s.has("gravity") ? s.numbers("gravity", n) : std::vector<double>(n, 0.0);
+  if (s.has("body_force")) sc.body_force = s.expressions("body_force", n, reference_time_vars[n - 1], sc.constants);
+  const std::vector<const toml::table*> tractions = s.tables("traction");
+  for (std::size_t k = 0; k < tractions.size(); ++k) {
+    const Section t(*tractions[k], s.key_of("traction[" + std::to_string(k) + "]"), loc, {"body", "face", "traction"});
+    SceneTraction tr;
+    if (!t.has("body")) t.fail("body", "missing (the name of the loaded box body)");
+    const std::string body = t.text("body", "");
+    auto found = std::find_if(sc.bodies.begin(), sc.bodies.end(), [&](const SceneBody& b) { return b.name == body; });
+    if (found == sc.bodies.end()) t.fail("body", "no body named '" + body + "'");
+    if (found->shape != SceneBody::Shape::box) t.fail("body", "tractions apply to box bodies only");
+    tr.body = static_cast<std::size_t>(found - sc.bodies.begin());
+    const std::vector<std::string> names(face_names.begin(), face_names.begin() + 2 * sc.dim);
+    const std::string face = t.choice("face", "", names);
+    tr.face = static_cast<int>(std::find(names.begin(), names.end(), face) - names.begin());
+    tr.traction = t.expressions("traction", n, time_var, sc.constants);
+    sc.tractions.push_back(std::move(tr));
+  }
+}
+
+void read_rigid_body(const Section& s, Scene& sc, std::size_t index) {
+  const auto n = static_cast<std::size_t>(sc.dim);
+  SceneRigidBody r;
+  r.name = s.text("name", "rigid " + std::to_string(index));
+  s.choice("shape", "box", {"box"});
+  r.lo = s.numbers("lo", n);
+  r.hi = s.numbers("hi", n);
+  for (std::size_t d = 0; d < n; ++d)
+    if (!(r.hi[d] > r.lo[d])) s.fail("hi", "expected hi > lo on every axis");
+  const std::string side = outside_grid(sc, r.lo, r.hi);
+  if (!side.empty()) s.fail(side, "the rigid body must lie inside the grid " + grid_extent(sc));
+  r.ppc = s.integer("ppc", 2);
+  if (r.ppc < 1 || r.ppc > limits::max_ppc)
+    s.fail("ppc", "expected at least 1 and at most " + std::to_string(limits::max_ppc) +
+                     " points per cell per axis");
+  if (!s.has("velocity")) s.fail("velocity", "missing (the prescribed velocity, numbers or expressions of t)");
+  r.velocity = s.expressions("velocity", n, time_var, sc.constants);
+  r.imposes.assign(n, !s.has("contact_axes"));
+  if (s.has("contact_axes")) {
+    static const std::vector<std::string> axes{"x", "y", "z"};
+    const toml::array& a = s.array("contact_axes", 0, "an array of axis names (\"x\", \"y\", \"z\")");
+    for (const toml::node& e : a) {
+      const auto axis = std::find(axes.begin(), axes.begin() + sc.dim, e.value<std::string>().value_or(""));
+      if (axis == axes.begin() + sc.dim) s.fail("contact_axes", "expected axis names of this dimension, got " + describe(e));
+      r.imposes[static_cast<std::size_t>(axis - axes.begin())] = true;
+    }
+  }
+  sc.rigid_bodies.push_back(std::move(r));
+}
+
+}  // namespace mpm::scene_reading

@@ -1,0 +1,197 @@
+#pragma once
+// The pieces of the scene reader shared by its files: where a value came from (Locator), a TOML table read with
+// strict keys and typed values (Section), the variables expressions may use, and the readers of the tables
+// (src/scene_reader.cpp: the file and [simulation], [grid], [implicit]; src/scene_read_materials.cpp;
+// src/scene_read_bodies.cpp: bodies, rigid bodies, loads).
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "mpm/core/errors.hpp"
+#include "mpm/scene/scene.hpp"
+
+namespace mpm::scene_reading {
+
+/// Where a value came from, for error messages: "FILE:LINE: key.path", or "FILE: key.path (from --set ...)" for
+/// a value given on the command line.
+struct Locator {
+  std::string file;
+  std::vector<std::pair<std::string, std::string>> overrides;  ///< key path set by --set, and the assignment
+
+  std::string where(const toml::node* node, const std::string& key) const {
+    if (node && node->source().begin.line > 0)
+      return file + ":" + std::to_string(node->source().begin.line) + ": " + key;
+    auto under = [](const std::string& a, const std::string& b) {  // a is b or lies inside it
+      return a.size() > b.size() ? a.compare(0, b.size(), b) == 0 && (a[b.size()] == '.' || a[b.size()] == '[')
+                                 : a == b;
+    };
+    for (const auto& [set_key, assignment] : overrides)
+      if (under(key, set_key) || under(set_key, key)) return file + ": " + key + " (from --set " + assignment + ")";
+    return file + ": " + key;
+  }
+  [[noreturn]] void fail(const toml::node* node, const std::string& key, const std::string& what) const {
+    throw InputError(where(node, key) + ": " + what);
+  }
+};
+
+inline std::string join(const std::vector<std::string>& names) {
+  std::string s;
+  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+inline std::string describe(const toml::node& n) {
+  std::ostringstream os;
+  if (n.is_string())
+    os << '\'' << n.value<std::string>().value_or("") << '\'';
+  else if (n.is_table())
+    os << "a table";
+  else if (n.is_array())
+    os << "an array of " << n.as_array()->size();
+  else
+    n.visit([&](auto&& v) { os << v; });
+  return os.str();
+}
+
+/// Reads one TOML table; remembers which keys were used so that unknown keys (typos) are errors.
+class Section {
+ public:
+  Section(const toml::table& t, std::string path, const Locator& loc, std::vector<std::string> allowed)
+      : t_(t), path_(std::move(path)), loc_(loc), allowed_(std::move(allowed)) {
+    for (auto&& [k, v] : t_) {
+      const std::string key(k.str());
+      if (std::find(allowed_.begin(), allowed_.end(), key) == allowed_.end())
+        loc_.fail(&v, key_of(key), std::string(v.is_table() ? "unknown table" : "unknown key") + " (expected one of " +
+                                       join(allowed_) + ")");
+    }
+  }
+
+  std::string key_of(const std::string& k) const { return path_.empty() ? k : path_ + "." + k; }
+  const toml::node* get(const std::string& k) const { return t_.get(k); }
+  bool has(const std::string& k) const { return t_.contains(k); }
+  [[noreturn]] void fail(const std::string& k, const std::string& what) const {
+    const toml::node* n = get(k);
+    loc_.fail(n ? n : (path_.empty() ? nullptr : &t_), key_of(k), what);  // the document's line 1 would mislead
+  }
+
+  double number(const std::string& k, double fallback) const {
+    const toml::node* n = get(k);
+    if (!n) return fallback;
+    if (!n->is_number()) fail(k, "expected a number, got " + describe(*n));
+    if (!std::isfinite(n->value<double>().value())) fail(k, "expected a finite number, got " + describe(*n));
+    return n->value<double>().value();
+  }
+  double required_number(const std::string& k) const {
+    if (!has(k)) fail(k, "missing (a number is required)");
+    return number(k, 0);
+  }
+  double positive(const std::string& k, double fallback) const {
+    const double v = number(k, fallback);
+    if (!(v > 0) && has(k)) fail(k, "expected a positive number, got " + describe(*get(k)));
+    return v;
+  }
+  int integer(const std::string& k, int fallback) const {
+    const toml::node* n = get(k);
+    if (!n) return fallback;
+    if (!n->is_integer()) fail(k, "expected an integer, got " + describe(*n));
+    const std::int64_t v = n->value<std::int64_t>().value();
+    if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
+      fail(k, "expected an integer, got " + describe(*n) + " (out of range)");
+    return static_cast<int>(v);
+  }
+  std::string text(const std::string& k, const std::string& fallback) const {
+    const toml::node* n = get(k);
+    if (!n) return fallback;
+    if (!n->is_string()) fail(k, "expected a string, got " + describe(*n));
+    return n->value<std::string>().value();
+  }
+  std::string choice(const std::string& k, const std::string& fallback, const std::vector<std::string>& options) const {
+    const std::string v = text(k, fallback);
+    if (std::find(options.begin(), options.end(), v) == options.end())
+      fail(k, "expected one of " + join(options) + ", got '" + v + "'");
+    return v;
+  }
+  const toml::array& array(const std::string& k, std::size_t n, const std::string& what) const {
+    const toml::node* node = get(k);
+    if (!node || !node->is_array() || (n > 0 && node->as_array()->size() != n))
+      fail(k, "expected " + what + (node ? ", got " + describe(*node) : ""));
+    return *node->as_array();
+  }
+  std::vector<double> numbers(const std::string& k, std::size_t n) const {
+    const toml::array& a = array(k, n, "an array of " + std::to_string(n) + " numbers");
+    std::vector<double> out;
+    for (const toml::node& e : a) {
+      if (!e.is_number() || !std::isfinite(e.value<double>().value()))
+        fail(k, "expected an array of " + std::to_string(n) + " finite numbers, got " + describe(e) + " in it");
+      out.push_back(e.value<double>().value());
+    }
+    return out;
+  }
+  /// An array of n components, each a number or an expression string over `vars`.
+  std::vector<ExpressionPtr> expressions(const std::string& k, std::size_t n, const std::vector<std::string>& vars,
+                                         const std::map<std::string, double>& constants) const {
+    const std::string what = "an array of " + std::to_string(n) + " numbers or expression strings of " +
+                             (vars.empty() ? std::string("nothing") : join(vars));
+    const toml::array& a = array(k, n, what);
+    std::vector<ExpressionPtr> out;
+    for (std::size_t c = 0; c < a.size(); ++c) {
+      const toml::node& e = *a.get(c);
+      std::string src;
+      if (e.is_number()) {
+        std::ostringstream os;
+        os.precision(17);
+        os << e.value<double>().value();
+        src = os.str();
+      } else if (e.is_string()) {
+        src = e.value<std::string>().value();
+      } else {
+        fail(k, "expected " + what + ", got " + describe(e) + " in it");
+      }
+      out.push_back(std::make_shared<Expression>(src, vars, constants, loc_.where(&e, key_of(k) + "[" + std::to_string(c) + "]")));
+    }
+    return out;
+  }
+  const toml::table* table(const std::string& k) const {
+    const toml::node* n = get(k);
+    if (!n) return nullptr;
+    if (!n->is_table()) fail(k, "expected a table, got " + describe(*n));
+    return n->as_table();
+  }
+  /// An array of tables ([[k]]).
+  std::vector<const toml::table*> tables(const std::string& k) const {
+    std::vector<const toml::table*> out;
+    const toml::node* n = get(k);
+    if (!n) return out;
+    if (!n->is_array_of_tables()) fail(k, "expected one or more [[" + key_of(k) + "]] tables");
+    for (const toml::node& e : *n->as_array()) out.push_back(e.as_table());
+    return out;
+  }
+
+ private:
+  const toml::table& t_;
+  std::string path_;
+  const Locator& loc_;
+  std::vector<std::string> allowed_;
+};
+
+inline const std::vector<std::string> position_vars[] = {{"x"}, {"x", "y"}, {"x", "y", "z"}};
+inline const std::vector<std::string> reference_vars[] = {{"X"}, {"X", "Y"}, {"X", "Y", "Z"}};
+inline const std::vector<std::string> reference_time_vars[] = {{"X", "t"}, {"X", "Y", "t"}, {"X", "Y", "Z", "t"}};
+inline const std::vector<std::string> time_var{"t"};
+
+/// Read one [[materials]] table into sc.materials.
+void read_material(const Section& s, Scene& sc);
+/// Read bodies[index] into sc.bodies.
+void read_body(const Section& s, Scene& sc, std::size_t index);
+/// Read rigid_bodies[index] into sc.rigid_bodies.
+void read_rigid_body(const Section& s, Scene& sc, std::size_t index);
+/// Read the [loads] table.
+void read_loads(const Section& s, Scene& sc, const Locator& loc);
+
+}  // namespace mpm::scene_reading
