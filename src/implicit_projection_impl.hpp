@@ -1,0 +1,143 @@
+#pragma once
+// The grid side of an implicit step (Sulsky & Kaul 2004, Sec. 2.3.1): the projection of the particles, the
+// unknowns, and the scatters of momentum, internal and body forces. Included by implicit_simulation_impl.hpp.
+#include <sstream>
+
+#include "mpm/core/errors.hpp"
+#include "mpm/core/parallel.hpp"
+#include "mpm/implicit/simulation.hpp"
+
+namespace mpm {
+
+// Initialisation phase (Sulsky & Kaul 2004, Sec. 2.3.1): lumped mass (Eq. 2.2.12), momentum (Eq. 2.2.14 /
+// 3.2.3), internal force at t^k (Eq. 2.4.6) and external force; rigid-body stencils at their positions.
+template <int Dim, class Kernel>
+void ImplicitSimulation<Dim, Kernel>::project(Real dt) {
+  if (build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, strip_))
+    order_.build(strip_, ScatterOrder::strip_count<Dim, Kernel::width>(grid_.geometry));
+  const ParticleSet<Dim>& p = particles_;
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
+    GridNode<Dim>& node = grid_.nodes[n];
+    node.m = 0;
+    node.v.setZero();
+  });
+  order_.for_each([&](std::int32_t i) {
+    const Real m_p = p.m[i];
+    const Vec<Dim> mv_p = m_p * p.v[i];
+    for_each_node(stencils_[i], layout_, [&](std::int32_t n, Real S_ip, const Vec<Dim>&) {
+      grid_.nodes[n].m += S_ip * m_p;
+      grid_.nodes[n].v += S_ip * mv_p;
+    });
+  });
+  halo_.sum_into_owners(grid_);
+  constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
+    GridNode<Dim>& node = grid_.nodes[n];
+    node.v = node.m > min_node_mass_ ? Vec<Dim>(node.v / node.m) : Vec<Dim>::Zero();
+    f_ext_[n] = node.m * spec_.gravity;
+  });
+  scatter_force(particles_.state.sigma, f_k_);
+  if (spec_.body_force) add_body_force(dt);
+  if (!rigid_.empty()) {
+    std::ostringstream when;
+    when.precision(9);
+    when << "step " << steps_ + 1 << ", t = " << time_ + dt;
+    rigid_.template locate<Kernel>(grid_.geometry, when.str());
+  }
+}
+
+// The unknowns: components of nodes that carry mass, minus those a face constraint or a rigid body prescribes
+// (Sulsky & Kaul 2004, Sec. 2.4.1: nodes with displacement conditions are excluded) and mirrored ghosts.
+template <int Dim, class Kernel>
+void ImplicitSimulation<Dim, Kernel>::build_dofs(Real t_new) {
+  const std::size_t nodes = grid_.size();
+  std::vector<Real> value(nodes * Dim, 0);
+  std::vector<int> owner(nodes * Dim, -1);
+  const std::vector<Vec<Dim>> face_velocity = constraints_.velocities(t_new);
+  for (const auto& c : constraints_.components()) {
+    owner[c.node * Dim + c.component] = c.group;
+    value[c.node * Dim + c.component] = face_velocity[c.group][c.component];
+  }
+  const int groups = static_cast<int>(face_velocity.size());
+  for (std::size_t b = 0; b < rigid_.size(); ++b) {
+    const Vec<Dim> v = rigid_.bodies()[b].velocity(t_new);
+    for (std::int32_t n : rigid_.nodes(b))
+      for (int c = 0; c < Dim; ++c) {
+        if (!rigid_.bodies()[b].imposes[c]) continue;
+        owner[n * Dim + c] = groups + static_cast<int>(b);
+        value[n * Dim + c] = v[c];
+      }
+  }
+  dof_node_.clear();
+  dof_comp_.clear();
+  fixed_.clear();
+  for (std::size_t n = 0; n < nodes; ++n) {
+    if (mirrored_[n]) continue;
+    for (int c = 0; c < Dim; ++c) {
+      const std::size_t k = n * Dim + c;
+      if (owner[k] >= 0)
+        fixed_.push_back({static_cast<std::int32_t>(n), c, owner[k], value[k]});
+      else if (grid_.nodes[n].m > min_node_mass_) {
+        dof_node_.push_back(static_cast<std::int32_t>(n));
+        dof_comp_.push_back(static_cast<std::int8_t>(c));
+      }
+    }
+  }
+}
+
+template <int Dim, class Kernel>
+void ImplicitSimulation<Dim, Kernel>::scatter_momentum(const std::vector<Vec<Dim>>& v_p, NodeVelocity<Dim> field) {
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { (grid_.nodes[n].*field).setZero(); });
+  const ParticleSet<Dim>& p = particles_;
+  order_.for_each([&](std::int32_t i) {
+    const Vec<Dim> mv_p = p.m[i] * v_p[i];
+    for_each_node(stencils_[i], layout_,
+                  [&](std::int32_t n, Real S_ip, const Vec<Dim>&) { grid_.nodes[n].*field += S_ip * mv_p; });
+  });
+  halo_.sum_into_owners(grid_);
+  constraints_.fold_and_mirror(grid_, field);
+}
+
+// Internal force f_i = -sum_p V_p sigma_p grad N_i(x_p^k) (Sulsky & Kaul 2004, Eqs 2.2.9-2.2.10 and 2.4.7), with
+// the hoop term -V_p sigma_thetatheta N_i / r_p on the radial component in axisymmetry (Sulsky & Schreyer 1996).
+template <int Dim, class Kernel>
+void ImplicitSimulation<Dim, Kernel>::scatter_force(const std::vector<SymTensor<3>>& sigma, std::vector<Vec<Dim>>& f) {
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
+  const ParticleSet<Dim>& p = particles_;
+  const bool axisymmetric = Dim == 2 && spec_.geometry == Geometry::axisymmetric;
+  order_.for_each([&](std::int32_t i) {
+    const Mat<Dim> Vsigma = p.V[i] * sigma[i].full().template topLeftCorner<Dim, Dim>();
+    const Real hoop = axisymmetric ? p.V[i] * sigma[i](2, 2) / p.x[i][0] : 0;
+    for_each_node(stencils_[i], layout_, [&](std::int32_t n, Real S_ip, const Vec<Dim>& dS_ip) {
+      GridNode<Dim>& node = grid_.nodes[n];
+      node.a -= Vsigma * dS_ip;
+      if (axisymmetric) node.a[0] -= hoop * S_ip;
+    });
+  });
+  halo_.sum_into_owners(grid_);
+  constraints_.fold_and_mirror(grid_, NodeFields::force);
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { f[n] = grid_.nodes[n].a; });
+}
+
+// The body force's share of the external force, f_i += sum_p S_ip m_p b_p, with b_p = (1 - theta) b(X_p, t^k) +
+// theta b(X_p, t^{k+1}) blended as the internal forces are (Sulsky & Kaul 2004, Eq. (2.4.1)).
+template <int Dim, class Kernel>
+void ImplicitSimulation<Dim, Kernel>::add_body_force(Real dt) {
+  const ParticleSet<Dim>& p = particles_;
+  const Real theta = spec_.theta, t0 = time_, t1 = time_ + dt;
+  body_accel_.resize(p.size());
+  parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
+    body_accel_[i] = (1 - theta) * spec_.body_force(p.X[i], t0) + theta * spec_.body_force(p.X[i], t1);
+  });
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
+  order_.for_each([&](std::int32_t i) {
+    const Vec<Dim> f_p = p.m[i] * body_accel_[i];
+    for_each_node(stencils_[i], layout_,
+                  [&](std::int32_t n, Real S_ip, const Vec<Dim>&) { grid_.nodes[n].a += S_ip * f_p; });
+  });
+  halo_.sum_into_owners(grid_);
+  constraints_.fold_and_mirror(grid_, NodeFields::force);
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { f_ext_[n] += grid_.nodes[n].a; });
+}
+
+}  // namespace mpm

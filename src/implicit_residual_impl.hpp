@@ -1,0 +1,128 @@
+#pragma once
+// The residual of an implicit step (Sulsky & Kaul 2004, Eq. (2.4.12)): the trial velocities on the nodes,
+// the trial stresses and forces, and the reactions of the converged step. Included by implicit_simulation_impl.hpp.
+#include <sstream>
+
+#include "mpm/core/errors.hpp"
+#include "mpm/core/parallel.hpp"
+#include "mpm/implicit/simulation.hpp"
+#include "mpm/materials/material_step.hpp"
+
+namespace mpm {
+
+// Put the trial unknowns on the nodes as the Lagrangian velocity v_i^L (in v_new): free components from x,
+// prescribed ones from the constraints, mirrored ghosts reflected. In the momentum formulation x holds P_i^L:
+// the particle velocities follow from Eq. (3.2.6) and v_i^L is their projection, Eq. (3.2.7).
+template <int Dim, class Kernel>
+void ImplicitSimulation<Dim, Kernel>::node_velocity_from(const Eigen::VectorXd& x) {
+  const bool momentum = spec_.formulation == Formulation::momentum;
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
+    GridNode<Dim>& node = grid_.nodes[n];
+    node.v_new = node.v;  // inactive nodes keep v^k (zero)
+  });
+  for (std::size_t k = 0; k < dof_node_.size(); ++k) {
+    GridNode<Dim>& node = grid_.nodes[dof_node_[k]];
+    const Real xk = x[static_cast<Eigen::Index>(k)];
+    node.v_new[dof_comp_[k]] = momentum ? xk / node.m : xk;
+  }
+  for (const Fixed& f : fixed_) grid_.nodes[f.node].v_new[f.component] = f.value;
+  constraints_.mirror(grid_, &GridNode<Dim>::v_new);
+  halo_.copy_to_ghosts(grid_);
+  if (!momentum) return;
+  for (std::size_t n = 0; n < grid_.size(); ++n) v_star_[n] = grid_.nodes[n].v_new;  // P_i^L / m_i
+  // v_p^L = v_p^k + sum_i (P_i^L - P_i^k) N_i(x_p) / m_i (Eq. 3.2.6: the momentum change is dt times the force).
+  const ParticleSet<Dim>& p = particles_;
+  trial_.v.resize(p.size());
+  parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
+    Vec<Dim> dv = Vec<Dim>::Zero();
+    for_each_node(stencils_[i], layout_, [&](std::int32_t n, Real S_ip, const Vec<Dim>&) {
+      const GridNode<Dim>& node = grid_.nodes[n];
+      if (node.m > min_node_mass_) dv += S_ip * (node.v_new - node.v);
+    });
+    trial_.v[i] = p.v[i] + dv;
+  });
+  scatter_momentum(trial_.v, &GridNode<Dim>::v_new);
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
+    GridNode<Dim>& node = grid_.nodes[n];
+    node.v_new = node.m > min_node_mass_ ? Vec<Dim>(node.v_new / node.m) : Vec<Dim>::Zero();
+  });
+  for (const Fixed& f : fixed_) grid_.nodes[f.node].v_new[f.component] = f.value;
+  constraints_.mirror(grid_, &GridNode<Dim>::v_new);
+  halo_.copy_to_ghosts(grid_);
+}
+
+// F(x) of Sulsky & Kaul 2004, Eq. (2.4.12), in the form (P^L - P^k) - dt ((1 - theta) f^k + theta f^L + f^ext)
+// on the free unknowns (P^L = m v^L in the velocity formulation, Eq. 2.4.5; Eq. 3.2.4 in the momentum one),
+// divided by Y h^Dim dt (Sec. 3.2.2). The stress follows from the strain increments of v^L (Eqs 2.2.18-2.2.21).
+template <int Dim, class Kernel>
+bool ImplicitSimulation<Dim, Kernel>::evaluate(const Eigen::VectorXd& x, Real dt, Eigen::VectorXd& r) {
+  last_x_ = x;
+  node_velocity_from(x);
+  const ParticleSet<Dim>& p = particles_;
+  const std::size_t np = p.size();
+  Trial& t = trial_;
+  t.sigma.resize(np);
+  t.eps_bar.resize(np);
+  t.work.resize(np);
+  t.energy.resize(np);
+  t.stretch3.resize(np);
+  t.grad_v.resize(np);
+  t.ok.resize(np);
+  const Geometry geometry = Dim == 2 ? spec_.geometry : Geometry::plane_strain;
+  parallel_for(static_cast<std::ptrdiff_t>(np), [&](std::ptrdiff_t i) {
+    Mat<Dim> L = Mat<Dim>::Zero();
+    Real v_r = 0;
+    for_each_node(stencils_[i], layout_, [&](std::int32_t n, Real S_ip, const Vec<Dim>& dS_ip) {
+      L += grid_.nodes[n].v_new * dS_ip.transpose();
+      v_r += S_ip * grid_.nodes[n].v_new[0];
+    });
+    const MaterialState& state = p.state;
+    const MaterialStep u =
+        material_step<Dim>(spec_.materials[p.material[i]], state.sigma[i], state.eps_bar[i], state.stretch3[i], p.V[i],
+                           p.V0[i], p.F[i], dt * L, dt, geometry == Geometry::axisymmetric ? dt * v_r / p.x[i][0] : 0,
+                           geometry);
+    t.ok[i] = u.ok;
+    t.sigma[i] = u.sigma;
+    t.eps_bar[i] = u.eps_bar;
+    t.work[i] = u.work;
+    t.energy[i] = u.energy;
+    t.stretch3[i] = u.stretch3;
+    t.grad_v[i] = L;
+  });
+  for (std::size_t i = 0; i < np; ++i)
+    if (!t.ok[i]) return false;
+  scatter_force(t.sigma, f_trial_);
+  const Real scale = residual_scale(dt);
+  const Real theta = spec_.theta;
+  r.resize(x.size());
+  for (std::size_t k = 0; k < dof_node_.size(); ++k) {
+    const std::int32_t n = dof_node_[k];
+    const int c = dof_comp_[k];
+    const GridNode<Dim>& node = grid_.nodes[n];
+    const Real P_L = spec_.formulation == Formulation::momentum ? x[static_cast<Eigen::Index>(k)]
+                                                                 : node.m * x[static_cast<Eigen::Index>(k)];
+    const Real force = (1 - theta) * f_k_[n][c] + theta * f_trial_[n][c] + f_ext_[n][c];
+    r[static_cast<Eigen::Index>(k)] = scale * (P_L - node.m * node.v[c] - dt * force);
+  }
+  return r.allFinite();
+}
+
+// The force each constraint applied: the momentum equation's imbalance on its prescribed components,
+// (m_i v_i^L - m_i v_i^k)/dt - ((1 - theta) f^k + theta f^L + f^ext).
+template <int Dim, class Kernel>
+void ImplicitSimulation<Dim, Kernel>::compute_reactions(Real dt) {
+  const int groups = static_cast<int>(face_reactions_.size());
+  for (Vec<Dim>& f : face_reactions_) f.setZero();
+  std::vector<Vec<Dim>>& rigid_reactions = rigid_.reactions();
+  for (Vec<Dim>& f : rigid_reactions) f.setZero();
+  const Real theta = spec_.theta;
+  for (const Fixed& f : fixed_) {
+    const GridNode<Dim>& node = grid_.nodes[f.node];
+    const int c = f.component;
+    const Real force = node.m * (f.value - node.v[c]) / dt -
+                       ((1 - theta) * f_k_[f.node][c] + theta * f_trial_[f.node][c] + f_ext_[f.node][c]);
+    (f.owner < groups ? face_reactions_[f.owner] : rigid_reactions[f.owner - groups])[c] += force;
+  }
+}
+
+}  // namespace mpm
