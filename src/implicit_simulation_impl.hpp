@@ -102,6 +102,8 @@ Real ImplicitSimulation<Dim, Kernel>::wave_speed_limit() const {
 template <int Dim, class Kernel>
 Real ImplicitSimulation<Dim, Kernel>::wave_speed_of(const Material& material, std::size_t i) const {
   const ParticleSet<Dim>& p = particles_;
+  // The rate-form speed from the density m / V, as the implicit engine has always taken it (the same value as
+  // wave_speed(material, V / V0) but not the same rounding, which sets every step of a run).
   if (const auto* law = std::get_if<ElastoPlastic>(&material)) return law->wave_speed(p.m[i] / p.V[i]);
   return wave_speed(material, p.V[i] / p.V0[i]);
 }

@@ -45,6 +45,28 @@ auto naming_scene(const Scene& sc, Make&& make) {
   }
 }
 
+/// What history.csv reports of the constraints, in one order for both engines: the grid's faces and regions,
+/// then the rigid bodies. Their names, the forces they applied (the faces' given), and their velocities at t.
+template <int Dim>
+std::vector<std::string> constraint_names(const KinematicConstraints<Dim>& faces, const RigidBodies<Dim>& rigid) {
+  std::vector<std::string> names = faces.names();
+  for (const RigidBody<Dim>& b : rigid.bodies()) names.push_back(b.name);
+  return names;
+}
+template <int Dim>
+std::vector<Vec<Dim>> constraint_forces(std::vector<Vec<Dim>> faces, const RigidBodies<Dim>& rigid) {
+  faces.insert(faces.end(), rigid.reactions().begin(), rigid.reactions().end());
+  return faces;
+}
+template <int Dim>
+std::vector<Vec<Dim>> constraint_velocities(const KinematicConstraints<Dim>& faces, const RigidBodies<Dim>& rigid,
+                                            Real t) {
+  std::vector<Vec<Dim>> v = faces.velocities(t);
+  const std::vector<Vec<Dim>> bodies = rigid.velocities(t);
+  v.insert(v.end(), bodies.begin(), bodies.end());
+  return v;
+}
+
 /// The output fields of the rate-form state.
 inline void add_state_fields(const MaterialState& s, std::vector<io::PointField>& fields) {
   fields.push_back({"plastic_strain", 1, s.eps_bar});
@@ -91,20 +113,12 @@ class Explicit {
 
   Simulation<Dim, Kernel>& sim() { return sim_; }
   const Simulation<Dim, Kernel>& sim() const { return sim_; }
-  std::vector<std::string> reaction_names() const {
-    std::vector<std::string> names = sim_.constraints().names();
-    for (const RigidBody<Dim>& b : spec_.rigid_bodies) names.push_back(b.name);
-    return names;
-  }
+  std::vector<std::string> reaction_names() const { return constraint_names(sim_.constraints(), sim_.rigid_bodies()); }
   std::vector<Vec<Dim>> reactions() const {
-    std::vector<Vec<Dim>> r = sim_.constraints().reactions();
-    r.insert(r.end(), sim_.rigid_bodies().reactions().begin(), sim_.rigid_bodies().reactions().end());
-    return r;
+    return constraint_forces(sim_.constraints().reactions(), sim_.rigid_bodies());
   }
   std::vector<Vec<Dim>> reaction_velocities(Real t) const {
-    std::vector<Vec<Dim>> v = sim_.constraints().velocities(t);
-    for (const RigidBody<Dim>& b : spec_.rigid_bodies) v.push_back(b.velocity(t));
-    return v;
+    return constraint_velocities(sim_.constraints(), sim_.rigid_bodies(), t);
   }
   /// Stored energy sum_p V0 W(F) of the Neo-Hookean particles (Wallstedt & Guilkey 2008, Eq. 54's potential)
   /// plus the internal energy of the rate-form ones (Sulsky & Kaul 2004, Eq. (2.2.16)).
@@ -179,20 +193,10 @@ class Implicit {
 
   ImplicitSimulation<Dim, Kernel>& sim() { return sim_; }
   const ImplicitSimulation<Dim, Kernel>& sim() const { return sim_; }
-  std::vector<std::string> reaction_names() const {
-    std::vector<std::string> names = sim_.constraints().names();
-    for (const RigidBody<Dim>& b : spec_.rigid_bodies) names.push_back(b.name);
-    return names;
-  }
-  std::vector<Vec<Dim>> reactions() const {
-    std::vector<Vec<Dim>> r = sim_.face_reactions();
-    r.insert(r.end(), sim_.rigid_reactions().begin(), sim_.rigid_reactions().end());
-    return r;
-  }
+  std::vector<std::string> reaction_names() const { return constraint_names(sim_.constraints(), sim_.rigid_bodies()); }
+  std::vector<Vec<Dim>> reactions() const { return constraint_forces(sim_.face_reactions(), sim_.rigid_bodies()); }
   std::vector<Vec<Dim>> reaction_velocities(Real t) const {
-    std::vector<Vec<Dim>> v = sim_.constraints().velocities(t);
-    for (const RigidBody<Dim>& b : spec_.rigid_bodies) v.push_back(b.velocity(t));
-    return v;
+    return constraint_velocities(sim_.constraints(), sim_.rigid_bodies(), t);
   }
   /// Internal energy sum_p e_p (Sulsky & Kaul 2004, Eq. 2.2.16): stored plus dissipated; a Neo-Hookean
   /// particle's is its stored energy V0 W(F).

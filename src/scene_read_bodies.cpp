@@ -21,6 +21,18 @@ std::string grid_extent(const Scene& sc) {
   return os.str();
 }
 
+
+/// The corners `lo` and `hi` of a box inside the grid; `what` names it in the message ("the box").
+void read_box(const Section& s, const Scene& sc, const std::string& what, std::vector<double>& lo,
+              std::vector<double>& hi) {
+  const auto n = static_cast<std::size_t>(sc.dim);
+  lo = s.numbers("lo", n);
+  hi = s.numbers("hi", n);
+  for (std::size_t d = 0; d < n; ++d)
+    if (!(hi[d] > lo[d])) s.fail("hi", "expected hi > lo on every axis");
+  const std::string side = outside_grid(sc, lo, hi);
+  if (!side.empty()) s.fail(side, what + " must lie inside the grid " + grid_extent(sc));
+}
 }  // namespace
 
 void read_body(const Section& s, Scene& sc, std::size_t index) {
@@ -30,12 +42,7 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
   const std::string shape = s.choice("shape", "box", {"box", "disk", "sphere", "ring", "file"});
   if (shape == "box") {
     b.shape = SceneBody::Shape::box;
-    b.lo = s.numbers("lo", n);
-    b.hi = s.numbers("hi", n);
-    for (std::size_t d = 0; d < n; ++d)
-      if (!(b.hi[d] > b.lo[d])) s.fail("hi", "expected hi > lo on every axis");
-    const std::string side = outside_grid(sc, b.lo, b.hi);
-    if (!side.empty()) s.fail(side, "the box must lie inside the grid " + grid_extent(sc));
+    read_box(s, sc, "the box", b.lo, b.hi);
   } else if (shape == "file") {
     b.shape = SceneBody::Shape::file;
     b.file = s.text("file", "");
@@ -111,12 +118,7 @@ void read_rigid_body(const Section& s, Scene& sc, std::size_t index) {
   SceneRigidBody r;
   r.name = s.text("name", "rigid " + std::to_string(index));
   s.choice("shape", "box", {"box"});
-  r.lo = s.numbers("lo", n);
-  r.hi = s.numbers("hi", n);
-  for (std::size_t d = 0; d < n; ++d)
-    if (!(r.hi[d] > r.lo[d])) s.fail("hi", "expected hi > lo on every axis");
-  const std::string side = outside_grid(sc, r.lo, r.hi);
-  if (!side.empty()) s.fail(side, "the rigid body must lie inside the grid " + grid_extent(sc));
+  read_box(s, sc, "the rigid body", r.lo, r.hi);
   r.ppc = s.integer("ppc", 2);
   if (r.ppc < 1 || r.ppc > limits::max_ppc)
     s.fail("ppc", "expected at least 1 and at most " + std::to_string(limits::max_ppc) +

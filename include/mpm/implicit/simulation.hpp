@@ -80,6 +80,7 @@ class ImplicitSimulation {
   /// Force [N per unit thickness or per radian] each grid-face constraint (in constraints().names() order)
   /// and each rigid body applied to the material over the last step.
   const std::vector<Vec<Dim>>& face_reactions() const { return face_reactions_; }
+  const RigidBodies<Dim>& rigid_bodies() const { return rigid_; }
   const std::vector<Vec<Dim>>& rigid_reactions() const { return rigid_.reactions(); }
   /// Displacement of each rigid body since t = 0 [m].
   const std::vector<Vec<Dim>>& rigid_displacements() const { return rigid_.displacements(); }
