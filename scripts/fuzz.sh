@@ -25,7 +25,7 @@ for scene in examples/*/scene.toml examples/implicit/*.toml; do
   fi
 done
 
-# Checkpoints are sealed (src/checkpoint_seal.hpp): HDF5 reads only files exactly as written, so both targets
+# Checkpoints are sealed (src/io/checkpoint_seal.hpp): HDF5 reads only files exactly as written, so both targets
 # run with leak detection, a 2 GB RSS limit and ASan's default of failing oversized allocations.
 declare -A max_len=([fuzz_scene]=8192 [fuzz_checkpoint]=400000)
 for target in fuzz_scene fuzz_checkpoint; do

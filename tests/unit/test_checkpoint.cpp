@@ -17,7 +17,7 @@
 #include <thread>
 #include <vector>
 
-#include "../../src/checkpoint_seal.hpp"  // to re-seal files edited on purpose
+#include "../../src/io/checkpoint_seal.hpp"  // to re-seal files edited on purpose
 #include "mpm/core/errors.hpp"
 #include "mpm/io/checkpoint.hpp"
 

@@ -8,7 +8,7 @@
 
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
-#include "mpm/integrators/simulation.hpp"
+#include "mpm/explicit/simulation.hpp"
 #include "mpm/particles/generate.hpp"
 
 namespace mpm {

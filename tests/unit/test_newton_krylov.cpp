@@ -1,4 +1,4 @@
-// The matrix-free Newton–Krylov solver (mpm/implicit/newton_krylov.hpp) on small analytic systems.
+// The matrix-free Newton–Krylov solver (mpm/numerics/newton_krylov.hpp) on small analytic systems.
 //
 // Linear CG and GMRES are compared with dense Eigen factorisations; the forward difference of Sulsky & Kaul
 // 2004, Eq. (2.4.18) with its closed form on a cubic system (where the Taylor series ends); Newton's method
@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "mpm/core/errors.hpp"
-#include "mpm/implicit/newton_krylov.hpp"
+#include "mpm/numerics/newton_krylov.hpp"
 
 namespace {
 

@@ -7,7 +7,7 @@
 #include <numbers>
 
 #include "mpm/implicit/simulation.hpp"
-#include "mpm/integrators/simulation.hpp"
+#include "mpm/explicit/simulation.hpp"
 #include "mpm/materials/material_step.hpp"
 #include "mpm/particles/generate.hpp"
 

@@ -15,7 +15,7 @@
 #include <cmath>
 #include <vector>
 
-#include "mpm/integrators/simulation.hpp"
+#include "mpm/explicit/simulation.hpp"
 
 namespace {
 

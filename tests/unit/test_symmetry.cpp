@@ -19,7 +19,7 @@
 #include <utility>
 
 #include "mpm/core/parallel.hpp"
-#include "mpm/integrators/simulation.hpp"
+#include "mpm/explicit/simulation.hpp"
 #include "mpm/particles/generate.hpp"
 
 namespace {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "mpm/core/parallel.hpp"
-#include "mpm/integrators/simulation.hpp"
+#include "mpm/explicit/simulation.hpp"
 #include "mpm/scene/build.hpp"
 #include "mpm/scene/scene.hpp"
 #include "support.hpp"

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "mpm/core/errors.hpp"
-#include "mpm/integrators/simulation.hpp"
+#include "mpm/explicit/simulation.hpp"
 #include "mpm/particles/generate.hpp"
 
 namespace {

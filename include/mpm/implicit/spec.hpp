@@ -10,8 +10,8 @@
 #include "mpm/boundary/rigid_body.hpp"
 #include "mpm/core/model_geometry.hpp"
 #include "mpm/core/types.hpp"
-#include "mpm/implicit/newton_krylov.hpp"
-#include "mpm/integrators/spec.hpp"
+#include "mpm/numerics/newton_krylov.hpp"
+#include "mpm/explicit/spec.hpp"
 #include "mpm/materials/material.hpp"
 
 namespace mpm {

@@ -1,7 +1,7 @@
 #pragma once
 /// Turning a scene into the engine's inputs: the simulation spec and the seeded particles.
 #include "mpm/implicit/spec.hpp"
-#include "mpm/integrators/spec.hpp"
+#include "mpm/explicit/spec.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/scene/scene.hpp"
 

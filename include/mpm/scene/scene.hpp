@@ -8,7 +8,7 @@
 
 #include "mpm/boundary/boundary.hpp"
 #include "mpm/implicit/spec.hpp"
-#include "mpm/integrators/spec.hpp"
+#include "mpm/explicit/spec.hpp"
 #include "mpm/materials/material.hpp"
 #include "mpm/scene/expression.hpp"
 

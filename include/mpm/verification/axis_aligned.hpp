@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "mpm/core/types.hpp"
-#include "mpm/integrators/spec.hpp"
+#include "mpm/explicit/spec.hpp"
 #include "mpm/materials/neo_hookean.hpp"
 #include "mpm/particles/generate.hpp"
 

@@ -4,7 +4,7 @@
 /// how far each kernel spreads material beyond the body (an O(h) geometric error at boundaries).
 #include <vector>
 
-#include "mpm/integrators/spec.hpp"
+#include "mpm/explicit/spec.hpp"
 
 namespace mpm {
 

@@ -4,7 +4,7 @@
 #include <string_view>
 #include <vector>
 
-#include "mpm/integrators/spec.hpp"
+#include "mpm/explicit/spec.hpp"
 #include "mpm/verification/error_norms.hpp"
 
 namespace mpm {

@@ -7,7 +7,7 @@
 
 #include "mpm/core/errors.hpp"
 #include "mpm/implicit/simulation.hpp"
-#include "mpm/integrators/simulation.hpp"
+#include "mpm/explicit/simulation.hpp"
 #include "mpm/io/checkpoint.hpp"
 #include "mpm/io/vtk.hpp"
 #include "mpm/scene/build.hpp"

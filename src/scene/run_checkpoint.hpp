@@ -8,7 +8,7 @@
 #include "mpm/io/checkpoint.hpp"
 #include "mpm/scene/scene.hpp"
 #include "mpm/verification/error_norms.hpp"
-#include "scene_engines.hpp"
+#include "engines.hpp"
 
 namespace mpm::scene_checkpoint {
 

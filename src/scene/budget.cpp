@@ -9,7 +9,7 @@
 
 #include "mpm/core/errors.hpp"
 #include "mpm/implicit/simulation.hpp"
-#include "mpm/integrators/simulation.hpp"
+#include "mpm/explicit/simulation.hpp"
 
 namespace mpm {
 

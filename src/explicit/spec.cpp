@@ -1,4 +1,4 @@
-#include "mpm/integrators/spec.hpp"
+#include "mpm/explicit/spec.hpp"
 
 #include <array>
 #include <cmath>

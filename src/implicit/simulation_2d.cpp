@@ -1,5 +1,5 @@
 // Explicit instantiation of the 2-D implicit simulation for every kernel.
-#include "implicit_simulation_impl.hpp"
+#include "simulation_impl.hpp"
 
 namespace mpm {
 template class ImplicitSimulation<2, LinearKernel>;

@@ -8,9 +8,9 @@
 #include "mpm/core/parallel.hpp"
 
 #include "mpm/implicit/simulation.hpp"
-#include "implicit_projection_impl.hpp"
-#include "implicit_residual_impl.hpp"
-#include "implicit_tangent_impl.hpp"
+#include "projection_impl.hpp"
+#include "residual_impl.hpp"
+#include "tangent_impl.hpp"
 #include "mpm/materials/material_step.hpp"
 
 namespace mpm {

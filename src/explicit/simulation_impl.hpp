@@ -8,7 +8,7 @@
 #include <variant>
 
 #include "mpm/core/errors.hpp"
-#include "mpm/integrators/simulation.hpp"
+#include "mpm/explicit/simulation.hpp"
 #include "mpm/transfer/p2g.hpp"
 #include "simulation_stress_impl.hpp"
 

@@ -1,6 +1,6 @@
 // Reading the bodies, rigid bodies and loads of a scene.
 #include "mpm/scene/budget.hpp"
-#include "scene_section.hpp"
+#include "section.hpp"
 
 namespace mpm::scene_reading {
 

@@ -1,5 +1,5 @@
 // Matrix-free Newton–Krylov (Sulsky & Kaul 2004, Sec. 2.4; Kelley 1995, Chs. 2, 3, 6 and 8).
-#include "mpm/implicit/newton_krylov.hpp"
+#include "mpm/numerics/newton_krylov.hpp"
 
 #include <algorithm>
 #include <cmath>

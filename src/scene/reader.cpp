@@ -12,7 +12,7 @@
 #include "mpm/core/errors.hpp"
 #include "mpm/scene/budget.hpp"
 #include "mpm/scene/scene.hpp"
-#include "scene_section.hpp"
+#include "section.hpp"
 
 namespace mpm {
 

@@ -5,7 +5,7 @@
 #include <atomic>
 #include <variant>
 
-#include "mpm/integrators/simulation.hpp"
+#include "mpm/explicit/simulation.hpp"
 #include "mpm/materials/material_step.hpp"
 
 namespace mpm {

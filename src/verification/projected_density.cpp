@@ -4,7 +4,7 @@
 #include <type_traits>
 
 #include "mpm/core/errors.hpp"
-#include "mpm/integrators/simulation.hpp"
+#include "mpm/explicit/simulation.hpp"
 #include "mpm/particles/generate.hpp"
 #include "mpm/shape/stencil.hpp"
 

@@ -1,5 +1,5 @@
 // Reading the [[materials]] tables of a scene: Neo-Hookean, rate-form (hypoelastic, von Mises) and Newtonian fluid.
-#include "scene_section.hpp"
+#include "section.hpp"
 
 namespace mpm::scene_reading {
 

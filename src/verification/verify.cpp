@@ -3,7 +3,7 @@
 
 #include "mpm/core/errors.hpp"
 #include "mpm/implicit/simulation.hpp"
-#include "mpm/integrators/simulation.hpp"
+#include "mpm/explicit/simulation.hpp"
 #include "mpm/verification/axis_aligned.hpp"
 #include "mpm/verification/bar_1d.hpp"
 #include "mpm/verification/expanding_ring.hpp"

@@ -9,7 +9,7 @@
 #include "mpm/core/memory.hpp"
 #include "mpm/grid/grid.hpp"
 #include "mpm/grid/halo.hpp"
-#include "mpm/integrators/spec.hpp"
+#include "mpm/explicit/spec.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/shape/kernels.hpp"
 #include "mpm/shape/stencil.hpp"

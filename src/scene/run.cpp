@@ -20,10 +20,10 @@
 #include "mpm/io/files.hpp"
 #include "mpm/scene/budget.hpp"
 #include "mpm/io/vtk.hpp"
-#include "progress.hpp"
-#include "scene_checkpoint.hpp"
-#include "scene_frame.hpp"
-#include "scene_engines.hpp"
+#include "run_progress.hpp"
+#include "run_checkpoint.hpp"
+#include "run_frame.hpp"
+#include "engines.hpp"
 #include "mpm/verification/error_norms.hpp"
 
 namespace mpm {
