@@ -247,8 +247,8 @@ template <int Dim, class Kernel>
 template <Scatter what>
 void Simulation<Dim, Kernel>::scatter() {
   p2g<what>(particles_, stencils_, order_, body_accel_, grid_);
-  if constexpr (what.force)
-    if (axisymmetric_) add_hoop_force();
+  if constexpr (what.force && Dim == 2)  // the hoop force in a pass of its own, as in the implicit step
+    if (axisymmetric_) p2g_add(stencils_, order_, grid_, HoopForce{particles_.V, particles_.state.sigma, particles_.x});
   halo_.sum_into_owners(grid_);
   if constexpr (what.mass_momentum) constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   if constexpr (what.force) constraints_.fold_and_mirror(grid_, NodeFields::force);

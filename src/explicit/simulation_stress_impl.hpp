@@ -1,7 +1,7 @@
 #pragma once
 // The material stages of Simulation<Dim, Kernel>: the stress update after a deforming G2P pass (every material
 // but the Neo-Hookean one, whose stress G2P computes in lanes when it is the only one), the 3 x 3 stress of a
-// particle, and the hoop force of axisymmetry. Included by simulation_impl.hpp.
+// particle. Included by simulation_impl.hpp.
 #include <atomic>
 #include <variant>
 
@@ -60,17 +60,6 @@ ParticleFault Simulation<Dim, Kernel>::update_stress(Real dt) {
     }
   });
   return ParticleFault{first_fault.load()};
-}
-
-template <int Dim, class Kernel>
-void Simulation<Dim, Kernel>::add_hoop_force() {
-  const ParticleSet<Dim>& p = particles_;
-  const NodeLayout<Dim> layout(grid_.geometry);
-  order_.for_each([&](std::int32_t i) {
-    const Real hoop = p.V[i] * p.state.sigma[i](2, 2) / p.x[i][0];
-    for_each_node(stencils_[i], layout,
-                  [&](std::int32_t n, Real S_ip, const Vec<Dim>&) { grid_.nodes[n].a[0] -= hoop * S_ip; });
-  });
 }
 
 }  // namespace mpm

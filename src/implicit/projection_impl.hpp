@@ -6,6 +6,8 @@
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
 #include "mpm/implicit/simulation.hpp"
+#include "mpm/transfer/g2p.hpp"
+#include "mpm/transfer/p2g.hpp"
 
 namespace mpm {
 
@@ -15,20 +17,7 @@ template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::project(Real dt) {
   if (build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, strip_))
     order_.build(strip_, ScatterOrder::strip_count<Dim, Kernel::width>(grid_.geometry));
-  const ParticleSet<Dim>& p = particles_;
-  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
-    GridNode<Dim>& node = grid_.nodes[n];
-    node.m = 0;
-    node.v.setZero();
-  });
-  order_.for_each([&](std::int32_t i) {
-    const Real m_p = p.m[i];
-    const Vec<Dim> mv_p = m_p * p.v[i];
-    for_each_node(stencils_[i], layout_, [&](std::int32_t n, Real S_ip, const Vec<Dim>&) {
-      grid_.nodes[n].m += S_ip * m_p;
-      grid_.nodes[n].v += S_ip * mv_p;
-    });
-  });
+  p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils_, order_, {}, grid_);  // as explicit
   halo_.sum_into_owners(grid_);
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
@@ -88,12 +77,7 @@ void ImplicitSimulation<Dim, Kernel>::build_dofs(Real t_new) {
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::scatter_momentum(const std::vector<Vec<Dim>>& v_p, NodeVelocity<Dim> field) {
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { (grid_.nodes[n].*field).setZero(); });
-  const ParticleSet<Dim>& p = particles_;
-  order_.for_each([&](std::int32_t i) {
-    const Vec<Dim> mv_p = p.m[i] * v_p[i];
-    for_each_node(stencils_[i], layout_,
-                  [&](std::int32_t n, Real S_ip, const Vec<Dim>&) { grid_.nodes[n].*field += S_ip * mv_p; });
-  });
+  p2g_add(stencils_, order_, grid_, Momentum<Dim, false>{particles_.m, v_p, slot_of<Dim>(field)});
   halo_.sum_into_owners(grid_);
   constraints_.fold_and_mirror(grid_, field);
 }
@@ -104,16 +88,9 @@ template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::scatter_force(const std::vector<SymTensor<3>>& sigma, std::vector<Vec<Dim>>& f) {
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
   const ParticleSet<Dim>& p = particles_;
-  const bool axisymmetric = Dim == 2 && spec_.geometry == Geometry::axisymmetric;
-  order_.for_each([&](std::int32_t i) {
-    const Mat<Dim> Vsigma = p.V[i] * sigma[i].full().template topLeftCorner<Dim, Dim>();
-    const Real hoop = axisymmetric ? p.V[i] * sigma[i](2, 2) / p.x[i][0] : 0;
-    for_each_node(stencils_[i], layout_, [&](std::int32_t n, Real S_ip, const Vec<Dim>& dS_ip) {
-      GridNode<Dim>& node = grid_.nodes[n];
-      node.a -= Vsigma * dS_ip;
-      if (axisymmetric) node.a[0] -= hoop * S_ip;
-    });
-  });
+  p2g_add(stencils_, order_, grid_, InternalForce<Dim, SymTensor<3>>{p.V, sigma});
+  if constexpr (Dim == 2)  // the hoop force in a pass of its own, as in the explicit step
+    if (spec_.geometry == Geometry::axisymmetric) p2g_add(stencils_, order_, grid_, HoopForce{p.V, sigma, p.x});
   halo_.sum_into_owners(grid_);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { f[n] = grid_.nodes[n].a; });
@@ -130,14 +107,20 @@ void ImplicitSimulation<Dim, Kernel>::add_body_force(Real dt) {
     body_accel_[i] = (1 - theta) * spec_.body_force(p.X[i], t0) + theta * spec_.body_force(p.X[i], t1);
   });
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
-  order_.for_each([&](std::int32_t i) {
-    const Vec<Dim> f_p = p.m[i] * body_accel_[i];
-    for_each_node(stencils_[i], layout_,
-                  [&](std::int32_t n, Real S_ip, const Vec<Dim>&) { grid_.nodes[n].a += S_ip * f_p; });
-  });
+  p2g_add(stencils_, order_, grid_, BodyForce<Dim>{p.m, body_accel_});
   halo_.sum_into_owners(grid_);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { f_ext_[n] += grid_.nodes[n].a; });
+}
+
+template <int Dim, class Kernel>
+template <class Value>
+void ImplicitSimulation<Dim, Kernel>::gather_over_active_nodes(Value value, std::vector<Vec<Dim>>& out) {
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
+    GridNode<Dim>& node = grid_.nodes[n];
+    node.a = node.m > min_node_mass_ ? Vec<Dim>(value(node, static_cast<std::size_t>(n))) : Vec<Dim>::Zero();
+  });
+  g2p_interpolate(stencils_, grid_, &GridNode<Dim>::a, out);
 }
 
 }  // namespace mpm

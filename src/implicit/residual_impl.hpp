@@ -7,6 +7,7 @@
 #include "mpm/core/parallel.hpp"
 #include "mpm/implicit/simulation.hpp"
 #include "mpm/materials/material_step.hpp"
+#include "mpm/transfer/g2p.hpp"
 
 namespace mpm {
 
@@ -30,17 +31,12 @@ void ImplicitSimulation<Dim, Kernel>::node_velocity_from(const Eigen::VectorXd& 
   halo_.copy_to_ghosts(grid_);
   if (!momentum) return;
   for (std::size_t n = 0; n < grid_.size(); ++n) v_star_[n] = grid_.nodes[n].v_new;  // P_i^L / m_i
-  // v_p^L = v_p^k + sum_i (P_i^L - P_i^k) N_i(x_p) / m_i (Eq. 3.2.6: the momentum change is dt times the force).
+  // v_p^L = v_p^k + sum_i (P_i^L - P_i^k) N_i(x_p) / m_i (Sulsky & Kaul 2004, Eq. (3.2.6): the momentum change
+  // is dt times the force), over the nodes that carry mass.
   const ParticleSet<Dim>& p = particles_;
+  gather_over_active_nodes([&](const GridNode<Dim>& node, std::size_t) { return node.v_new - node.v; }, dv_);
   trial_.v.resize(p.size());
-  parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
-    Vec<Dim> dv = Vec<Dim>::Zero();
-    for_each_node(stencils_[i], layout_, [&](std::int32_t n, Real S_ip, const Vec<Dim>&) {
-      const GridNode<Dim>& node = grid_.nodes[n];
-      if (node.m > min_node_mass_) dv += S_ip * (node.v_new - node.v);
-    });
-    trial_.v[i] = p.v[i] + dv;
-  });
+  parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) { trial_.v[i] = p.v[i] + dv_[i]; });
   scatter_momentum(trial_.v, &GridNode<Dim>::v_new);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
     GridNode<Dim>& node = grid_.nodes[n];
@@ -68,26 +64,31 @@ bool ImplicitSimulation<Dim, Kernel>::evaluate(const Eigen::VectorXd& x, Real dt
   t.stretch3.resize(np);
   t.grad_v.resize(np);
   t.ok.resize(np);
+  t.v_r.resize(np);
+  // grad v_p = sum_i v_i^L (x) grad N_i(x_p), whose symmetric part times dt is the strain increment of Sulsky &
+  // Kaul 2004, Eq. (2.2.18), Eq. (2.2.19), Eq. (2.2.20), and the radial velocity sum_i N_i(x_p) v_ri^L; stored as
+  // column-major records, as Mat is.
+  g2p_gather<Sums{.acceleration = false, .velocity = true, .gradient = true}>(
+      stencils_, grid_, &GridNode<Dim>::v_new, [&](const LaneBlock& block, const GatheredLanes<Dim>& sum) {
+        RecordLanes<Mat<Dim>> L;
+        for (int a = 0; a < Dim; ++a)
+          for (int c = 0; c < Dim; ++c) L[a + c * Dim] = sum.grad_v[a][c];
+        block.store(t.grad_v, L);
+        block.store(t.v_r, {sum.v[0]});
+      });
   const Geometry geometry = Dim == 2 ? spec_.geometry : Geometry::plane_strain;
   parallel_for(static_cast<std::ptrdiff_t>(np), [&](std::ptrdiff_t i) {
-    Mat<Dim> L = Mat<Dim>::Zero();
-    Real v_r = 0;
-    for_each_node(stencils_[i], layout_, [&](std::int32_t n, Real S_ip, const Vec<Dim>& dS_ip) {
-      L += grid_.nodes[n].v_new * dS_ip.transpose();
-      v_r += S_ip * grid_.nodes[n].v_new[0];
-    });
     const MaterialState& state = p.state;
     const MaterialStep u =
         material_step<Dim>(spec_.materials[p.material[i]], state.sigma[i], state.eps_bar[i], state.stretch3[i], p.V[i],
-                           p.V0[i], p.F[i], dt * L, dt, geometry == Geometry::axisymmetric ? dt * v_r / p.x[i][0] : 0,
-                           geometry);
+                           p.V0[i], p.F[i], dt * t.grad_v[i], dt,
+                           geometry == Geometry::axisymmetric ? dt * t.v_r[i] / p.x[i][0] : 0, geometry);
     t.ok[i] = u.ok;
     t.sigma[i] = u.sigma;
     t.eps_bar[i] = u.eps_bar;
     t.work[i] = u.work;
     t.energy[i] = u.energy;
     t.stretch3[i] = u.stretch3;
-    t.grad_v[i] = L;
   });
   for (std::size_t i = 0; i < np; ++i)
     if (!t.ok[i]) return false;

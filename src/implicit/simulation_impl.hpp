@@ -247,16 +247,12 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
   const bool axisymmetric = Dim == 2 && spec_.geometry == Geometry::axisymmetric;
   trial_.x.resize(p.size());
   if (!momentum) trial_.v.resize(p.size());
+  gather_over_active_nodes(
+      [&](const GridNode<Dim>& node, std::size_t n) { return momentum ? v_star_[n] : node.v_new; }, v_move_);
+  if (!momentum) gather_over_active_nodes([](const GridNode<Dim>& node, std::size_t) { return node.v_new - node.v; }, dv_);
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
-    Vec<Dim> v_move = Vec<Dim>::Zero(), dv = Vec<Dim>::Zero();
-    for_each_node(stencils_[i], layout_, [&](std::int32_t n, Real S_ip, const Vec<Dim>&) {
-      const GridNode<Dim>& node = grid_.nodes[n];
-      if (node.m <= min_node_mass_) return;
-      v_move += S_ip * (momentum ? v_star_[n] : node.v_new);
-      dv += S_ip * (node.v_new - node.v);
-    });
-    trial_.x[i] = p.x[i] + dt * v_move;     // Eq. (2.3.2), or Eq. (3.2.5) with P_i^L / m_i
-    if (!momentum) trial_.v[i] = p.v[i] + dv;  // Eq. (2.3.3); the momentum formulation has v_p^L of Eq. (3.2.6)
+    trial_.x[i] = p.x[i] + dt * v_move_[i];     // Eq. (2.3.2), or Eq. (3.2.5) with P_i^L / m_i
+    if (!momentum) trial_.v[i] = p.v[i] + dv_[i];  // Eq. (2.3.3); the momentum formulation has v_p^L of Eq. (3.2.6)
   });
   for (std::size_t i = 0; i < p.size(); ++i)
     if (!grid_.geometry.contains(trial_.x[i])) {

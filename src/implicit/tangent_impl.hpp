@@ -58,13 +58,7 @@ bool ImplicitSimulation<Dim, Kernel>::factorise_tangent(const Eigen::VectorXd& x
   std::vector<Mat3> T(np * static_cast<std::size_t>(m));
   parallel_for(static_cast<std::ptrdiff_t>(np), [&](std::ptrdiff_t i) {
     const Mat<Dim> dL = dt * trial_.grad_v[i];
-    Real hoop_increment = 0;
-    if (hoop >= 0) {
-      Real v_r = 0;
-      for_each_node(stencils_[i], layout_,
-                    [&](std::int32_t n, Real S_ip, const Vec<Dim>&) { v_r += S_ip * grid_.nodes[n].v_new[0]; });
-      hoop_increment = dt * v_r / p.x[i][0];
-    }
+    const Real hoop_increment = hoop >= 0 ? dt * trial_.v_r[i] / p.x[i][0] : 0;  // as evaluate computed it
     const MaterialState& s = particles_.state;
     const auto stress_at = [&](const Mat<Dim>& dL_k, Real hoop_k) {
       return material_step<Dim>(spec_.materials[p.material[i]], s.sigma[i], s.eps_bar[i], s.stretch3[i], p.V[i],

@@ -194,7 +194,7 @@ class Newton {
         return stats_;
       }
       if (stats_.newton_iterations == settings_.max_newton) return fail(no_convergence());
-      // Steps 3-4: D_h F(x_n, s) = -F(x_n), Eq. (2.4.19)
+      // Steps 3-4: D_h F(x_n, s) = -F(x_n), Sulsky & Kaul 2004, Eq. (2.4.19)
       if (refresh_) {
         ++stats_.refreshes;
         problem_.refresh_preconditioner(x_, fx_);
@@ -245,7 +245,8 @@ class Newton {
     refresh_ = settings_.precondition && settings_.refresh_after > 0 && linear.iterations > settings_.refresh_after;
   }
 
-  // J(x) p exactly, or by Eq. (2.4.18); a failed difference writes NaN so the Krylov solve stops there.
+  // J(x) p exactly, or by Sulsky & Kaul 2004, Eq. (2.4.18); a failed difference writes NaN so the Krylov solve
+  // stops there.
   void apply_jacobian(const Vector& p, Vector& jp) {
     if (settings_.exact_jacobian) {
       if (!problem_.jacobian_vector(x_, p, jp))

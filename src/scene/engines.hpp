@@ -120,8 +120,8 @@ class Explicit {
   std::vector<Vec<Dim>> reaction_velocities(Real t) const {
     return constraint_velocities(sim_.constraints(), sim_.rigid_bodies(), t);
   }
-  /// Stored energy sum_p V0 W(F) of the Neo-Hookean particles (Wallstedt & Guilkey 2008, Eq. 54's potential)
-  /// plus the internal energy of the rate-form ones (Sulsky & Kaul 2004, Eq. (2.2.16)).
+  /// Stored energy sum_p V0 W(F) of the Neo-Hookean particles (the potential of Wallstedt & Guilkey 2008,
+  /// Eq. (54)) plus the internal energy of the rate-form ones (Sulsky & Kaul 2004, Eq. (2.2.16)).
   Real strain_energy() const {
     const ParticleSet<Dim>& p = sim_.particles();
     Real e = 0;
@@ -138,7 +138,7 @@ class Explicit {
     return b.empty() ? spec_.gravity : Vec<Dim>(spec_.gravity + b[i]);
   }
   /// Cauchy stress of particle i, xx yy zz xy xz yz; in 2-D a Neo-Hookean zz is the plane-strain lambda ln J / J
-  /// (Eq. 55).
+  /// (Wallstedt & Guilkey 2008, Eq. (55)).
   void stress(std::size_t i, double* out) const {
     const SymTensor<3> s = sim_.full_stress(i);
     for (int k = 0; k < 6; ++k) out[k] = s.c[k];
@@ -151,8 +151,8 @@ class Explicit {
     if (!sim_.particles().state.empty()) save_state(sim_.particles(), c);
     if (!spec_.rigid_bodies.empty()) c.reals["rigid_displacement"] = flat(sim_.rigid_bodies().displacements());
   }
-  /// Without rate-form materials, volume and stress follow from F exactly as the step computes them (Eqs 13 and
-  /// 55); with them, the checkpoint holds the state and the volumes.
+  /// Without rate-form materials, volume and stress follow from F exactly as the step computes them
+  /// (Wallstedt & Guilkey 2008, Eq. (13), Eq. (55)); with them, the checkpoint holds the state and the volumes.
   void load(const io::CheckpointData& c, const std::string& where) {
     ParticleSet<Dim>& p = sim_.particles();
     if (!p.state.empty()) load_state(c, where, p);
@@ -198,7 +198,7 @@ class Implicit {
   std::vector<Vec<Dim>> reaction_velocities(Real t) const {
     return constraint_velocities(sim_.constraints(), sim_.rigid_bodies(), t);
   }
-  /// Internal energy sum_p e_p (Sulsky & Kaul 2004, Eq. 2.2.16): stored plus dissipated; a Neo-Hookean
+  /// Internal energy sum_p e_p (Sulsky & Kaul 2004, Eq. (2.2.16)): stored plus dissipated; a Neo-Hookean
   /// particle's is its stored energy V0 W(F).
   Real strain_energy() const {
     Real e = 0;

@@ -12,7 +12,7 @@ namespace mpm {
 
 namespace {
 /// The grid basis phi_i a nodal field is reconstructed with: GIMP weights are particle-averaged linear hats
-/// (Steffen et al. 2008, Eq. 31), so its grid basis is the hat itself.
+/// (Steffen et al. 2008, Eq. (31)), so its grid basis is the hat itself.
 template <class Kernel>
 using GridBasis = std::conditional_t<std::is_same_v<Kernel, GimpKernel>, LinearKernel, Kernel>;
 

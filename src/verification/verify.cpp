@@ -97,8 +97,8 @@ VerifyResult run_case(const Exact& exact, const VerifyOptions& o, ParticleTable*
     p.x[i] = p.X[i] + exact.displacement(p.X[i], 0);
     p.v[i] = exact.velocity(p.X[i], 0);
     p.F[i] = exact.deformation_gradient(p.X[i], 0);
-    if (o.kernel == KernelKind::cpgimp)
-      for (int d = 0; d < Dim; ++d) p.l[i][d] = p.l0[i][d] * p.F[i](d, d);  // Eq. (63)
+    if (o.kernel == KernelKind::cpgimp)  // l_p = l_p0 diag(F): Wallstedt & Guilkey 2008, Eq. (63)
+      for (int d = 0; d < Dim; ++d) p.l[i][d] = p.l0[i][d] * p.F[i](d, d);
   }
 
   VerifyResult r;

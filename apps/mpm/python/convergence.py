@@ -1,4 +1,4 @@
-"""Log-log convergence plot for `mpm converge --plot`, in the style of Wallstedt & Guilkey (2008), Figs 3-7.
+"""Log-log convergence plot for `mpm converge --plot`, in the style of Wallstedt & Guilkey 2008, Figs 3-7.
 
 Usage: python3 convergence.py ROWS.json OUT.png VARY TITLE
 ROWS.json is the list `mpm converge --json` prints; one line per (kernel, integrator) series.

@@ -32,7 +32,7 @@ struct RegionConstraint {
 };
 
 /// Acceleration on constrained nodes: zero, or the velocity change the constraint imposes
-/// a_i = (v_i^{n+1} - v_i^n)/dt (Steffen et al. 2008, Eq. 30).
+/// a_i = (v_i^{n+1} - v_i^n)/dt (Steffen et al. 2008, Eq. (30)).
 enum class ConstrainedAcceleration { zero, velocity_difference };
 
 template <int Dim>
@@ -81,7 +81,7 @@ class KinematicConstraints {
 
   /// Impose prescribed components on v_new at time t_new and set the constrained acceleration components.
   /// Records the reaction of each constraint, the force it applied: sum_i m_i (a_i - a_i^free) over its nodes,
-  /// with a_i the constrained acceleration the particles receive (zero, or Eq. 30).
+  /// with a_i the constrained acceleration the particles receive (zero, or Steffen et al. 2008, Eq. (30)).
   void constrain_update(Grid<Dim>& grid, Real t_new, Real dt);
 
   /// One name per constraint ("x-min", ..., "region 0", ...), the order of reactions() and velocities().

@@ -93,9 +93,6 @@ class Simulation {
   template <Gather what>
   void gather(NodeVelocity<Dim> v_grid, Real dt);
   void evaluate_body_force();
-  /// The hoop term of the internal force in axisymmetry, f_r -= V_p sigma_thetatheta S_ip / r_p (Sulsky &
-  /// Schreyer 1996), added to the scattered forces.
-  void add_hoop_force();
   /// The stress update of the rate-form (and, in a mixed table, Neo-Hookean) particles from the rates the last
   /// deforming G2P pass recorded.
   ParticleFault update_stress(Real dt);

@@ -5,11 +5,12 @@
 /// Every tensor is 3x3 whatever the dimension of the simulation: plane strain, plane stress and axisymmetric
 /// motion all need the out-of-plane (zz, or hoop) component of stress and strain.
 ///
-/// Equivalent plastic strain. Eq. (2.1.18) as printed reads eps_bar = int (d eps_pl : d eps_pl)^{1/2} =
-/// sqrt(2/3) gamma, which is inconsistent with d eps_pl = d gamma N and |N| = 1 (Eq. 2.1.10, 2.1.15): the
-/// first integral is gamma itself. We use the standard definition eps_bar = sqrt(2/3) gamma, i.e. d eps_bar =
-/// (2/3 d eps_pl : d eps_pl)^{1/2} (Simo & Hughes 1998, Box 3.2: alpha += sqrt(2/3) dgamma), so that eps_bar
-/// is the plastic strain of a uniaxial test and the consistency condition reads q_trial - 3 mu d_eps_bar = H.
+/// Equivalent plastic strain. Sulsky & Kaul 2004, Eq. (2.1.18) as printed reads eps_bar = int
+/// (d eps_pl : d eps_pl)^{1/2} = sqrt(2/3) gamma, which is inconsistent with d eps_pl = d gamma N and |N| = 1
+/// (Sulsky & Kaul 2004, Eq. (2.1.10), Eq. (2.1.15)): the first integral is gamma itself. We use the standard
+/// definition eps_bar = sqrt(2/3) gamma, i.e. d eps_bar = (2/3 d eps_pl : d eps_pl)^{1/2}
+/// (Simo & Hughes 1998, Box 3.2: alpha += sqrt(2/3) dgamma), so that eps_bar is the plastic strain of a
+/// uniaxial test and the consistency condition reads q_trial - 3 mu d_eps_bar = H.
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -147,8 +148,10 @@ struct ElastoPlastic {
   Real E = 0;              ///< Young's modulus [Pa]
   Real nu = 0;             ///< Poisson's ratio
   Real rho0 = 0;           ///< reference density [kg/m^3]
-  Real specific_heat = 0;  ///< c [J/(kg K)] for the plastic heating of Eq. (2.3.5); 0: no heating
-  /// false: linear hypoelastic (Eq. 2.1.8); true: von Mises plasticity (Eqs 2.1.9-2.1.19)
+  Real specific_heat = 0;  ///< c [J/(kg K)] for the plastic heating of Sulsky & Kaul 2004, Eq. (2.3.5);
+                           ///< 0: no heating
+  /// false: linear hypoelastic (Sulsky & Kaul 2004, Eq. (2.1.8)); true: von Mises plasticity
+  /// (Sulsky & Kaul 2004, Eq. (2.1.9) to Eq. (2.1.19))
   bool plastic = false;
   HardeningLaw law;  ///< H(eps_bar), used when plastic
 
@@ -184,8 +187,9 @@ enum class OutOfPlane {
 /// The result of one stress update.
 struct StressUpdate {
   Mat3 sigma;         ///< Cauchy stress at the end of the step [Pa]
-  Real eps_bar;       ///< equivalent plastic strain at the end (Eq. 2.1.18)
-  Real plastic_work;  ///< sigma : d_eps_plastic per unit current volume [J/m^3] (Eq. 2.3.5 right-hand side)
+  Real eps_bar;       ///< equivalent plastic strain at the end (Sulsky & Kaul 2004, Eq. (2.1.18))
+  Real plastic_work;  ///< sigma : d_eps_plastic per unit current volume [J/m^3] (Sulsky & Kaul 2004,
+                      ///< Eq. (2.3.5) right-hand side)
   Real d_eps_zz;      ///< the out-of-plane strain increment used (solved in plane stress)
   bool plastic;       ///< whether the return map was active
 };
@@ -195,7 +199,8 @@ inline Mat3 deviator(const Mat3& sigma) {
   return sigma - (sigma.trace() / 3) * Mat3::Identity();  // Sulsky & Kaul 2004, Eq. (2.1.17)
 }
 
-/// Von Mises equivalent stress q = sqrt(3 J2), J2 = s : s / 2. Sulsky & Kaul 2004, Eqs (2.1.13)-(2.1.14).
+/// Von Mises equivalent stress q = sqrt(3 J2), J2 = s : s / 2. Sulsky & Kaul 2004, Eq. (2.1.13),
+/// Eq. (2.1.14).
 inline Real von_mises(const Mat3& sigma) {
   return std::sqrt(1.5 * deviator(sigma).squaredNorm());  // Sulsky & Kaul 2004, Eq. (2.1.14): 3 J2 = 3/2 s:s
 }
@@ -251,10 +256,10 @@ struct Return {
   bool plastic;
 };
 
-/// Backward-Euler radial return of a trial stress onto f = 3 J2 - H^2 = 0 (Sulsky & Kaul 2004, Eqs (2.1.13)-
-/// (2.1.16)); Simo & Hughes 1998, Box 3.2. Solves q_trial - 3 mu d = H(eps_bar_n + d) exactly on the
-/// piecewise linear H by walking its segments. Also returns d sigma_zz / d de_zz (used by the plane-stress
-/// solve).
+/// Backward-Euler radial return of a trial stress onto f = 3 J2 - H^2 = 0 (Sulsky & Kaul 2004, Eq. (2.1.13),
+/// Eq. (2.1.14), Eq. (2.1.15), Eq. (2.1.16)); Simo & Hughes 1998, Box 3.2. Solves q_trial - 3 mu d =
+/// H(eps_bar_n + d) exactly on the piecewise linear H by walking its segments. Also returns
+/// d sigma_zz / d de_zz (used by the plane-stress solve).
 [[gnu::always_inline]] inline Return radial_return(const ElastoPlastic& m, Real mu, Real lambda,
                                                    const Mat3& trial, Real eps_bar_n) {
   Return r;
@@ -290,8 +295,8 @@ struct Return {
   }
   const Real d = a + (q_trial - three_mu * a - H_a) / (three_mu + k);  // q_trial - 3 mu d = H_a + k (d - a)
   const Real q = q_trial - three_mu * d;                               // = H(eps_bar_n + d)
-  // s = s_trial - 2 mu sqrt(3/2) d N with N = s_trial/|s_trial| (Sulsky & Kaul 2004, Eqs (2.1.15)-(2.1.16)),
-  // i.e. s = (q / q_trial) s_trial.
+  // s = s_trial - 2 mu sqrt(3/2) d N with N = s_trial/|s_trial| (Sulsky & Kaul 2004, Eq. (2.1.15),
+  // Eq. (2.1.16)), i.e. s = (q / q_trial) s_trial.
   const Real ratio = q / q_trial;
   r.sigma = ratio * s;
   r.sigma.diagonal().array() += p;
@@ -372,10 +377,11 @@ struct Return {
 
 /// One step of the rate-form update. Rotate sigma_n with the spin increment dW (skew, = dt skew(grad v)) by
 /// the Hughes & Winget 1980 rotation (the Jaumann rate, Sulsky & Kaul 2004 Sec. 2.2.4), add the elastic trial
-/// increment lambda tr(de) I + 2 mu de (Eqs 2.2.17, 2.2.21) and, if plastic and 3 J2 > H^2 (Eq. 2.1.13),
-/// return to the yield surface by backward Euler (Eqs 2.1.15-2.1.16; Simo & Hughes 1998, Box 3.2). de must
-/// be symmetric; de(2,2) is used as given unless mode is plane_stress, where it is solved so that
-/// sigma(2,2) = 0 (to 1e-12 max(|sigma|, H), typically 1e-14). Throws SimulationFailure if that solve fails.
+/// increment lambda tr(de) I + 2 mu de (Sulsky & Kaul 2004, Eq. (2.2.17), Eq. (2.2.21)) and, if plastic and
+/// 3 J2 > H^2 (Sulsky & Kaul 2004, Eq. (2.1.13)), return to the yield surface by backward Euler
+/// (Sulsky & Kaul 2004, Eq. (2.1.15), Eq. (2.1.16); Simo & Hughes 1998, Box 3.2). de must be symmetric;
+/// de(2,2) is used as given unless mode is plane_stress, where it is solved so that sigma(2,2) = 0 (to 1e-12
+/// max(|sigma|, H), typically 1e-14). Throws SimulationFailure if that solve fails.
 inline StressUpdate update_stress(const ElastoPlastic& m, const Mat3& sigma_n, Real eps_bar_n, const Mat3& de,
                                   const Mat3& dW, OutOfPlane mode) {
   const Real mu = m.mu(), lambda = m.lambda();
@@ -383,7 +389,7 @@ inline StressUpdate update_stress(const ElastoPlastic& m, const Mat3& sigma_n, R
   const Mat3 sigma_rot = rotate_jaumann(sigma_n, dW);
 
   // Elastic trial stress with de(2,2) taken as 0: sigma + lambda tr(de) I + 2 mu de. Sulsky & Kaul 2004,
-  // Eqs (2.2.17), (2.2.21) with T = E, the isotropic elasticity tensor.
+  // Eq. (2.2.17), Eq. (2.2.21) with T = E, the isotropic elasticity tensor.
   Real dz = mode == OutOfPlane::given ? de(2, 2) : 0;
   const Real tr_in = de(0, 0) + de(1, 1);
   Mat3 base = sigma_rot + 2 * mu * de;

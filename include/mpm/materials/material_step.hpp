@@ -36,9 +36,9 @@ struct MaterialStep {
 };
 
 /// Advance a particle of volume V over a step whose velocity-gradient increment is dL = dt grad v and whose hoop
-/// strain increment (axisymmetric) is dt v_r / r. Strain and spin increments: Sulsky & Kaul 2004,
-/// Eqs (2.2.18)-(2.2.20); the stress: update_stress; the internal energy with the mid-step stress: Sulsky & Kaul
-/// 2004, Eq. (2.2.16).
+/// strain increment (axisymmetric) is dt v_r / r. Strain and spin increments: Sulsky & Kaul 2004, Eq. (2.2.18),
+/// Eq. (2.2.19), Eq. (2.2.20); the stress: update_stress; the internal energy with the mid-step stress:
+/// Sulsky & Kaul 2004, Eq. (2.2.16).
 template <int Dim>
 MaterialStep rate_form_step(const ElastoPlastic& mat, const SymTensor<3>& sigma, Real eps_bar, Real stretch3, Real V,
                         const Mat<Dim>& dL, Real hoop_increment, Geometry geometry) {

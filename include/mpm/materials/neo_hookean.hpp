@@ -31,8 +31,8 @@ struct NeoHookean {
     return out;
   }
 
-  /// Eq. (55) for any number type T: one particle (Real) or several in SIMD lanes (simd::RealLanes), which
-  /// give the same bits. s holds the components in SymTensor order.
+  /// Wallstedt & Guilkey 2008, Eq. (55) for any number type T: one particle (Real) or several in SIMD lanes
+  /// (simd::RealLanes), which give the same bits. s holds the components in SymTensor order.
   template <int Dim, class T>
   [[gnu::always_inline]] static inline void cauchy(const T (&F)[Dim][Dim], const T& J, const T& lambda,
                                                    const T& mu, T (&s)[sym_size<Dim>]) {
@@ -55,7 +55,7 @@ struct NeoHookean {
     return 0.5 * mu * (F.squaredNorm() - Dim) - mu * lnJ + 0.5 * lambda * lnJ * lnJ;
   }
 
-  /// Dilatational wave speed at volume ratio J from the spatial tangent of Eq. (55):
+  /// Dilatational wave speed at volume ratio J from the spatial tangent of Wallstedt & Guilkey 2008, Eq. (55):
   /// rho c^2 = (lambda + 2 (mu - lambda ln J)) / J with rho = rho0 / J.
   Real wave_speed(Real J) const {
     return std::sqrt(std::max(lambda + 2 * mu - 2 * lambda * std::log(J), mu) / rho0);

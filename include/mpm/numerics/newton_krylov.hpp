@@ -1,8 +1,8 @@
 #pragma once
 /// A generic matrix-free Newton–Krylov solver for F(x) = 0 (Sulsky & Kaul 2004, Sec. 2.4): Newton's method
-/// (Alg. 1) whose steps solve D_h F(x, s) = -F(x) (Eq. 2.4.19) by CG (Alg. 3) or restarted GMRES(m) (Alg. 4),
-/// with an optional backtracking line search (Sec. 3.2.3). The implicit MPM momentum residual is one client;
-/// the solver knows nothing about MPM.
+/// (Alg. 1) whose steps solve D_h F(x, s) = -F(x) (Eq. (2.4.19)) by CG (Alg. 3) or restarted GMRES(m)
+/// (Alg. 4), with an optional backtracking line search (Sec. 3.2.3). The implicit MPM momentum residual is
+/// one client; the solver knows nothing about MPM.
 #include <Eigen/Core>
 #include <functional>
 #include <string>
@@ -48,14 +48,15 @@ struct NewtonSettings {
   /// gamma in (0, 1): Krylov stops when ||J s + F||_2 <= gamma ||F(x)||_2; with Eisenstat–Walker forcing it
   /// is the first forcing term and the cap eta_max.
   double linear_tolerance = 1e-3;
-  double derivative_step = 1e-5;        ///< h of Eq. (2.4.18)
+  double derivative_step = 1e-5;        ///< h of Sulsky & Kaul 2004, Eq. (2.4.18)
   int restart = 20;                     ///< GMRES(m) restart length m
   int max_newton = 50;                  ///< Newton iterations before giving up
   int max_krylov = 500;                 ///< Krylov iterations per Newton step (over all restarts)
   bool line_search = true;              ///< Armijo backtracking on ||F|| (Sec. 3.2.3)
   int max_backtracks = 10;              ///< step halvings per Newton step before the line search fails
   Forcing forcing = Forcing::constant;  ///< constant gamma, or Eisenstat–Walker choice 2 capped at gamma
-  bool exact_jacobian = false;  ///< problem.jacobian_vector instead of Eq. (2.4.18) (InputError if absent)
+  bool exact_jacobian = false;  ///< problem.jacobian_vector instead of Sulsky & Kaul 2004, Eq. (2.4.18)
+                                ///< (InputError if absent)
   bool precondition = false;    ///< use problem.precondition (InputError if absent)
   /// With precondition: after a linear solve that needed more than this many iterations, the next Newton
   /// iterate calls problem.refresh_preconditioner (a lagged Jacobian preconditioner); 0 never refreshes.
@@ -86,8 +87,8 @@ struct SolveStats {
 SolveStats solve(NonlinearProblem& problem, Vector& x, const NewtonSettings& settings,
                  const Vector* residual_at_x = nullptr);
 
-/// The forward difference D_h F(x, s) of Eq. (2.4.18) given Fx = F(x); false if F fails at the perturbed
-/// point.
+/// The forward difference D_h F(x, s) of Sulsky & Kaul 2004, Eq. (2.4.18) given Fx = F(x); false if F fails
+/// at the perturbed point.
 bool directional_derivative(NonlinearProblem& problem, const Vector& x, const Vector& Fx, const Vector& s,
                             double h, Vector& out);
 /// As above, with `point` as caller-owned scratch for the perturbed point (no allocation once sized).

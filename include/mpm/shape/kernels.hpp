@@ -56,7 +56,7 @@ struct LinearKernel : KernelWeights<LinearKernel> {
 };
 
 /// GIMP: the linear hat convolved with a top-hat particle of half-length l_p (in grid units, 0 < l_p <= 1/2).
-/// Wallstedt & Guilkey 2008, Eqs (5) and (6), written in q = |r| with r = xi - x_i:
+/// Wallstedt & Guilkey 2008, Eq. (5), Eq. (6), written in q = |r| with r = xi - x_i:
 ///   S = max(0, 1 - q - v^2/(2l) + u^2/(4l)),  dS/dq = -1 + v/l + u/(2l),
 ///   v = max(0, l - q),  u = clamp(q - 1 + l, 0, 2l).
 /// For q <= l this is 1 - (q^2 + l^2)/(2l); for l < q <= 1 - l, 1 - q; for 1 - l < q <= 1 + l,

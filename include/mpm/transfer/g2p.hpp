@@ -34,9 +34,64 @@ struct ParticleFault {
   explicit operator bool() const { return index != none; }
 };
 
-/// Gather grid fields to particles. `v_grid` is the node velocity field used for positions and velocity
-/// gradients (&GridNode::v_new, or &GridNode::v after a re-projection). Particles are processed in blocks of
-/// simd::lanes (LaneBlock), one particle per lane.
+/// What a G2P pass gathers at each particle from the nodes of its stencil.
+struct Sums {
+  bool acceleration;  ///< sum_i S_ip a_i
+  bool velocity;      ///< sum_i S_ip v_i, v a chosen node velocity field
+  bool gradient;      ///< grad v_p = sum_i v_i (x) grad S_ip
+};
+
+/// A block's gathered sums in lanes (zero where not gathered); grad_v[a][c] = d v_a / d x_c.
+template <int Dim>
+struct GatheredLanes {
+  RealLanes a[Dim] = {}, v[Dim] = {}, grad_v[Dim][Dim] = {};
+};
+
+/// G2P: for the particles in blocks of simd::lanes (in parallel), gather `what` from the nodes of their stencils,
+/// v from the node field `v_grid`, and hand each block's sums to use(block, sums).
+template <Sums what, int Dim, class Kernel, class Use>
+void g2p_gather(const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<Dim>& grid, NodeVelocity<Dim> v_grid,
+                Use&& use) {
+  const NodeLayout<Dim> layout(grid.geometry);
+  const auto& nodes = grid.nodes;
+  const auto n = static_cast<std::ptrdiff_t>(stencils.size());
+  parallel_for(LaneBlock::count(stencils.size()), [&](std::ptrdiff_t b) {
+    const LaneBlock block(b, n);
+    const LaneStencil<Dim, Kernel> s(stencils, block, layout.inv_h);
+    GatheredLanes<Dim> sum;
+    for_each_node(s, layout, [&](std::int32_t offset, const RealLanes& S_ip, const RealLanes(&dS_ip)[Dim]) {
+      for (int c = 0; c < Dim; ++c) {
+        if constexpr (what.acceleration)
+          sum.a[c] += S_ip * s.gather(nodes, offset, [&](const GridNode<Dim>& node) -> const Real& { return node.a[c]; });
+        if constexpr (what.velocity || what.gradient) {
+          const RealLanes v_i =
+              s.gather(nodes, offset, [&](const GridNode<Dim>& node) -> const Real& { return (node.*v_grid)[c]; });
+          if constexpr (what.velocity) sum.v[c] += S_ip * v_i;
+          if constexpr (what.gradient)
+            for (int e = 0; e < Dim; ++e) sum.grad_v[c][e] += dS_ip[e] * v_i;
+        }
+      }
+    });
+    use(block, sum);
+  }, 1024 / LaneBlock::width);
+}
+
+/// G2P of one node vector field: out_p = sum_i S_ip (node_i.*field).
+template <int Dim, class Kernel>
+void g2p_interpolate(const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<Dim>& grid,
+                     NodeVelocity<Dim> field, std::vector<Vec<Dim>>& out) {
+  out.resize(stencils.size());
+  g2p_gather<Sums{.acceleration = false, .velocity = true, .gradient = false}>(
+      stencils, grid, field, [&](const LaneBlock& block, const GatheredLanes<Dim>& sum) {
+        RecordLanes<Vec<Dim>> v;
+        for (int d = 0; d < Dim; ++d) v[d] = sum.v[d];
+        block.store(out, v);
+      });
+}
+
+/// The explicit step's G2P: update the particles from the sums g2p_gather hands over. `v_grid` is the node
+/// velocity field used for positions and velocity gradients (&GridNode::v_new, or &GridNode::v after a
+/// re-projection).
 /// A pass that moves the particles can also compute their stencils at the new positions for the next step,
 /// into `next` when given: the positions are then at hand, and no separate pass over the particles is needed.
 /// A deforming pass hands each block's F, J, velocity gradient, interpolated radial velocity and radius at the
@@ -47,29 +102,14 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
                   const Grid<Dim>& grid, NodeVelocity<Dim> v_grid, Real dt, const Stress& stress, SizeUpdate sizes,
                   StencilTargets<Dim, Kernel>* next = nullptr) {
   constexpr bool interpolate_velocity = what.position || (what.deformation && Stress::reads_velocity);
-  constexpr int W = LaneBlock::width;
-  const NodeLayout<Dim> layout(grid.geometry);
   const GridGeometry<Dim>& geo = grid.geometry;
-  const auto& nodes = grid.nodes;
-  const auto n = static_cast<std::ptrdiff_t>(p.size());
+  const NodeLayout<Dim> layout(geo);
   std::atomic<std::int64_t> first_fault{ParticleFault::none};
-  parallel_for(LaneBlock::count(p.size()), [&](std::ptrdiff_t b) {
-    const LaneBlock block(b, n);
-    const LaneStencil<Dim, Kernel> s(stencils, block, layout.inv_h);
-    RealLanes a_p[Dim] = {}, v_p[Dim] = {}, grad_v[Dim][Dim] = {};
-    for_each_node(s, layout, [&](std::int32_t offset, const RealLanes& S_ip, const RealLanes(&dS_ip)[Dim]) {
-      for (int c = 0; c < Dim; ++c) {
-        if constexpr (what.velocity)
-          a_p[c] += S_ip * s.gather(nodes, offset, [&](const GridNode<Dim>& node) -> const Real& { return node.a[c]; });
-        if constexpr (what.position || what.deformation) {
-          const RealLanes v_i =
-              s.gather(nodes, offset, [&](const GridNode<Dim>& node) -> const Real& { return (node.*v_grid)[c]; });
-          if constexpr (interpolate_velocity) v_p[c] += S_ip * v_i;
-          if constexpr (what.deformation)  // grad v = sum_i v_i (x) grad S_ip
-            for (int e = 0; e < Dim; ++e) grad_v[c][e] += dS_ip[e] * v_i;
-        }
-      }
-    });
+  constexpr Sums sums{.acceleration = what.velocity, .velocity = interpolate_velocity, .gradient = what.deformation};
+  g2p_gather<sums>(stencils, grid, v_grid, [&](const LaneBlock& block, const GatheredLanes<Dim>& sum) {
+    const auto& a_p = sum.a;
+    const auto& v_p = sum.v;
+    const auto& grad_v = sum.grad_v;
     simd::MaskLanes ok = simd::MaskLanes{} == 0;  // all lanes true
     RecordLanes<Vec<Dim>> x;
     RealLanes r_start{};
@@ -127,7 +167,7 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
     std::int64_t cur = first_fault.load(std::memory_order_relaxed);
     while (fault < cur && !first_fault.compare_exchange_weak(cur, fault)) {
     }
-  }, 1024 / W);
+  });
   return ParticleFault{first_fault.load()};
 }
 

@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <tuple>
 #include <vector>
 
 #include "mpm/core/parallel.hpp"
@@ -14,19 +15,139 @@
 
 namespace mpm {
 
-/// What a P2G pass scatters.
+/// The record slot (index in Reals from GridNode::m) where a node's vector field starts.
+template <int Dim>
+int slot_of(NodeVelocity<Dim> field) {
+  const GridNode<Dim> node;
+  return static_cast<int>(&(node.*field)[0] - &node.m);
+}
+
+/// What particles add to the node records in a P2G pass. Each contribution, called with a block of particles,
+/// loads their data in lanes and returns the function that adds their share at one stencil node,
+/// add(record, S_ip, grad S_ip): a node's record gets the contributions of one pass in the order listed.
+
+/// Mass m_p S_ip and momentum m_p v_p S_ip into the field at `slot` (Wallstedt & Guilkey 2008, Eq. (8), Eq. (9):
+/// the division by m_i happens in grid_velocity), or the momentum alone when `with_mass` is false (the
+/// re-projections of Sulsky & Kaul 2004, Eq. (3.2.7)).
+template <int Dim, bool with_mass = true>
+struct Momentum {
+  const std::vector<Real>& m;
+  const std::vector<Vec<Dim>>& v;
+  int slot;
+
+  [[gnu::always_inline]] auto operator()(const LaneBlock& block) const {
+    const RealLanes m_p = block.load(m)[0];
+    const RecordLanes<Vec<Dim>> v_p = block.load(v);
+    std::array<RealLanes, Dim> mv_p;
+    for (int d = 0; d < Dim; ++d) mv_p[d] = m_p * v_p[d];
+    return [m_p, mv_p, slot = slot](auto& record, const RealLanes& S_ip, const RealLanes(&)[Dim])
+               [[gnu::always_inline]] {
+                 if constexpr (with_mass) record[0] += S_ip * m_p;
+                 for (int d = 0; d < Dim; ++d) record[slot + d] += S_ip * mv_p[d];
+               };
+  }
+};
+
+/// Internal force f_i = -sum_p grad S_ip . sigma_p V_p (Wallstedt & Guilkey 2008, Eq. (14); Sulsky & Kaul 2004,
+/// Eq. (2.2.10)) into the force slot. `Stress` is SymTensor<Dim>, or SymTensor<3> of which the in-plane part acts.
+template <int Dim, class Stress>
+struct InternalForce {
+  const std::vector<Real>& V;
+  const std::vector<Stress>& sigma;
+  int slot = slot_of<Dim>(&GridNode<Dim>::a);
+
+  [[gnu::always_inline]] auto operator()(const LaneBlock& block) const {
+    const RealLanes V_p = block.load(V)[0];
+    const RecordLanes<Stress> sigma_p = block.load(sigma);
+    std::array<std::array<RealLanes, Dim>, Dim> Vsigma_p;
+    for (int a = 0; a < Dim; ++a)
+      for (int c = 0; c < Dim; ++c) Vsigma_p[a][c] = V_p * sigma_p[Stress::index(a, c)];
+    return [Vsigma_p, slot = slot](auto& record, const RealLanes&, const RealLanes(&dS_ip)[Dim])
+               [[gnu::always_inline]] {
+      for (int d = 0; d < Dim; ++d) {
+        RealLanes f_d = Vsigma_p[d][0] * dS_ip[0];
+        for (int c = 1; c < Dim; ++c) f_d += Vsigma_p[d][c] * dS_ip[c];
+        record[slot + d] -= f_d;
+      }
+    };
+  }
+};
+
+/// Body force sum_p S_ip m_p b_p, b_p a per-particle acceleration, into the force slot (part of the external
+/// force of Wallstedt & Guilkey 2008, Eq. (15)).
+template <int Dim>
+struct BodyForce {
+  const std::vector<Real>& m;
+  const std::vector<Vec<Dim>>& b;
+  int slot = slot_of<Dim>(&GridNode<Dim>::a);
+
+  [[gnu::always_inline]] auto operator()(const LaneBlock& block) const {
+    const RealLanes m_p = block.load(m)[0];
+    const RecordLanes<Vec<Dim>> b_p = block.load(b);
+    return [m_p, b_p, slot = slot](auto& record, const RealLanes& S_ip, const RealLanes(&)[Dim])
+               [[gnu::always_inline]] {
+      for (int d = 0; d < Dim; ++d) record[slot + d] += (S_ip * m_p) * b_p[d];
+    };
+  }
+};
+
+/// The hoop term of the internal force in axisymmetry, -V_p sigma_thetatheta S_ip / r_p on the radial component
+/// (Sulsky & Schreyer 1996), r_p the particle's radius.
+struct HoopForce {
+  const std::vector<Real>& V;
+  const std::vector<SymTensor<3>>& sigma;
+  const std::vector<Vec<2>>& x;
+  int slot = slot_of<2>(&GridNode<2>::a);
+
+  [[gnu::always_inline]] auto operator()(const LaneBlock& block) const {
+    const RealLanes hoop = block.load(V)[0] * block.load(sigma)[2] / block.load(x)[0];
+    return [hoop, slot = slot](auto& record, const RealLanes& S_ip, const RealLanes(&)[2]) [[gnu::always_inline]] {
+      record[slot] -= hoop * S_ip;
+    };
+  }
+};
+
+/// P2G: add the contributions of every particle to the records of the nodes of its stencil. Particles go in
+/// scatter order, `lanes` at a time: their contributions are computed in lanes and added to the node records
+/// particle by particle, so each node receives them in the same order as one particle at a time, whatever the
+/// thread count. The fields the contributions add to are not cleared first.
+template <int Dim, class Kernel, class... Contributions>
+void p2g_add(const std::vector<Stencil<Dim, Kernel>>& stencils, const ScatterOrder& order, Grid<Dim>& grid,
+             const Contributions&... contributions) {
+  constexpr int R = reals_in<GridNode<Dim>>;
+  constexpr std::size_t stencil_nodes = LaneStencil<Dim, Kernel>::node_count;
+  static_assert(sizeof(GridNode<Dim>) == R * sizeof(Real), "a node is a record of Reals");
+  const NodeLayout<Dim> layout(grid.geometry);
+  Real* nodes = &grid.nodes[0].m;
+  order.template for_each_block<LaneBlock::width>([&](const std::int32_t* particles, int count) {
+    const LaneBlock block(particles, count);
+    const LaneStencil<Dim, Kernel> s(stencils, block, layout.inv_h);
+    const auto add = std::make_tuple(contributions(block)...);
+    std::array<std::array<RealLanes, R>, stencil_nodes> records;
+    std::array<std::int32_t, stencil_nodes> offsets;
+    int o = 0;
+    for_each_node(s, layout, [&](std::int32_t offset, const RealLanes& S_ip, const RealLanes(&dS_ip)[Dim]) {
+      std::array<RealLanes, R>& record = records[o];
+      record = {};  // the slots no contribution adds to add zero
+      offsets[o++] = offset;
+      std::apply([&](const auto&... add_one) { (add_one(record, S_ip, dS_ip), ...); }, add);
+    });
+    simd::add_stencil_records<R>(nodes, s.node, offsets, records, block.active);
+  });
+}
+
+/// What a P2G pass of the explicit step scatters.
 struct Scatter {
   bool mass_momentum;
   bool force;
 };
 
-/// Scatter particle data to the grid. Mass and momentum: Wallstedt & Guilkey 2008, Eqs (8)-(9) (the
-/// division by m_i happens in grid_velocity). Force: internal force Eq. (14), f_i = -sum_p grad S_ip .
-/// sigma_p V_p, plus the body force sum_p S_ip m_p b_p when per-particle body accelerations b are given.
+/// The explicit step's P2G: clear the fields it scatters, then add mass and momentum (Wallstedt & Guilkey 2008,
+/// Eq. (8), Eq. (9)), and the internal force plus, when per-particle body accelerations are given, the body
+/// force (Eq. (14), Eq. (15)).
 template <Scatter what, int Dim, class Kernel>
 void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils,
          const ScatterOrder& order, const std::vector<Vec<Dim>>& body_accel, Grid<Dim>& grid) {
-  const NodeLayout<Dim> layout(grid.geometry);
   parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) {
     GridNode<Dim>& node = grid.nodes[n];
     if constexpr (what.mass_momentum && what.force) {  // v_new is recomputed from these, so clear all at once
@@ -39,61 +160,21 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
     }
     if constexpr (what.force) node.a.setZero();
   });
-  // Particles go in scatter order, `lanes` at a time: their contributions to the nodes of their stencils are
-  // computed in lanes and added to the node records particle by particle, so each node receives
-  // them in the same order as one particle at a time. The body-force term is compiled in only when there is
-  // one.
-  constexpr int R = reals_in<GridNode<Dim>>;
-  constexpr std::size_t stencil_nodes = LaneStencil<Dim, Kernel>::node_count;
-  static_assert(sizeof(GridNode<Dim>) == R * sizeof(Real), "a node is a record of Reals");
-  const GridNode<Dim>& node0 = grid.nodes[0];
-  const int v_slot = static_cast<int>(&node0.v[0] - &node0.m), a_slot = static_cast<int>(&node0.a[0] - &node0.m);
-  Real* nodes = &grid.nodes[0].m;
-  auto scatter = [&]<bool body>() {
-    order.template for_each_block<LaneBlock::width>([&](const std::int32_t* particles, int count) {
-      const LaneBlock block(particles, count);
-      const LaneStencil<Dim, Kernel> s(stencils, block, layout.inv_h);
-      const RealLanes m_p = block.load(p.m)[0];
-      RealLanes mv_p[Dim], Vsigma_p[Dim][Dim], b_p[Dim];
-      if constexpr (what.mass_momentum) {
-        const RecordLanes<Vec<Dim>> v = block.load(p.v);
-        for (int d = 0; d < Dim; ++d) mv_p[d] = m_p * v[d];
-      }
-      if constexpr (what.force) {
-        const RealLanes V_p = block.load(p.V)[0];
-        const RecordLanes<SymTensor<Dim>> sigma = block.load(p.sigma);
-        for (int a = 0; a < Dim; ++a)
-          for (int c = 0; c < Dim; ++c) Vsigma_p[a][c] = V_p * sigma[SymTensor<Dim>::index(a, c)];
-        if constexpr (body) {
-          const RecordLanes<Vec<Dim>> b = block.load(body_accel);
-          for (int d = 0; d < Dim; ++d) b_p[d] = b[d];
-        }
-      }
-      std::array<std::array<RealLanes, R>, stencil_nodes> records;
-      std::array<std::int32_t, stencil_nodes> offsets;
-      int o = 0;
-      for_each_node(s, layout, [&](std::int32_t offset, const RealLanes& S_ip, const RealLanes(&dS_ip)[Dim]) {
-        std::array<RealLanes, R>& record = records[o];
-        record = {};  // the slots this pass does not scatter add zero
-        offsets[o++] = offset;
-        if constexpr (what.mass_momentum) {
-          record[0] = S_ip * m_p;
-          for (int d = 0; d < Dim; ++d) record[v_slot + d] = S_ip * mv_p[d];
-        }
-        if constexpr (what.force)
-          for (int d = 0; d < Dim; ++d) {
-            RealLanes f = Vsigma_p[d][0] * dS_ip[0];
-            for (int c = 1; c < Dim; ++c) f += Vsigma_p[d][c] * dS_ip[c];
-            record[a_slot + d] = body ? (S_ip * m_p) * b_p[d] - f : -f;
-          }
-      });
-      simd::add_stencil_records<R>(nodes, s.node, offsets, records, block.active);
-    });
-  };
-  if (what.force && !body_accel.empty())
-    scatter.template operator()<true>();
-  else
-    scatter.template operator()<false>();
+  const Momentum<Dim> momentum{p.m, p.v, slot_of<Dim>(&GridNode<Dim>::v)};
+  const InternalForce<Dim, SymTensor<Dim>> internal{p.V, p.sigma};
+  const bool body = what.force && !body_accel.empty();
+  if constexpr (what.mass_momentum && what.force) {
+    if (body)
+      p2g_add(stencils, order, grid, momentum, internal, BodyForce<Dim>{p.m, body_accel});
+    else
+      p2g_add(stencils, order, grid, momentum, internal);
+  } else if constexpr (what.mass_momentum) {
+    p2g_add(stencils, order, grid, momentum);
+  } else if (body) {
+    p2g_add(stencils, order, grid, internal, BodyForce<Dim>{p.m, body_accel});
+  } else {
+    p2g_add(stencils, order, grid, internal);
+  }
 }
 
 /// Turn nodal momentum into velocity v_i = p_i / m_i (Wallstedt & Guilkey 2008, Eq. 9); empty nodes get zero.

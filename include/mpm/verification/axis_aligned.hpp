@@ -1,7 +1,7 @@
 #pragma once
 /// Manufactured solution with axis-aligned displacement in the unit square (plane strain) or cube.
-/// Wallstedt & Guilkey 2008, Sec. 5.1, Eqs (56)-(59); in 3-D a third component of the same form with its own
-/// phase, u_z = A sin(pi Z) cos(c pi t + pi/3).
+/// Wallstedt & Guilkey 2008, Sec. 5.1, Eq. (56), Eq. (57), Eq. (58), Eq. (59); in 3-D a third component of the
+/// same form with its own phase, u_z = A sin(pi Z) cos(c pi t + pi/3).
 #include <cmath>
 #include <numbers>
 
@@ -20,7 +20,7 @@ struct AxisAligned {
   NeoHookean mat;  ///< Lame constants and reference density
 
   Real young() const { return mat.mu * (3 * mat.lambda + 2 * mat.mu) / (mat.lambda + mat.mu); }
-  /// c^2 = E / rho0 (Eq. 56).
+  /// c^2 = E / rho0 (Wallstedt & Guilkey 2008, Eq. (56)).
   Real c() const { return std::sqrt(young() / mat.rho0); }
   Real omega() const { return c() * std::numbers::pi; }
   /// Largest amplitude with det F > 0 everywhere (F_dd = 1 + A pi cos(pi X_d) T_d(t)).
@@ -28,12 +28,13 @@ struct AxisAligned {
   /// One period of the motion [s].
   Real period() const { return 2 / c(); }
 
-  /// Time factor of component d: cos(c pi t), sin(c pi t) (Eq. 56), cos(c pi t + pi/3); and its derivative.
+  /// Time factor of component d: cos(c pi t), sin(c pi t) (Wallstedt & Guilkey 2008, Eq. (56)), cos(c pi t +
+/// pi/3); and its derivative.
   Real T(int d, Real t) const { return std::cos(omega() * t - phase(d)); }
   Real dT(int d, Real t) const { return -omega() * std::sin(omega() * t - phase(d)); }
   static Real phase(int d) { return d == 0 ? 0 : (d == 1 ? std::numbers::pi / 2 : -std::numbers::pi / 3); }
 
-  /// u_d = A sin(pi X_d) T_d(t), Eq. (56).
+  /// u_d = A sin(pi X_d) T_d(t), Wallstedt & Guilkey 2008, Eq. (56).
   Vec<Dim> displacement(const Vec<Dim>& X, Real t) const {
     Vec<Dim> u;
     for (int d = 0; d < Dim; ++d) u[d] = A * std::sin(std::numbers::pi * X[d]) * T(d, t);
@@ -44,14 +45,15 @@ struct AxisAligned {
     for (int d = 0; d < Dim; ++d) v[d] = A * std::sin(std::numbers::pi * X[d]) * dT(d, t);
     return v;
   }
-  /// F = diag(1 + A pi cos(pi X_d) T_d(t)), Eq. (57).
+  /// F = diag(1 + A pi cos(pi X_d) T_d(t)), Wallstedt & Guilkey 2008, Eq. (57).
   Mat<Dim> deformation_gradient(const Vec<Dim>& X, Real t) const {
     Mat<Dim> F = Mat<Dim>::Zero();
     for (int d = 0; d < Dim; ++d)
       F(d, d) = 1 + A * std::numbers::pi * std::cos(std::numbers::pi * X[d]) * T(d, t);
     return F;
   }
-  /// Body acceleration b = a - Div P / rho0, Eq. (59), with K = ln det F (in 2-D F_zz = 1).
+  /// Body acceleration b = a - Div P / rho0, Wallstedt & Guilkey 2008, Eq. (59), with K = ln det F (in 2-D
+/// F_zz = 1).
   Vec<Dim> body_force(const Vec<Dim>& X, Real t) const {
     const Real pi = std::numbers::pi;
     const Vec<Dim> u = displacement(X, t);

@@ -1,5 +1,5 @@
 #pragma once
-/// Displacement error norms over particles and time steps. Wallstedt & Guilkey 2008, Eqs (64)-(65).
+/// Displacement error norms over particles and time steps. Wallstedt & Guilkey 2008, Eq. (64), Eq. (65).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -9,9 +9,9 @@
 
 namespace mpm {
 
-/// Accumulates delta_p = |(x_p - X_p) - u_exact(X_p, t)| (Eq. 64). L_inf is the maximum over all particles
-/// and all recorded steps (Eq. 65); L1 and L2 weight every particle-step sample equally: L1 = mean delta_p,
-/// L2 = sqrt(mean delta_p^2).
+/// Accumulates delta_p = |(x_p - X_p) - u_exact(X_p, t)| (Wallstedt & Guilkey 2008, Eq. (64)). L_inf is the
+/// maximum over all particles and all recorded steps (Wallstedt & Guilkey 2008, Eq. (65)); L1 and L2 weight
+/// every particle-step sample equally: L1 = mean delta_p, L2 = sqrt(mean delta_p^2).
 struct ErrorNorms {
   Real linf = 0;
   Real sum = 0;

@@ -1,7 +1,7 @@
 #pragma once
-/// Manufactured solution: radial expansion of a ring (Wallstedt & Guilkey 2008, Sec. 5.2, Eqs 60-62), with
-/// the Neo-Hookean of Eq. (54) at zero Poisson ratio, P = mu F^{-1}(F F^T - I). By symmetry the quarter ring
-/// X, Y >= 0 is modelled, with symmetry planes at X = 0 and Y = 0.
+/// Manufactured solution: radial expansion of a ring (Wallstedt & Guilkey 2008, Sec. 5.2, Eq. (60), Eq. (61),
+/// Eq. (62)), with the Neo-Hookean of Eq. (54) at zero Poisson ratio, P = mu F^{-1}(F F^T - I). By symmetry the
+/// quarter ring X, Y >= 0 is modelled, with symmetry planes at X = 0 and Y = 0.
 #include <cmath>
 #include <numbers>
 
@@ -24,11 +24,12 @@ struct ExpandingRing {
   Real omega() const { return c() * std::numbers::pi; }
   Real period() const { return 2 / c(); }
 
-  // Eq. (61): zero normal stress at R_I and R_O, u(R_O) = A.
+  // Wallstedt & Guilkey 2008, Eq. (61): zero normal stress at R_I and R_O, u(R_O) = A.
   Real c3() const { return -2 / (R_O * R_O * (R_O - 3 * R_I)); }
   Real c2() const { return 3 * (R_O + R_I) / (R_O * R_O * (R_O - 3 * R_I)); }
   Real c1() const { return -6 * R_I / (R_O * (R_O - 3 * R_I)); }
-  /// Radial profile g(R) = c3 R^3 + c2 R^2 + c1 R and its derivatives (Eq. 60: u = A cos(c pi t) g(R)).
+  /// Radial profile g(R) = c3 R^3 + c2 R^2 + c1 R and its derivatives (Wallstedt & Guilkey 2008, Eq. (60):
+  /// u = A cos(c pi t) g(R)).
   Real g(Real R) const { return ((c3() * R + c2()) * R + c1()) * R; }
   Real dg(Real R) const { return (3 * c3() * R + 2 * c2()) * R + c1(); }
   Real d2g(Real R) const { return 6 * c3() * R + 2 * c2(); }
@@ -43,7 +44,7 @@ struct ExpandingRing {
     return worst > 0 ? 1 / worst : 1e300;
   }
 
-  /// Eq. (62).
+  /// Wallstedt & Guilkey 2008, Eq. (62).
   Vec<2> displacement(const Vec<2>& X, Real t) const {
     const Real R = X.norm();
     return A * std::cos(omega() * t) * g(R) / R * X;

@@ -50,7 +50,7 @@ struct VerifyResult {
 };
 
 /// Final particle states as a table: reference and current positions, velocity, J, stress components and
-/// the displacement error of Eq. (64), one row per particle.
+/// the displacement error of Wallstedt & Guilkey 2008, Eq. (64), one row per particle.
 struct ParticleTable {
   std::vector<std::string> columns;
   std::vector<std::vector<Real>> rows;
