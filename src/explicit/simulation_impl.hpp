@@ -146,7 +146,7 @@ void Simulation<Dim, Kernel>::step(Real max_dt) {
       step_usl(dt, 1.0);
       break;
     case Integrator::cd:
-      step_usl(dt, first_scale);  // CD is USL with the half-step start (Eqs 40-50)
+      step_usl(dt, first_scale);  // CD: USL, half-step start (Wallstedt & Guilkey 2008, Eq. (40) to Eq. (50))
       break;
     case Integrator::musl:
       step_musl(dt, first_scale);
@@ -163,7 +163,7 @@ void Simulation<Dim, Kernel>::run_until(Real t_end) {
 }
 
 // USF: the stress is updated from the projected velocity before the forces are computed
-// (Wallstedt & Guilkey 2008, Eqs 8-18).
+// (Wallstedt & Guilkey 2008, Eq. (8) to Eq. (18)).
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::step_usf(Real dt) {
   build_stencils();
@@ -180,7 +180,8 @@ void Simulation<Dim, Kernel>::step_usf(Real dt) {
 }
 
 // USL: forces from the previous stress, then the stress is updated from the advanced grid velocity
-// (Eqs 8-9, 14-19). With accel_scale = 1/2 on the first step this is the centered difference (Eqs 40-50).
+// (Wallstedt & Guilkey 2008, Eq. (8), Eq. (9), Eq. (14) to Eq. (19)). With accel_scale = 1/2 on the first step
+// this is the centered difference (Wallstedt & Guilkey 2008, Eq. (40) to Eq. (50)).
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::step_usl(Real dt, Real accel_scale) {
   build_stencils();
@@ -199,7 +200,7 @@ void Simulation<Dim, Kernel>::step_usl(Real dt, Real accel_scale) {
 }
 
 // UVF-MPM / MUSL: as CD, but the grid velocity used for positions and gradients is re-projected from the
-// updated particle velocities (Eq. 51 replaces Eq. 47).
+// updated particle velocities (Wallstedt & Guilkey 2008, Eq. (51) replaces Eq. (47)).
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::step_musl(Real dt, Real accel_scale) {
   build_stencils();

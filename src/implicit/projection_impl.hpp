@@ -11,8 +11,9 @@
 
 namespace mpm {
 
-// Initialisation phase (Sulsky & Kaul 2004, Sec. 2.3.1): lumped mass (Eq. 2.2.12), momentum (Eq. 2.2.14 /
-// 3.2.3), internal force at t^k (Eq. 2.4.6) and external force; rigid-body stencils at their positions.
+// Initialisation phase (Sulsky & Kaul 2004, Sec. 2.3.1): lumped mass (Sulsky & Kaul 2004, Eq. (2.2.12)), momentum
+// (Sulsky & Kaul 2004, Eq. (2.2.14) or Eq. (3.2.3)), internal force at t^k (Sulsky & Kaul 2004, Eq. (2.4.6)) and
+// external force; rigid-body stencils at their positions.
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::project(Real dt) {
   if (build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, strip_))
@@ -75,14 +76,14 @@ void ImplicitSimulation<Dim, Kernel>::build_dofs(Real t_new) {
 }
 
 template <int Dim, class Kernel>
-void ImplicitSimulation<Dim, Kernel>::scatter_momentum(const std::vector<Vec<Dim>>& v_p, NodeVelocity<Dim> field) {
-  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { (grid_.nodes[n].*field).setZero(); });
-  p2g_add(stencils_, order_, grid_, Momentum<Dim, false>{particles_.m, v_p, slot_of<Dim>(field)});
+void ImplicitSimulation<Dim, Kernel>::scatter_momentum(const std::vector<Vec<Dim>>& v_p) {
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].v_new.setZero(); });
+  p2g_add(stencils_, order_, grid_, Momentum<Dim, NodeSlots<Dim>::v_new, false>{particles_.m, v_p});
   halo_.sum_into_owners(grid_);
-  constraints_.fold_and_mirror(grid_, field);
+  constraints_.fold_and_mirror(grid_, &GridNode<Dim>::v_new);
 }
 
-// Internal force f_i = -sum_p V_p sigma_p grad N_i(x_p^k) (Sulsky & Kaul 2004, Eqs 2.2.9-2.2.10 and 2.4.7), with
+// Internal force f_i = -sum_p V_p sigma_p grad N_i(x_p^k) (Sulsky & Kaul 2004, Eq. (2.2.9), Eq. (2.2.10), Eq. (2.4.7)), with
 // the hoop term -V_p sigma_thetatheta N_i / r_p on the radial component in axisymmetry (Sulsky & Schreyer 1996).
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::scatter_force(const std::vector<SymTensor<3>>& sigma, std::vector<Vec<Dim>>& f) {

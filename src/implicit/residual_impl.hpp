@@ -13,7 +13,7 @@ namespace mpm {
 
 // Put the trial unknowns on the nodes as the Lagrangian velocity v_i^L (in v_new): free components from x,
 // prescribed ones from the constraints, mirrored ghosts reflected. In the momentum formulation x holds P_i^L:
-// the particle velocities follow from Eq. (3.2.6) and v_i^L is their projection, Eq. (3.2.7).
+// the particle velocities follow from Sulsky & Kaul 2004, Eq. (3.2.6) and v_i^L is their projection, Eq. (3.2.7).
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::node_velocity_from(const Eigen::VectorXd& x) {
   const bool momentum = spec_.formulation == Formulation::momentum;
@@ -30,14 +30,14 @@ void ImplicitSimulation<Dim, Kernel>::node_velocity_from(const Eigen::VectorXd& 
   constraints_.mirror(grid_, &GridNode<Dim>::v_new);
   halo_.copy_to_ghosts(grid_);
   if (!momentum) return;
-  for (std::size_t n = 0; n < grid_.size(); ++n) v_star_[n] = grid_.nodes[n].v_new;  // P_i^L / m_i
+  for (std::size_t n = 0; n < grid_.size(); ++n) momentum_velocity_[n] = grid_.nodes[n].v_new;  // P_i^L / m_i
   // v_p^L = v_p^k + sum_i (P_i^L - P_i^k) N_i(x_p) / m_i (Sulsky & Kaul 2004, Eq. (3.2.6): the momentum change
   // is dt times the force), over the nodes that carry mass.
   const ParticleSet<Dim>& p = particles_;
   gather_over_active_nodes([&](const GridNode<Dim>& node, std::size_t) { return node.v_new - node.v; }, dv_);
   trial_.v.resize(p.size());
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) { trial_.v[i] = p.v[i] + dv_[i]; });
-  scatter_momentum(trial_.v, &GridNode<Dim>::v_new);
+  scatter_momentum(trial_.v);  // the momentum P^L into v_new
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
     GridNode<Dim>& node = grid_.nodes[n];
     node.v_new = node.m > min_node_mass_ ? Vec<Dim>(node.v_new / node.m) : Vec<Dim>::Zero();
@@ -48,10 +48,11 @@ void ImplicitSimulation<Dim, Kernel>::node_velocity_from(const Eigen::VectorXd& 
 }
 
 // F(x) of Sulsky & Kaul 2004, Eq. (2.4.12), in the form (P^L - P^k) - dt ((1 - theta) f^k + theta f^L + f^ext)
-// on the free unknowns (P^L = m v^L in the velocity formulation, Eq. 2.4.5; Eq. 3.2.4 in the momentum one),
-// divided by Y h^Dim dt (Sec. 3.2.2). The stress follows from the strain increments of v^L (Eqs 2.2.18-2.2.21).
+// on the free unknowns (P^L = m v^L in the velocity formulation, Sulsky & Kaul 2004, Eq. (2.4.5); Eq. (3.2.4) in
+// the momentum one), divided by Y h^Dim dt (Sec. 3.2.2). The stress follows from the strain increments of v^L
+// (Sulsky & Kaul 2004, Eq. (2.2.18), Eq. (2.2.19), Eq. (2.2.20), Eq. (2.2.21)).
 template <int Dim, class Kernel>
-bool ImplicitSimulation<Dim, Kernel>::evaluate(const Eigen::VectorXd& x, Real dt, Eigen::VectorXd& r) {
+bool ImplicitSimulation<Dim, Kernel>::residual_at(const Eigen::VectorXd& x, Real dt, Eigen::VectorXd& r) {
   last_x_ = x;
   node_velocity_from(x);
   const ParticleSet<Dim>& p = particles_;

@@ -22,7 +22,7 @@ class ImplicitSimulation<Dim, Kernel>::Residual final : public implicit::Nonline
  public:
   Residual(ImplicitSimulation& sim, Real dt) : sim_(sim), dt_(dt) {}
   Eigen::Index size() const override { return static_cast<Eigen::Index>(sim_.dof_node_.size()); }
-  bool residual(const Eigen::VectorXd& x, Eigen::VectorXd& r) override { return sim_.evaluate(x, dt_, r); }
+  bool residual(const Eigen::VectorXd& x, Eigen::VectorXd& r) override { return sim_.residual_at(x, dt_, r); }
   bool precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z) override {
     if (!sim_.tangent_ || !sim_.tangent_->factorised)
       z = r;  // a singular tangent: go on unpreconditioned
@@ -84,7 +84,7 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
   f_k_.assign(nodes, Vec<Dim>::Zero());
   f_ext_.assign(nodes, Vec<Dim>::Zero());
   f_trial_.assign(nodes, Vec<Dim>::Zero());
-  v_star_.assign(nodes, Vec<Dim>::Zero());
+  momentum_velocity_.assign(nodes, Vec<Dim>::Zero());
   // The explicit reference step: fixed, or the CFL condition on the dilatational wave speed.
   explicit_dt_ = spec_.step.dt > 0 ? spec_.step.dt : spec_.step.cfl * spec_.h / wave_speed_limit();
   dt_ = explicit_dt_ * std::min(spec_.step.start_factor, spec_.step.step_factor);
@@ -171,7 +171,8 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
   Eigen::VectorXd r;
   last_newton_ = 0;
   if (spec_.theta == 0) {
-    // Explicit: the unknowns follow from the forces at t^k (Eq. 2.4.4); one evaluation updates the stress.
+    // Explicit: the unknowns follow from the forces at t^k (Sulsky & Kaul 2004, Eq. (2.4.4)); one evaluation
+    // updates the stress.
     for (std::size_t k = 0; k < dof_node_.size(); ++k) {
       const std::int32_t n = dof_node_[k];
       const int c = dof_comp_[k];
@@ -179,17 +180,17 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
       x[static_cast<Eigen::Index>(k)] += dt * (f_k_[n][c] + f_ext_[n][c]) / (momentum ? 1.0 : m);
     }
     ++counters_.residual_evaluations;
-    if (!evaluate(x, dt, r)) return false;
+    if (!residual_at(x, dt, r)) return false;
   } else if (spec_.solver == ImplicitSolver::linear_cg) {
     // One CG solve (Alg. 2) of A s = -F(x0), A s = F(x0 + s) - F(x0).
     Eigen::VectorXd r0;
-    if (!evaluate(x, dt, r0)) return false;
+    if (!residual_at(x, dt, r0)) return false;
     const Eigen::VectorXd x0 = x;
     Eigen::VectorXd s = Eigen::VectorXd::Zero(x.size()), rs;
     bool ok = true;
     const auto apply = [&](const Eigen::VectorXd& v, Eigen::VectorXd& Av) {
       // A failed evaluation ends the CG solve (a non-finite product stops it) and the step is retried.
-      if (evaluate(x0 + v, dt, rs))
+      if (residual_at(x0 + v, dt, rs))
         Av = rs - r0;
       else
         Av.setConstant(r0.size(), std::numeric_limits<Real>::quiet_NaN()), ok = false;
@@ -203,7 +204,7 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
     counters_.krylov_iterations += ls.iterations;
     counters_.residual_evaluations += ls.iterations + 2;
     x = x0 + s;
-    if (!ok || !evaluate(x, dt, r)) return false;
+    if (!ok || !residual_at(x, dt, r)) return false;
     last_newton_ = 1;
     ++counters_.newton_iterations;
   } else {
@@ -211,7 +212,7 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
     const bool preconditioned = spec_.frozen_jacobian;
     if (preconditioned) {
       ++counters_.residual_evaluations;
-      if (!evaluate(x, dt, r) || !factorise_tangent(x, dt)) return false;
+      if (!residual_at(x, dt, r) || !factorise_tangent(x, dt)) return false;
     }
     implicit::NewtonSettings settings = spec_.newton;
     settings.krylov = spec_.solver == ImplicitSolver::newton_cg ? implicit::Krylov::cg : implicit::Krylov::gmres;
@@ -226,7 +227,7 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
     // The trial state must be that of the solution, not of the last perturbed evaluation.
     if (x.size() != last_x_.size() || x != last_x_) {
       ++counters_.residual_evaluations;
-      if (!evaluate(x, dt, r)) return false;
+      if (!residual_at(x, dt, r)) return false;
     }
   }
   for (std::uint8_t ok : trial_.ok)
@@ -237,7 +238,8 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
 }
 
 
-// Update the particles from the converged step (Sulsky & Kaul 2004, Eqs 2.3.2-2.3.5 or 3.2.5-3.2.6). The new
+// Update the particles from the converged step (Sulsky & Kaul 2004, Eq. (2.3.2), Eq. (2.3.3), Eq. (2.3.4),
+// Eq. (2.3.5), or Eq. (3.2.5), Eq. (3.2.6)). The new
 // positions are checked before anything changes, so a failure leaves the last good state.
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
@@ -248,11 +250,11 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
   trial_.x.resize(p.size());
   if (!momentum) trial_.v.resize(p.size());
   gather_over_active_nodes(
-      [&](const GridNode<Dim>& node, std::size_t n) { return momentum ? v_star_[n] : node.v_new; }, v_move_);
+      [&](const GridNode<Dim>& node, std::size_t n) { return momentum ? momentum_velocity_[n] : node.v_new; }, v_move_);
   if (!momentum) gather_over_active_nodes([](const GridNode<Dim>& node, std::size_t) { return node.v_new - node.v; }, dv_);
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
-    trial_.x[i] = p.x[i] + dt * v_move_[i];     // Eq. (2.3.2), or Eq. (3.2.5) with P_i^L / m_i
-    if (!momentum) trial_.v[i] = p.v[i] + dv_[i];  // Eq. (2.3.3); the momentum formulation has v_p^L of Eq. (3.2.6)
+    trial_.x[i] = p.x[i] + dt * v_move_[i];     // Sulsky & Kaul 2004, Eq. (2.3.2), or Eq. (3.2.5)
+    if (!momentum) trial_.v[i] = p.v[i] + dv_[i];  // Sulsky & Kaul 2004, Eq. (2.3.3); else Eq. (3.2.6)
   });
   for (std::size_t i = 0; i < p.size(); ++i)
     if (!grid_.geometry.contains(trial_.x[i])) {

@@ -23,9 +23,11 @@ struct ImplicitSimulation<Dim, Kernel>::TangentFactor {
 
 // The Jacobian of F at x, assembled from the particles and factorised by sparse LU. Within a step the stencils,
 // volumes and start-of-step stresses are fixed, so F depends on the unknowns only through
-//   v^L (the unknowns themselves, or in the momentum formulation their re-projection Q P^L, Eqs 3.2.6-3.2.7)
+//   v^L (the unknowns themselves, or in the momentum formulation their re-projection Q P^L, Sulsky & Kaul 2004,
+//   Eq. (3.2.6), Eq. (3.2.7))
 //   -> strain increments de_p = dt sym(sum_j v_j^L (x) grad N_j), plus the hoop term dt v_r / r
-//   -> sigma_p(de_p) by material_step -> f_i^L = -sum_p V_p (sigma_p grad N_i + hoop)   (Eqs 2.2.18-2.4.7)
+//   -> sigma_p(de_p) by material_step -> f_i^L = -sum_p V_p (sigma_p grad N_i + hoop)
+//   (Sulsky & Kaul 2004, Eq. (2.2.18), Eq. (2.2.19), Eq. (2.2.20), Eq. (2.2.21), Eq. (2.4.7))
 // hence dF/dx = scale (D - theta dt K Q), D = I (momentum) or the nodal masses (velocity), K = df^L/dv^L,
 // Q = I in the velocity formulation. The material tangent d sigma / d de is a forward difference of
 // material_step at each particle's trial strain, one call per independent strain component; only the
@@ -37,7 +39,7 @@ bool ImplicitSimulation<Dim, Kernel>::factorise_tangent(const Eigen::VectorXd& x
   if (x.size() != last_x_.size() || x != last_x_) {
     Eigen::VectorXd r;
     ++counters_.residual_evaluations;
-    if (!evaluate(x, dt, r)) return false;  // the trial velocity gradients at x
+    if (!residual_at(x, dt, r)) return false;  // the trial velocity gradients at x
   }
   const ParticleSet<Dim>& p = particles_;
   const std::size_t np = p.size();
@@ -58,7 +60,7 @@ bool ImplicitSimulation<Dim, Kernel>::factorise_tangent(const Eigen::VectorXd& x
   std::vector<Mat3> T(np * static_cast<std::size_t>(m));
   parallel_for(static_cast<std::ptrdiff_t>(np), [&](std::ptrdiff_t i) {
     const Mat<Dim> dL = dt * trial_.grad_v[i];
-    const Real hoop_increment = hoop >= 0 ? dt * trial_.v_r[i] / p.x[i][0] : 0;  // as evaluate computed it
+    const Real hoop_increment = hoop >= 0 ? dt * trial_.v_r[i] / p.x[i][0] : 0;  // as residual_at computed it
     const MaterialState& s = particles_.state;
     const auto stress_at = [&](const Mat<Dim>& dL_k, Real hoop_k) {
       return material_step<Dim>(spec_.materials[p.material[i]], s.sigma[i], s.eps_bar[i], s.stretch3[i], p.V[i],

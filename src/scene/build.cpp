@@ -22,7 +22,7 @@ template <int Dim>
 VelocityFn<Dim> velocity_of(const std::vector<ExpressionPtr>& components) {
   return [components](Real t) {
     const double vars[] = {t};
-    return evaluate<Vec<Dim>>(components, vars);
+    return vector_value<Vec<Dim>>(components, vars);
   };
 }
 
@@ -55,7 +55,7 @@ Mat<Dim> gradient_of_displacement(const std::vector<ExpressionPtr>& u, const Vec
     auto at = [&](Real shift) {
       Vec<Dim> Y = X;
       Y[b] += shift;
-      return evaluate<Vec<Dim>>(u, std::span<const double>(Y.data(), Dim));
+      return vector_value<Vec<Dim>>(u, std::span<const double>(Y.data(), Dim));
     };
     F.col(b) += (8 * (at(eps) - at(-eps)) - (at(2 * eps) - at(-2 * eps))) / (12 * eps);
   }
@@ -152,9 +152,9 @@ BodyForceFn<Dim> body_force_of(const Scene& sc) {
     double vars[Dim + 1];
     for (int d = 0; d < Dim; ++d) vars[d] = X[d];
     vars[Dim] = t;
-    if (!body.empty()) b = evaluate<Vec<Dim>>(body, vars);
+    if (!body.empty()) b = vector_value<Vec<Dim>>(body, vars);
     for (const TractionLoad<Dim>& tr : tractions)
-      if (tr.loads(X)) b += tr.inv_rho_s * evaluate<Vec<Dim>>(tr.traction, std::span<const double>(&vars[Dim], 1));
+      if (tr.loads(X)) b += tr.inv_rho_s * vector_value<Vec<Dim>>(tr.traction, std::span<const double>(&vars[Dim], 1));
     return b;
   };
 }
@@ -238,7 +238,7 @@ ParticleSet<Dim> seed_bodies(const Scene& sc) {
                            " lies outside the grid");
       const std::span<const double> at(X.data(), Dim);
       if (!b.displacement.empty()) {
-        p.x[i] = X + evaluate<Vec<Dim>>(b.displacement, at);
+        p.x[i] = X + vector_value<Vec<Dim>>(b.displacement, at);
         if (!b.deformation.empty()) {
           for (int r = 0; r < Dim; ++r)
             for (int c = 0; c < Dim; ++c) p.F[i](r, c) = (*b.deformation[r * Dim + c])(at);
@@ -248,7 +248,7 @@ ParticleSet<Dim> seed_bodies(const Scene& sc) {
         if (sc.kernel == KernelKind::cpgimp)  // l_p = l_p0 diag(F): Wallstedt & Guilkey 2008, Eq. (63)
           for (int d = 0; d < Dim; ++d) p.l[i][d] = p.l0[i][d] * p.F[i](d, d);
       }
-      if (!b.velocity.empty()) p.v[i] = evaluate<Vec<Dim>>(b.velocity, std::span<const double>(X.data(), Dim));
+      if (!b.velocity.empty()) p.v[i] = vector_value<Vec<Dim>>(b.velocity, std::span<const double>(X.data(), Dim));
     }
   }
   return p;

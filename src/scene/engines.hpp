@@ -152,7 +152,8 @@ class Explicit {
     if (!spec_.rigid_bodies.empty()) c.reals["rigid_displacement"] = flat(sim_.rigid_bodies().displacements());
   }
   /// Without rate-form materials, volume and stress follow from F exactly as the step computes them
-  /// (Wallstedt & Guilkey 2008, Eq. (13), Eq. (55)); with them, the checkpoint holds the state and the volumes.
+  /// (Wallstedt & Guilkey 2008, Eq. (13), Eq. (55)); with them, the checkpoint holds the state and the
+  /// volumes.
   void load(const io::CheckpointData& c, const std::string& where) {
     ParticleSet<Dim>& p = sim_.particles();
     if (!p.state.empty()) load_state(c, where, p);

@@ -16,7 +16,7 @@ struct ExactFromScene {
     double vars[Dim + 1];
     for (int d = 0; d < Dim; ++d) vars[d] = X[d];
     vars[Dim] = t;
-    return evaluate<Vec<Dim>>(*u, vars);
+    return vector_value<Vec<Dim>>(*u, vars);
   }
 };
 

@@ -1,12 +1,7 @@
-// Equation citations in the code's comments, against the canonical form and docs/equations.md.
-//
-// Every .hpp/.cpp/.py under include/, src/ and apps/ is read as text (MPM_SOURCE_DIR is the source root). Its
-// comments (C++ // and /* */, Python # and triple-quoted strings) are joined into blocks of consecutive lines
-// and split into sentences. Every `Eq`/`Eqs` followed by a number or `(` must read `Eq. (N)` on one line, N
-// as the paper prints it (55, 2.4.18, A.1), with an author-year (`A & B 2008`, `A et al. 2008`) before it in
-// the same sentence; the nearest such author-year is the paper it cites. `Eq. (A) to Eq. (B)` also cites the
-// equations between A and B when they differ only in their last number. The (paper, equation, file) triples
-// found must be the rows of the tables in docs/equations.md.
+// Equation citations in the comments of include/, src/ and apps/ (read as text from MPM_SOURCE_DIR) against
+// the canonical form `Author Year, Eq. (N)` and against the tables of docs/equations.md, which describes the
+// form and these checks. Comments of consecutive lines are joined into blocks and split into sentences; an
+// equation's paper is the nearest author-year before it in its sentence.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -58,12 +53,10 @@ class CommentBlocks {
   }
   void block_comment(int line, std::string_view body) {  // body: between /* and */, or """ and """
     open_ = false;
-    for (std::size_t begin = 0, end = 0; end != std::string_view::npos; begin = end + 1, ++line) {
-      end = body.find('\n', begin);
-      std::string_view text = body.substr(begin, end == std::string_view::npos ? end : end - begin);
-      const std::size_t lead = std::min(text.find_first_not_of(" \t*!<"), text.size());
-      add(line, open_, text.substr(lead));
-    }
+    std::istringstream lines{std::string(body)};
+    for (std::string text; std::getline(lines, text); ++line)
+      add(line, open_,
+          std::string_view(text).substr(std::min(text.find_first_not_of(" \t*!<"), text.size())));
     open_ = false;
   }
   std::vector<Comment> take() { return std::move(blocks_); }
@@ -88,41 +81,34 @@ class CommentBlocks {
 /// The comments of a C++ (python = false) or Python source: string and character literals are skipped.
 std::vector<Comment> comments_of(const std::string& src, bool python) {
   CommentBlocks blocks;
-  const auto lines_in = [&](std::size_t from, std::size_t to) {
-    return static_cast<int>(std::count(src.begin() + static_cast<std::ptrdiff_t>(from),
-                                       src.begin() + static_cast<std::ptrdiff_t>(to), '\n'));
-  };
+  const std::string_view text(src);
   int line = 1;
   std::size_t line_begin = 0;
-  for (std::size_t i = 0; i < src.size();) {
-    const std::string_view rest = std::string_view(src).substr(i);
-    const std::string quote3 =
-        rest.substr(0, 3) == "\"\"\"" || rest.substr(0, 3) == "'''" ? std::string(rest.substr(0, 3)) : "";
-    if (src[i] == '\n') {
+  const auto block = [&](std::size_t i, std::size_t open, const std::string& close) {  // returns its end
+    const std::size_t end = std::min(text.find(close, i + open), text.size());
+    blocks.block_comment(line, text.substr(i + open, end - i - open));
+    line += static_cast<int>(std::count(text.begin() + static_cast<std::ptrdiff_t>(i),
+                                        text.begin() + static_cast<std::ptrdiff_t>(end), '\n'));
+    return end + close.size();
+  };
+  for (std::size_t i = 0; i < text.size();) {
+    const std::string_view rest = text.substr(i);
+    if (text[i] == '\n') {
       ++line, line_begin = ++i;
-    } else if (python ? src[i] == '#' : rest.starts_with("//")) {
-      const std::size_t end = std::min(src.find('\n', i), src.size());
-      const bool alone = src.find_first_not_of(" \t", line_begin) == i;
-      blocks.line_comment(line, alone, std::string_view(src).substr(i + 1, end - i - 1));
+    } else if (python ? text[i] == '#' : rest.starts_with("//")) {
+      const std::size_t end = std::min(text.find('\n', i), text.size());
+      blocks.line_comment(line, text.find_first_not_of(" \t", line_begin) == i,
+                          text.substr(i + 1, end - i - 1));
       i = end;
     } else if (!python && rest.starts_with("/*")) {
-      const std::size_t end = std::min(src.find("*/", i + 2), src.size());
-      blocks.block_comment(line, std::string_view(src).substr(i + 2, end - i - 2));
-      line += lines_in(i, end), i = end + 2;
-    } else if (python && !quote3.empty()) {
-      const std::size_t end = std::min(src.find(quote3, i + 3), src.size());
-      blocks.block_comment(line, std::string_view(src).substr(i + 3, end - i - 3));
-      line += lines_in(i, end), i = end + 3;
-    } else if (!python && src[i] == '"' && i > 0 && src[i - 1] == 'R') {  // raw string R"delim(...)delim"
-      const std::size_t open = src.find('(', i);
-      const std::size_t end =
-          std::min(src.find(")" + src.substr(i + 1, open - i - 1) + "\"", open), src.size());
-      line += lines_in(i, end), i = end + 1;
-    } else if ((src[i] == '"' || src[i] == '\'') &&
-               !(i > 0 && std::isdigit(static_cast<unsigned char>(src[i - 1])))) {
-      std::size_t j = i + 1;  // a literal ends at its quote or, unterminated, at the end of the line
-      while (j < src.size() && src[j] != src[i] && src[j] != '\n') j += src[j] == '\\' ? 2 : 1;
-      i = src[std::min(j, src.size() - 1)] == '\n' ? j : j + 1;
+      i = block(i, 2, "*/");
+    } else if (python && (rest.starts_with("\"\"\"") || rest.starts_with("'''"))) {
+      i = block(i, 3, std::string(rest.substr(0, 3)));
+    } else if ((text[i] == '"' || text[i] == '\'') &&
+               !(i > 0 && std::isdigit(static_cast<unsigned char>(text[i - 1])))) {
+      std::size_t j = i + 1;  // a literal ends at its quote or, unterminated, at the end of its line
+      while (j < text.size() && text[j] != text[i] && text[j] != '\n') j += text[j] == '\\' ? 2 : 1;
+      i = j < text.size() && text[j] == '\n' ? j : j + 1;
     } else {
       ++i;
     }
@@ -158,6 +144,7 @@ const std::regex kAuthorYear(R"([A-Z][a-z]+(?: & [A-Z][a-z]+| et al\.)? (?:19|20
 const std::regex kMention(R"(\bEqs?\b\.?\s*[(\d])");
 const std::regex kCanonical(R"(Eq\. \(((?:[A-Z]\.)?\d+(?:\.\d+)*)\))");
 const std::regex kBareNumberAfter(R"(\s*(?:(?:-|–|,|and|or|to)\s*\((?:[A-Z]\.)?\d|(?:-|–)\s*\d))");
+constexpr auto kAtStart = std::regex_constants::match_continuous;
 const std::regex kRangeEnd(R"( to Eq\. \(((?:[A-Z]\.)?\d+(?:\.\d+)*)\))");
 
 /// The equations strictly between first and last when they differ only in their last number (2.1.9, 2.1.12).
@@ -191,34 +178,25 @@ void scan_source(const std::string& file, const std::string& src, bool python, S
         authors.emplace_back(static_cast<std::size_t>(it->position() + it->length()), it->str());
       for (std::sregex_iterator it(sentence.begin(), sentence.end(), kMention), last; it != last; ++it) {
         const std::size_t at = begin + static_cast<std::size_t>(it->position());
-        std::smatch eq;
-        const auto from = sentence.cbegin() + it->position();
-        if (!std::regex_search(from, sentence.cend(), eq, kCanonical,
-                               std::regex_constants::match_continuous)) {
-          flag(c, at, "not in the form Eq. (N)");
-          continue;
-        }
-        std::smatch after;
-        if (std::regex_search(eq[0].second, sentence.cend(), after, kBareNumberAfter,
-                              std::regex_constants::match_continuous)) {
-          flag(c, at, "a second equation number without its own Eq. ( )");
-          continue;
-        }
-        if (c.line_of(at) != c.line_of(at + static_cast<std::size_t>(eq.length()) - 1)) {
-          flag(c, at, "split across lines");
-          continue;
-        }
+        std::smatch eq, range;
+        const bool canonical =
+            std::regex_search(sentence.cbegin() + it->position(), sentence.cend(), eq, kCanonical, kAtStart);
         const auto author = std::find_if(authors.rbegin(), authors.rend(), [&](const auto& a) {
           return a.first <= static_cast<std::size_t>(it->position());
         });
-        if (author == authors.rend()) {
-          flag(c, at, "no author-year before it in its sentence");
+        const char* problem = !canonical ? "not in the form Eq. (N)"
+                              : std::regex_search(eq[0].second, sentence.cend(), kBareNumberAfter, kAtStart)
+                                  ? "a second equation number without its own Eq. ( )"
+                              : c.line_of(at) != c.line_of(at + static_cast<std::size_t>(eq.length()) - 1)
+                                  ? "split across lines"
+                              : author == authors.rend() ? "no author-year before it in its sentence"
+                                                         : nullptr;
+        if (problem) {
+          flag(c, at, problem);
           continue;
         }
         scan.citations.insert({author->second, eq[1], file});
-        std::smatch range;
-        if (std::regex_search(eq[0].second, sentence.cend(), range, kRangeEnd,
-                              std::regex_constants::match_continuous))
+        if (std::regex_search(eq[0].second, sentence.cend(), range, kRangeEnd, kAtStart))
           for (const std::string& inner : between(eq[1], range[1]))
             scan.citations.insert({author->second, inner, file});
       }
@@ -246,8 +224,8 @@ Scan scan_tree() {
   return scan;
 }
 
-/// The rows of docs/equations.md: under each `## ` heading naming an author-year, `| Eq. (N) | what | where
-/// |` with where a comma-separated list of files (backticks allowed).
+/// The rows of docs/equations.md: table rows `| Eq. (N) | what it is | where |` under a `## ` heading that
+/// names the paper's author-year; where is a comma-separated list of files, backticks allowed.
 std::set<Citation> documented(const std::string& markdown) {
   static const std::regex row(R"(^\|\s*Eq\. \(([^)]+)\)\s*\|[^|]*\|([^|]*)\|\s*$)");
   std::set<Citation> out;
@@ -275,21 +253,26 @@ std::string listing(const std::vector<std::string>& items) {
   return out;
 }
 
-// The parser on a snippet with known content: two violations (Eq. (14) in a sentence without an author-year;
-// Eqs 7-8, found after a digit separator), a string literal that is not a comment, and a range 2.4.1 to 2.4.3
-// that cites three equations.
+// The parser on a snippet with known content: four violations (Eq. (14) in a sentence without an
+// author-year; Eqs 7-8, found after a digit separator; a bare second number and a citation split across
+// lines in a block comment), a string literal that is not a comment, and a range 2.4.1 to 2.4.3 that cites
+// three equations.
 TEST(Citations, ParserFindsKnownCitationsAndViolationsInASnippet) {
   const std::string snippet =
       "/// Wallstedt & Guilkey 2008, Eq. (8), Eq. (9). The force\n"
       "/// follows (Eq. (14)).\n"
       "const char* s = \"// Eq. 5\";  // Sulsky & Kaul 2004, Eq. (2.4.1) to\n"
       "                             // Eq. (2.4.3)\n"
-      "int n = 1'000;  // Eqs 7-8\n";
+      "int n = 1'000;  // Eqs 7-8\n"
+      "/* Sulsky & Kaul 2004, Eq. (2.1.13)-(2.1.14), Eq.\n"
+      "   (2.1.15) */\n";
   Scan scan;
   scan_source("snippet.hpp", snippet, false, scan);
-  ASSERT_EQ(scan.violations.size(), 2u) << listing(scan.violations);
+  ASSERT_EQ(scan.violations.size(), 4u) << listing(scan.violations);
   EXPECT_TRUE(scan.violations[0].starts_with("snippet.hpp:2: no author-year")) << scan.violations[0];
   EXPECT_TRUE(scan.violations[1].starts_with("snippet.hpp:5: not in the form")) << scan.violations[1];
+  EXPECT_TRUE(scan.violations[2].starts_with("snippet.hpp:6: a second equation")) << scan.violations[2];
+  EXPECT_TRUE(scan.violations[3].starts_with("snippet.hpp:6: split across lines")) << scan.violations[3];
   const std::set<Citation> expected = {{"Sulsky & Kaul 2004", "2.4.1", "snippet.hpp"},
                                        {"Sulsky & Kaul 2004", "2.4.2", "snippet.hpp"},
                                        {"Sulsky & Kaul 2004", "2.4.3", "snippet.hpp"},
@@ -310,6 +293,7 @@ TEST(Citations, DocsTablesListExactlyTheCitationsInTheCode) {
   const Scan scan = scan_tree();
   const auto skipped = [&](const Citation& c) { return scan.files_with_violations.contains(c.file); };
   std::set<Citation> docs = documented(read(kRoot / "docs" / "equations.md")), code = scan.citations;
+  EXPECT_GT(docs.size(), 100u);  // the tables have well over a hundred (paper, equation, file) rows
   std::erase_if(docs, skipped);
   std::erase_if(code, skipped);
   std::vector<std::string> missing, extra;
@@ -319,12 +303,12 @@ TEST(Citations, DocsTablesListExactlyTheCitationsInTheCode) {
     if (!code.contains(c)) extra.push_back(describe(c));
   EXPECT_EQ(missing.size(), 0u) << "cited in the code, not in docs/equations.md:" << listing(missing);
   EXPECT_EQ(extra.size(), 0u) << "in docs/equations.md, not cited in the code:" << listing(extra);
-  EXPECT_GT(code.size(), 100u);  // the tree cites well over a hundred (paper, equation, file) triples
 }
 
-// Known citations of the tree, so that a parser that found nothing could not pass: the Neo-Hookean stress,
-// the matrix-free directional derivative, the boundary acceleration, and 2.1.12 inside the range 2.1.9 to
-// 2.1.19 of the plasticity model.
+// Known citations of the tree, so that a parser that found nothing could not pass: the Neo-Hookean stresses
+// (Wallstedt & Guilkey 2008, Eq. (54), Eq. (55)), the matrix-free directional derivative, the boundary
+// acceleration, and Eq. (2.1.12), which only the range Eq. (2.1.9) to Eq. (2.1.19) of elastoplastic.hpp
+// cites.
 TEST(Citations, KnownCitationsAreFound) {
   const Scan scan = scan_tree();
   const std::vector<Citation> known = {

@@ -48,7 +48,7 @@ struct SimulationSpec {
   Real cfl = 0;                         ///< dt = cfl h / max_p (c_p + |v_p|) when dt == 0
   /// USL and CD with the linear kernel: move and deform particles with the re-projected velocity on nodes that
   /// carry less than a quarter of the lightest particle's mass (Sulsky & Kaul 2004, Eq. (3.2.7)); false runs
-  /// the papers' algorithms unchanged (Wallstedt & Guilkey 2008, Eqs (37)-(39)). Scenes default to true.
+  /// the papers' algorithms unchanged (Wallstedt & Guilkey 2008, Eq. (37), Eq. (38), Eq. (39)). Scenes default to true.
   bool reproject_light_nodes = false;
 };
 

@@ -85,6 +85,27 @@ struct alignas(sizeof(Real) * (Dim == 2 ? 8 : 1)) GridNode {
   Vec<Dim> v_new = Vec<Dim>::Zero();  ///< time-advanced velocity v_i^* [m/s]
 };
 
+/// Where each field of a GridNode starts, in Reals from m (fixed-size Eigen vectors may be aligned to more than
+/// one Real): the transfers add whole node records and address the fields by these slots (transfer/p2g.hpp).
+template <int Dim>
+struct NodeSlots {
+  static constexpr int align = static_cast<int>(alignof(Vec<Dim>) / sizeof(Real));
+  static constexpr int up(int k) { return (k + align - 1) / align * align; }
+  static constexpr int m = 0, v = up(1), a = up(v + Dim), v_new = up(a + Dim);
+};
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Winvalid-offsetof"  // GCC and Clang give the offsets of these plain members
+static_assert(offsetof(GridNode<2>, v) == NodeSlots<2>::v * sizeof(Real) &&
+              offsetof(GridNode<2>, a) == NodeSlots<2>::a * sizeof(Real) &&
+              offsetof(GridNode<2>, v_new) == NodeSlots<2>::v_new * sizeof(Real));
+static_assert(offsetof(GridNode<3>, v) == NodeSlots<3>::v * sizeof(Real) &&
+              offsetof(GridNode<3>, a) == NodeSlots<3>::a * sizeof(Real) &&
+              offsetof(GridNode<3>, v_new) == NodeSlots<3>::v_new * sizeof(Real));
+static_assert(offsetof(GridNode<1>, v) == NodeSlots<1>::v * sizeof(Real) &&
+              offsetof(GridNode<1>, a) == NodeSlots<1>::a * sizeof(Real) &&
+              offsetof(GridNode<1>, v_new) == NodeSlots<1>::v_new * sizeof(Real));
+#pragma GCC diagnostic pop
+
 /// A node velocity field a stage reads: the projected (or re-projected) v, or the advanced v_new.
 template <int Dim>
 using NodeVelocity = Vec<Dim> GridNode<Dim>::*;

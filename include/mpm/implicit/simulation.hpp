@@ -99,7 +99,7 @@ class ImplicitSimulation {
     std::vector<Real> eps_bar, work, energy, stretch3;
     std::vector<Mat<Dim>> grad_v;
     std::vector<Real> v_r;    // the radial velocity at the particle, sum_i N_i(x_p) v_ri^L
-    std::vector<Vec<Dim>> v;  // v_p^L: Eq. (3.2.6) in the momentum formulation, Eq. (2.3.3) in the velocity one
+    std::vector<Vec<Dim>> v;  // v_p^L: Sulsky & Kaul 2004, Eq. (3.2.6) (momentum) or Eq. (2.3.3)
     std::vector<Vec<Dim>> x;  // x_p^L
     std::vector<std::uint8_t> ok;
   };
@@ -107,7 +107,7 @@ class ImplicitSimulation {
   bool try_step(Real dt);
   void project(Real dt);
   void build_dofs(Real t_new);
-  void scatter_momentum(const std::vector<Vec<Dim>>& v_p, NodeVelocity<Dim> field);
+  void scatter_momentum(const std::vector<Vec<Dim>>& v_p);  ///< sum_p N_i m_p v_p into GridNode::v_new
   void scatter_force(const std::vector<SymTensor<3>>& sigma, std::vector<Vec<Dim>>& f);
   void add_body_force(Real dt);
   /// G2P of a node vector field over the nodes that carry mass: out_p = sum_i N_i(x_p) value(node_i, i), with
@@ -115,7 +115,7 @@ class ImplicitSimulation {
   template <class Value>
   void gather_over_active_nodes(Value value, std::vector<Vec<Dim>>& out);
   void node_velocity_from(const Eigen::VectorXd& x);
-  bool evaluate(const Eigen::VectorXd& x, Real dt, Eigen::VectorXd& r);
+  bool residual_at(const Eigen::VectorXd& x, Real dt, Eigen::VectorXd& r);
   void accept(Real dt);
   void compute_reactions(Real dt);
   Real wave_speed_limit() const;
@@ -143,7 +143,7 @@ class ImplicitSimulation {
   RigidBodies<Dim> rigid_;
   // Nodes: internal force at t^k, external force, and the trial internal force of the last evaluation.
   std::vector<Vec<Dim>> f_k_, f_ext_, f_trial_;
-  std::vector<Vec<Dim>> v_star_;  // momentum formulation: P_i^L / m_i
+  std::vector<Vec<Dim>> momentum_velocity_;  // momentum formulation: P_i^L / m_i
   std::vector<Vec<Dim>> dv_, v_move_;  // per particle: sum_i N_i (v_i^L - v_i^k), and the velocity that moves it
   // Unknowns: free (node, component) pairs; constrained ones with their value and owner (face group or rigid body).
   std::vector<std::int32_t> dof_node_;

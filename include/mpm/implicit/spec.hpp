@@ -16,8 +16,8 @@
 
 namespace mpm {
 
-/// The unknown of the implicit equations: nodal velocity (symmetric system, Sulsky & Kaul 2004 Eq. 2.4.11) or
-/// nodal momentum (non-symmetric, Sec. 3.2.1, Eqs 3.2.3-3.2.7).
+/// The unknown of the implicit equations: nodal velocity (symmetric system, Sulsky & Kaul 2004, Eq. (2.4.11))
+/// or nodal momentum (non-symmetric: Sulsky & Kaul 2004, Sec. 3.2.1, Eq. (3.2.3) to Eq. (3.2.7)).
 enum class Formulation { velocity, momentum };
 
 /// Newton-CG (Algs 1 and 3), Newton-GMRES (Algs 1 and 4), or one linear CG solve (Alg. 2) of the system

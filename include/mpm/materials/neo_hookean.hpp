@@ -55,8 +55,8 @@ struct NeoHookean {
     return 0.5 * mu * (F.squaredNorm() - Dim) - mu * lnJ + 0.5 * lambda * lnJ * lnJ;
   }
 
-  /// Dilatational wave speed at volume ratio J from the spatial tangent of Wallstedt & Guilkey 2008, Eq. (55):
-  /// rho c^2 = (lambda + 2 (mu - lambda ln J)) / J with rho = rho0 / J.
+  /// Dilatational wave speed at volume ratio J from the spatial tangent of Wallstedt & Guilkey 2008,
+  /// Eq. (55): rho c^2 = (lambda + 2 (mu - lambda ln J)) / J with rho = rho0 / J.
   Real wave_speed(Real J) const {
     return std::sqrt(std::max(lambda + 2 * mu - 2 * lambda * std::log(J), mu) / rho0);
   }

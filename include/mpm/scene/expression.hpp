@@ -42,9 +42,9 @@ class Expression {
 
 using ExpressionPtr = std::shared_ptr<const Expression>;
 
-/// Evaluate a vector of expressions (one per component) at the same variable values.
+/// The value of a vector of expressions (one per component) at the same variable values.
 template <class VecT>
-VecT evaluate(const std::vector<ExpressionPtr>& components, std::span<const double> values) {
+VecT vector_value(const std::vector<ExpressionPtr>& components, std::span<const double> values) {
   VecT out;
   for (std::size_t d = 0; d < components.size(); ++d) out[static_cast<int>(d)] = (*components[d])(values);
   return out;

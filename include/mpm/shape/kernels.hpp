@@ -1,9 +1,9 @@
 #pragma once
 /// One-dimensional shape-function policies. Each gives its stencil width, the ghost layers it needs, what a
 /// stencil keeps per axis (`Axis`: as little as reproduces the weights cheaply), `locate` (base node and
-/// Axis data of a position) and `evaluate` (weights and gradients of the `width` consecutive nodes starting
+/// Axis data of a position) and `weights_at` (weights and gradients of the `width` consecutive nodes starting
 /// at the base). Positions are in grid units (xi = (x - lo)/h), gradients per grid unit; multi-D weights are
-/// tensor products. `Axis` is `AxisOf<Real>`; `evaluate` also takes `AxisOf<simd::RealLanes>`, whose members are
+/// tensor products. `Axis` is `AxisOf<Real>`; `weights_at` also takes `AxisOf<simd::RealLanes>`, whose members are
 /// the same Reals of several particles in SIMD lanes (LaneStencil).
 #include <algorithm>
 #include <cmath>
@@ -13,13 +13,13 @@
 
 namespace mpm {
 
-/// Adds `weights(xi, half_length, w, dw)` (locate then evaluate) to a kernel policy.
+/// Adds `weights(xi, half_length, w, dw)` (locate, then weights_at) to a kernel policy.
 template <class Kernel>
 struct KernelWeights {
   static int weights(Real xi, Real half_length, Real* w, Real* dw) {
     typename Kernel::Axis a;
     const int base = Kernel::locate(xi, half_length, a);
-    Kernel::evaluate(a, w, dw);
+    Kernel::weights_at(a, w, dw);
     return base;
   }
 };
@@ -47,7 +47,7 @@ struct LinearKernel : KernelWeights<LinearKernel> {
     return base;
   }
   template <class T>
-  static void evaluate(const AxisOf<T>& a, T* w, T* dw) {
+  static void weights_at(const AxisOf<T>& a, T* w, T* dw) {
     w[0] = 1 - a.r;
     w[1] = a.r;
     dw[0] = T{} - 1;
@@ -97,7 +97,7 @@ struct GimpKernel : KernelWeights<GimpKernel> {
     return base;
   }
   template <class T>
-  static void evaluate(const AxisOf<T>& a, T* w, T* dw) {
+  static void weights_at(const AxisOf<T>& a, T* w, T* dw) {
     for (int k = 0; k < width; ++k) {
       w[k] = a.w[k];
       dw[k] = a.dw[k];
@@ -123,7 +123,7 @@ struct QuadraticBSplineKernel : KernelWeights<QuadraticBSplineKernel> {
     return base;
   }
   template <class T>
-  static void evaluate(const AxisOf<T>& ax, T* w, T* dw) {
+  static void weights_at(const AxisOf<T>& ax, T* w, T* dw) {
     const T r = ax.r;
     const T a = 1.5 - r, b = r - 1, c = r - 0.5;
     w[0] = 0.5 * a * a;
@@ -153,7 +153,7 @@ struct CubicBSplineKernel : KernelWeights<CubicBSplineKernel> {
     return base;
   }
   template <class T>
-  static void evaluate(const AxisOf<T>& a, T* w, T* dw) {
+  static void weights_at(const AxisOf<T>& a, T* w, T* dw) {
     const T t = a.t;
     const T s = 1 - t;
     w[0] = s * s * s / 6;

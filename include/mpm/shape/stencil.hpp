@@ -149,7 +149,7 @@ inline void for_each_node(const Stencil<Dim, Kernel>& s, const NodeLayout<Dim>& 
   constexpr int N = Kernel::width;
   Real w[Dim][N], dw[Dim][N];
   for (int d = 0; d < Dim; ++d) {
-    Kernel::evaluate(s.axis[d], w[d], dw[d]);
+    Kernel::weights_at(s.axis[d], w[d], dw[d]);
     for (int k = 0; k < N; ++k) dw[d][k] *= nl.inv_h;
   }
   if constexpr (Dim == 1) {

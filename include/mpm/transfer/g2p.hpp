@@ -18,13 +18,14 @@ namespace mpm {
 
 /// What a G2P pass updates.
 struct Gather {
-  bool velocity;     ///< v_p += dt sum_i S_ip a_i                       (Wallstedt & Guilkey 2008, Eq. 18)
-  bool position;     ///< x_p += dt sum_i S_ip v_i                       (Eq. 17)
-  bool deformation;  ///< grad v_p = sum_i v_i grad S_ip, F, V, sigma     (Eqs 10-13 / 19)
+  bool velocity;     ///< v_p += dt sum_i S_ip a_i                       (Wallstedt & Guilkey 2008, Eq. (18))
+  bool position;     ///< x_p += dt sum_i S_ip v_i                       (Wallstedt & Guilkey 2008, Eq. (17))
+  bool deformation;  ///< grad v_p = sum_i v_i grad S_ip, F, V, sigma     (Wallstedt & Guilkey 2008, Eq. (10),
+                     ///< Eq. (11), Eq. (12), Eq. (13), or Eq. (19))
 };
 
-/// How GIMP half-lengths evolve: fixed (uGIMP) or l_p = l_p^0 diag(F_p) (cpGIMP, Wallstedt & Guilkey 2008,
-/// Eq. 63).
+/// How GIMP half-lengths evolve: fixed (uGIMP) or l_p = l_p^0 diag(F_p) (cpGIMP: Wallstedt & Guilkey 2008,
+/// Eq. (63)).
 enum class SizeUpdate { fixed, deformed };
 
 /// The first particle (lowest index) that failed in a pass, if any.
@@ -73,7 +74,7 @@ void g2p_gather(const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<Di
       }
     });
     use(block, sum);
-  }, 1024 / LaneBlock::width);
+  }, 1024 / LaneBlock::width);  // a chunk of about 1024 particles
 }
 
 /// G2P of one node vector field: out_p = sum_i S_ip (node_i.*field).
@@ -106,7 +107,8 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
   const NodeLayout<Dim> layout(geo);
   std::atomic<std::int64_t> first_fault{ParticleFault::none};
   constexpr Sums sums{.acceleration = what.velocity, .velocity = interpolate_velocity, .gradient = what.deformation};
-  g2p_gather<sums>(stencils, grid, v_grid, [&](const LaneBlock& block, const GatheredLanes<Dim>& sum) {
+  g2p_gather<sums>(stencils, grid, v_grid, [&](const LaneBlock& block, const GatheredLanes<Dim>& sum)
+                                               __attribute__((always_inline)) {
     const auto& a_p = sum.a;
     const auto& v_p = sum.v;
     const auto& grad_v = sum.grad_v;
@@ -130,7 +132,7 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
       }
     }
     if constexpr (what.deformation) {
-      // Wallstedt & Guilkey 2008, Eqs (11)-(13): F^{n+1} = (I + grad v dt) F^n, V = V^0 det F, sigma =
+      // Wallstedt & Guilkey 2008, Eq. (11), Eq. (12), Eq. (13): F^{n+1} = (I + grad v dt) F^n, V = V^0 det F, sigma =
       // sigma(F). Mat is column-major: entry (a, c) is Real a + c Dim.
       const RecordLanes<Mat<Dim>> F_old = block.load(p.F);
       RecordLanes<Mat<Dim>> F_new;

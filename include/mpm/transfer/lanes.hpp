@@ -23,7 +23,7 @@ struct LaneStencil {
     const StencilLanes<Dim, Kernel> s(block.load(stencils));
     node = s.node;
     for (int d = 0; d < Dim; ++d) {
-      Kernel::evaluate(s.axis[d], w[d], dw[d]);
+      Kernel::weights_at(s.axis[d], w[d], dw[d]);
       for (int a = 0; a < N; ++a) dw[d][a] *= inv_h;
     }
   }

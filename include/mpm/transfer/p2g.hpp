@@ -15,36 +15,27 @@
 
 namespace mpm {
 
-/// The record slot (index in Reals from GridNode::m) where a node's vector field starts.
-template <int Dim>
-int slot_of(NodeVelocity<Dim> field) {
-  const GridNode<Dim> node;
-  return static_cast<int>(&(node.*field)[0] - &node.m);
-}
-
 /// What particles add to the node records in a P2G pass. Each contribution, called with a block of particles,
 /// loads their data in lanes and returns the function that adds their share at one stencil node,
 /// add(record, S_ip, grad S_ip): a node's record gets the contributions of one pass in the order listed.
 
-/// Mass m_p S_ip and momentum m_p v_p S_ip into the field at `slot` (Wallstedt & Guilkey 2008, Eq. (8), Eq. (9):
-/// the division by m_i happens in grid_velocity), or the momentum alone when `with_mass` is false (the
-/// re-projections of Sulsky & Kaul 2004, Eq. (3.2.7)).
-template <int Dim, bool with_mass = true>
+/// Mass m_p S_ip and momentum m_p v_p S_ip into the node field at `slot` (Wallstedt & Guilkey 2008, Eq. (8),
+/// Eq. (9): the division by m_i happens in grid_velocity), or the momentum alone when `with_mass` is false (the
+/// re-projection of Sulsky & Kaul 2004, Eq. (3.2.7)).
+template <int Dim, int slot = NodeSlots<Dim>::v, bool with_mass = true>
 struct Momentum {
   const std::vector<Real>& m;
   const std::vector<Vec<Dim>>& v;
-  int slot;
 
   [[gnu::always_inline]] auto operator()(const LaneBlock& block) const {
     const RealLanes m_p = block.load(m)[0];
     const RecordLanes<Vec<Dim>> v_p = block.load(v);
     std::array<RealLanes, Dim> mv_p;
     for (int d = 0; d < Dim; ++d) mv_p[d] = m_p * v_p[d];
-    return [m_p, mv_p, slot = slot](auto& record, const RealLanes& S_ip, const RealLanes(&)[Dim])
-               [[gnu::always_inline]] {
-                 if constexpr (with_mass) record[0] += S_ip * m_p;
-                 for (int d = 0; d < Dim; ++d) record[slot + d] += S_ip * mv_p[d];
-               };
+    return [m_p, mv_p](auto& record, const RealLanes& S_ip, const RealLanes(&)[Dim]) __attribute__((always_inline)) {
+      if constexpr (with_mass) record[NodeSlots<Dim>::m] += S_ip * m_p;
+      for (int d = 0; d < Dim; ++d) record[slot + d] += S_ip * mv_p[d];
+    };
   }
 };
 
@@ -54,7 +45,6 @@ template <int Dim, class Stress>
 struct InternalForce {
   const std::vector<Real>& V;
   const std::vector<Stress>& sigma;
-  int slot = slot_of<Dim>(&GridNode<Dim>::a);
 
   [[gnu::always_inline]] auto operator()(const LaneBlock& block) const {
     const RealLanes V_p = block.load(V)[0];
@@ -62,12 +52,11 @@ struct InternalForce {
     std::array<std::array<RealLanes, Dim>, Dim> Vsigma_p;
     for (int a = 0; a < Dim; ++a)
       for (int c = 0; c < Dim; ++c) Vsigma_p[a][c] = V_p * sigma_p[Stress::index(a, c)];
-    return [Vsigma_p, slot = slot](auto& record, const RealLanes&, const RealLanes(&dS_ip)[Dim])
-               [[gnu::always_inline]] {
+    return [Vsigma_p](auto& record, const RealLanes&, const RealLanes(&dS_ip)[Dim]) __attribute__((always_inline)) {
       for (int d = 0; d < Dim; ++d) {
         RealLanes f_d = Vsigma_p[d][0] * dS_ip[0];
         for (int c = 1; c < Dim; ++c) f_d += Vsigma_p[d][c] * dS_ip[c];
-        record[slot + d] -= f_d;
+        record[NodeSlots<Dim>::a + d] -= f_d;
       }
     };
   }
@@ -79,14 +68,12 @@ template <int Dim>
 struct BodyForce {
   const std::vector<Real>& m;
   const std::vector<Vec<Dim>>& b;
-  int slot = slot_of<Dim>(&GridNode<Dim>::a);
 
   [[gnu::always_inline]] auto operator()(const LaneBlock& block) const {
     const RealLanes m_p = block.load(m)[0];
     const RecordLanes<Vec<Dim>> b_p = block.load(b);
-    return [m_p, b_p, slot = slot](auto& record, const RealLanes& S_ip, const RealLanes(&)[Dim])
-               [[gnu::always_inline]] {
-      for (int d = 0; d < Dim; ++d) record[slot + d] += (S_ip * m_p) * b_p[d];
+    return [m_p, b_p](auto& record, const RealLanes& S_ip, const RealLanes(&)[Dim]) __attribute__((always_inline)) {
+      for (int d = 0; d < Dim; ++d) record[NodeSlots<Dim>::a + d] += (S_ip * m_p) * b_p[d];
     };
   }
 };
@@ -97,12 +84,11 @@ struct HoopForce {
   const std::vector<Real>& V;
   const std::vector<SymTensor<3>>& sigma;
   const std::vector<Vec<2>>& x;
-  int slot = slot_of<2>(&GridNode<2>::a);
 
   [[gnu::always_inline]] auto operator()(const LaneBlock& block) const {
     const RealLanes hoop = block.load(V)[0] * block.load(sigma)[2] / block.load(x)[0];
-    return [hoop, slot = slot](auto& record, const RealLanes& S_ip, const RealLanes(&)[2]) [[gnu::always_inline]] {
-      record[slot] -= hoop * S_ip;
+    return [hoop](auto& record, const RealLanes& S_ip, const RealLanes(&)[2]) __attribute__((always_inline)) {
+      record[NodeSlots<2>::a] -= hoop * S_ip;
     };
   }
 };
@@ -126,12 +112,15 @@ void p2g_add(const std::vector<Stencil<Dim, Kernel>>& stencils, const ScatterOrd
     std::array<std::array<RealLanes, R>, stencil_nodes> records;
     std::array<std::int32_t, stencil_nodes> offsets;
     int o = 0;
-    for_each_node(s, layout, [&](std::int32_t offset, const RealLanes& S_ip, const RealLanes(&dS_ip)[Dim]) {
-      std::array<RealLanes, R>& record = records[o];
-      record = {};  // the slots no contribution adds to add zero
-      offsets[o++] = offset;
-      std::apply([&](const auto&... add_one) { (add_one(record, S_ip, dS_ip), ...); }, add);
-    });
+    for_each_node(s, layout,
+                  [&](std::int32_t offset, const RealLanes& S_ip, const RealLanes(&dS_ip)[Dim]) __attribute__((always_inline)) {
+                    std::array<RealLanes, R>& record = records[o];
+                    record = {};  // the slots no contribution adds to add zero
+                    offsets[o++] = offset;
+                    std::apply([&](const auto&... add_one) __attribute__((always_inline)) {
+                      (add_one(record, S_ip, dS_ip), ...);
+                    }, add);
+                  });
     simd::add_stencil_records<R>(nodes, s.node, offsets, records, block.active);
   });
 }
@@ -144,7 +133,7 @@ struct Scatter {
 
 /// The explicit step's P2G: clear the fields it scatters, then add mass and momentum (Wallstedt & Guilkey 2008,
 /// Eq. (8), Eq. (9)), and the internal force plus, when per-particle body accelerations are given, the body
-/// force (Eq. (14), Eq. (15)).
+/// force (Wallstedt & Guilkey 2008, Eq. (14), Eq. (15)).
 template <Scatter what, int Dim, class Kernel>
 void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils,
          const ScatterOrder& order, const std::vector<Vec<Dim>>& body_accel, Grid<Dim>& grid) {
@@ -160,7 +149,7 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
     }
     if constexpr (what.force) node.a.setZero();
   });
-  const Momentum<Dim> momentum{p.m, p.v, slot_of<Dim>(&GridNode<Dim>::v)};
+  const Momentum<Dim> momentum{p.m, p.v};
   const InternalForce<Dim, SymTensor<Dim>> internal{p.V, p.sigma};
   const bool body = what.force && !body_accel.empty();
   if constexpr (what.mass_momentum && what.force) {
@@ -177,7 +166,7 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
   }
 }
 
-/// Turn nodal momentum into velocity v_i = p_i / m_i (Wallstedt & Guilkey 2008, Eq. 9); empty nodes get zero.
+/// Turn nodal momentum into velocity v_i = p_i / m_i (Wallstedt & Guilkey 2008, Eq. (9)); empty nodes get zero.
 template <int Dim>
 inline void node_velocity(GridNode<Dim>& node, Real min_mass) {
   if (node.m > min_mass)
@@ -186,8 +175,8 @@ inline void node_velocity(GridNode<Dim>& node, Real min_mass) {
     node.v.setZero();
 }
 
-/// Turn nodal force into acceleration a_i = (f_int + f_ext)/m_i + g (Eq. 15) scaled by `scale`, and advance
-/// the velocity v_i^* = v_i + a_i dt (Eq. 16).
+/// Turn nodal force into acceleration a_i = (f_int + f_ext)/m_i + g (Wallstedt & Guilkey 2008,
+/// Eq. (15)) scaled by `scale`, and advance the velocity v_i^* = v_i + a_i dt (Wallstedt & Guilkey 2008, Eq. (16)).
 template <int Dim>
 inline void node_update(GridNode<Dim>& node, const Vec<Dim>& gravity, Real dt, Real scale, Real min_mass) {
   if (node.m > min_mass)

@@ -1,7 +1,7 @@
 #pragma once
 /// Manufactured solution with axis-aligned displacement in the unit square (plane strain) or cube.
-/// Wallstedt & Guilkey 2008, Sec. 5.1, Eq. (56), Eq. (57), Eq. (58), Eq. (59); in 3-D a third component of the
-/// same form with its own phase, u_z = A sin(pi Z) cos(c pi t + pi/3).
+/// Wallstedt & Guilkey 2008, Sec. 5.1, Eq. (56), Eq. (57), Eq. (58), Eq. (59); in 3-D a third component of
+/// the same form with its own phase, u_z = A sin(pi Z) cos(c pi t + pi/3).
 #include <cmath>
 #include <numbers>
 
@@ -29,7 +29,7 @@ struct AxisAligned {
   Real period() const { return 2 / c(); }
 
   /// Time factor of component d: cos(c pi t), sin(c pi t) (Wallstedt & Guilkey 2008, Eq. (56)), cos(c pi t +
-/// pi/3); and its derivative.
+  /// pi/3); and its derivative.
   Real T(int d, Real t) const { return std::cos(omega() * t - phase(d)); }
   Real dT(int d, Real t) const { return -omega() * std::sin(omega() * t - phase(d)); }
   static Real phase(int d) { return d == 0 ? 0 : (d == 1 ? std::numbers::pi / 2 : -std::numbers::pi / 3); }
@@ -53,7 +53,7 @@ struct AxisAligned {
     return F;
   }
   /// Body acceleration b = a - Div P / rho0, Wallstedt & Guilkey 2008, Eq. (59), with K = ln det F (in 2-D
-/// F_zz = 1).
+  /// F_zz = 1).
   Vec<Dim> body_force(const Vec<Dim>& X, Real t) const {
     const Real pi = std::numbers::pi;
     const Vec<Dim> u = displacement(X, t);

@@ -1,7 +1,7 @@
 #pragma once
 /// Manufactured solution for a 1-D fixed-fixed bar: u = A sin(2 pi X / L) cos(c pi t / L), Neo-Hookean with
-/// zero Poisson ratio, sigma = P = (E/2)(F - 1/F) (Wallstedt & Guilkey 2008, Eq. (28); in 1-D P = J sigma / F =
-/// sigma). The body force follows from b = a - (1/rho0) dP/dX (Wallstedt & Guilkey 2008, Eq. (52)).
+/// zero Poisson ratio, sigma = P = (E/2)(F - 1/F) (Wallstedt & Guilkey 2008, Eq. (28); in 1-D P = J sigma / F
+/// = sigma). The body force follows from b = a - (1/rho0) dP/dX (Wallstedt & Guilkey 2008, Eq. (52)).
 #include <cmath>
 #include <numbers>
 

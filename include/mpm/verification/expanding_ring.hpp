@@ -1,7 +1,7 @@
 #pragma once
 /// Manufactured solution: radial expansion of a ring (Wallstedt & Guilkey 2008, Sec. 5.2, Eq. (60), Eq. (61),
-/// Eq. (62)), with the Neo-Hookean of Eq. (54) at zero Poisson ratio, P = mu F^{-1}(F F^T - I). By symmetry the
-/// quarter ring X, Y >= 0 is modelled, with symmetry planes at X = 0 and Y = 0.
+/// Eq. (62)), with the Neo-Hookean of Eq. (54) at zero Poisson ratio, P = mu F^{-1}(F F^T - I). By symmetry
+/// the quarter ring X, Y >= 0 is modelled, with symmetry planes at X = 0 and Y = 0.
 #include <cmath>
 #include <numbers>
 
