@@ -18,7 +18,7 @@ namespace mpm {
 
 /// The discrete momentum equation of one step as a NonlinearProblem over the free nodal unknowns.
 template <int Dim, class Kernel>
-class ImplicitSimulation<Dim, Kernel>::Residual final : public implicit::NonlinearProblem {
+class ImplicitSimulation<Dim, Kernel>::Residual final : public numerics::NonlinearProblem {
  public:
   Residual(ImplicitSimulation& sim, Real dt) : sim_(sim), dt_(dt) {}
   Eigen::Index size() const override { return static_cast<Eigen::Index>(sim_.dof_node_.size()); }
@@ -197,8 +197,8 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
     };
     if (spec_.frozen_jacobian && !factorise_tangent(x0, dt)) return false;
     const auto pre = [&](const Eigen::VectorXd& v, Eigen::VectorXd& z) { problem.precondition(v, z); };
-    const implicit::LinearStats ls =
-        implicit::conjugate_gradient(apply, -r0, s, spec_.newton.linear_tolerance, spec_.newton.max_krylov,
+    const numerics::LinearStats ls =
+        numerics::conjugate_gradient(apply, -r0, s, spec_.newton.linear_tolerance, spec_.newton.max_krylov,
                                      spec_.frozen_jacobian ? std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>(pre)
                                                   : std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>{});
     counters_.krylov_iterations += ls.iterations;
@@ -214,10 +214,10 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
       ++counters_.residual_evaluations;
       if (!residual_at(x, dt, r) || !factorise_tangent(x, dt)) return false;
     }
-    implicit::NewtonSettings settings = spec_.newton;
-    settings.krylov = spec_.solver == ImplicitSolver::newton_cg ? implicit::Krylov::cg : implicit::Krylov::gmres;
+    numerics::NewtonSettings settings = spec_.newton;
+    settings.krylov = spec_.solver == ImplicitSolver::newton_cg ? numerics::Krylov::cg : numerics::Krylov::gmres;
     settings.precondition = preconditioned;
-    const implicit::SolveStats stats = implicit::solve(problem, x, settings, preconditioned ? &r : nullptr);
+    const numerics::SolveStats stats = numerics::solve(problem, x, settings, preconditioned ? &r : nullptr);
     counters_.newton_iterations += stats.newton_iterations;
     counters_.krylov_iterations += stats.krylov_iterations;
     counters_.residual_evaluations += stats.residual_evaluations;

@@ -56,7 +56,7 @@ void validate(const ImplicitSpec<Dim>& s, const std::string& where) {
           at + "implicit.solver: cg (linear) needs the symmetric velocity formulation");
   require(s.solver != ImplicitSolver::newton_cg || s.formulation == Formulation::velocity,
           at + "implicit.solver: newton-cg needs the symmetric velocity formulation (use newton-gmres)");
-  implicit::validate(s.newton, at + "[implicit]");
+  numerics::validate(s.newton, at + "[implicit]");
   const StepControl& c = s.step;
   if (c.dt > 0)
     require(std::isfinite(c.dt), at + "simulation.dt: must be finite");

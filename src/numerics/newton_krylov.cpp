@@ -12,7 +12,7 @@
 
 #include "mpm/core/errors.hpp"
 
-namespace mpm::implicit {
+namespace mpm::numerics {
 namespace {
 
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
@@ -420,4 +420,4 @@ LinearStats gmres(const LinearOperator& apply, const Vector& b, Vector& x, doubl
   return stats;
 }
 
-}  // namespace mpm::implicit
+}  // namespace mpm::numerics

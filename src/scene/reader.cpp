@@ -163,7 +163,7 @@ void read_implicit(const Section& s, Scene& sc) {
   im.solver = parse_solver(s.choice("solver", "newton-gmres", {"newton-gmres", "newton-cg", "cg"}), "");
   if (im.solver != ImplicitSolver::newton_gmres && im.formulation != Formulation::velocity)
     s.fail("solver", "CG needs the symmetric velocity formulation (formulation = \"velocity\")");
-  implicit::NewtonSettings& n = im.newton;
+  numerics::NewtonSettings& n = im.newton;
   n.newton_tolerance = s.number("newton_tolerance", 1e-5);
   n.linear_tolerance = s.number("linear_tolerance", 1e-3);
   n.derivative_step = s.number("derivative_step", 1e-5);
@@ -173,12 +173,12 @@ void read_implicit(const Section& s, Scene& sc) {
   n.line_search = s.choice("line_search", "on", {"on", "off"}) == "on";
   n.max_backtracks = s.integer("max_backtracks", 10);
   n.forcing = s.choice("forcing", "constant", {"constant", "eisenstat-walker"}) == "constant"
-                  ? implicit::Forcing::constant
-                  : implicit::Forcing::eisenstat_walker;
+                  ? numerics::Forcing::constant
+                  : numerics::Forcing::eisenstat_walker;
   im.frozen_jacobian = s.choice("preconditioner", "none", {"none", "frozen-jacobian"}) == "frozen-jacobian";
   n.refresh_after = s.integer("refresh_after", 8);
   try {
-    implicit::validate(n, "");
+    numerics::validate(n, "");
   } catch (const InputError& e) {  // "KEY: what": report it at the key as written in the file
     const std::string what = e.what();
     const std::size_t colon = what.find(": ");

@@ -23,7 +23,7 @@
 
 namespace {
 
-namespace nk = mpm::implicit;
+namespace nk = mpm::numerics;
 using nk::Vector;
 using Matrix = Eigen::MatrixXd;
 

@@ -48,7 +48,7 @@ struct ImplicitSpec {
   ImplicitSolver solver = ImplicitSolver::newton_gmres;
   /// mu of Sulsky & Kaul 2004, Eq. (2.4.1): 0 explicit, 1 fully implicit.
   Real theta = 1;
-  implicit::NewtonSettings newton;
+  numerics::NewtonSettings newton;
   /// Precondition the Krylov solves with a sparse LU factorisation of the Jacobian, assembled by coloured
   /// forward differences and reused while the unknowns, the step and the Krylov counts stay the same (not in
   /// the paper).

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace mpm::implicit {
+namespace mpm::numerics {
 
 using Vector = Eigen::VectorXd;
 
@@ -113,4 +113,4 @@ LinearStats conjugate_gradient(const LinearOperator& apply, const Vector& b, Vec
 LinearStats gmres(const LinearOperator& apply, const Vector& b, Vector& x, double tolerance, int restart,
                   int max_iterations, const LinearOperator& precondition = {});
 
-}  // namespace mpm::implicit
+}  // namespace mpm::numerics

@@ -41,7 +41,7 @@ struct SceneImplicit {
   double theta = 1;
   Formulation formulation = Formulation::momentum;
   ImplicitSolver solver = ImplicitSolver::newton_gmres;
-  implicit::NewtonSettings newton;
+  numerics::NewtonSettings newton;
   bool frozen_jacobian = false;
   double step_factor = 1, start_factor = 1, growth = 1.2;
   int max_retries = 8;
