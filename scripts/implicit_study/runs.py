@@ -35,9 +35,10 @@ class Run:
         return self.status == "ok"
 
     @property
-    def has_output(self):  # finished, failed or stopped by --timeout: history.csv (and frames) exist
-        return self.status in ("ok", "failed") or (self.status == "timeout"
-                                                   and (ROOT / self.dir / "history.csv").exists())
+    def has_output(self):  # finished, failed, or stopped by --timeout after history.csv got its header line
+        history = ROOT / self.dir / "history.csv"
+        return self.status in ("ok", "failed") or (self.status == "timeout" and history.exists()
+                                                   and history.stat().st_size > 0)
 
     def imp(self, key, default=0):
         return self.summary.get("implicit", {}).get(key, default)
