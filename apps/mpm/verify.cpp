@@ -1,4 +1,5 @@
 // `mpm verify CASE` and `mpm converge CASE`: manufactured solutions, their error norms and observed orders.
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -18,11 +19,33 @@
 namespace mpm::app {
 
 namespace {
+// The names of the study options, in the order of their enumerators.
+constexpr std::array<std::string_view, 2> cfl_speed_names{"particles", "reference"};
+constexpr std::array<std::string_view, 2> error_names{"particles", "nodal"};
+constexpr std::array<std::string_view, 2> start_names{"halve", "exact"};
+
+/// The enumerator named `name`; throws InputError naming `key` and the expected names.
+template <class Enum, std::size_t N>
+Enum pick(const std::string& name, std::string_view key, const std::array<std::string_view, N>& names) {
+  for (std::size_t k = 0; k < N; ++k)
+    if (name == names[k]) return static_cast<Enum>(k);
+  std::string expected;
+  for (std::size_t k = 0; k < N; ++k) expected += (k ? (k + 1 == N ? " or " : ", ") : "") + std::string(names[k]);
+  throw InputError(std::string(key) + ": expected " + expected + ", got '" + name + "'");
+}
+template <class Enum, std::size_t N>
+std::string_view name_of(Enum e, const std::array<std::string_view, N>& names) {
+  return names[static_cast<std::size_t>(e)];
+}
+
 /// Options shared by verify and converge.
 struct CaseOptions {
   std::string case_name;
   std::string kernel = "cpgimp";
   std::string integrator = "cd";
+  std::string cfl_speed = "particles";
+  std::string error = "particles";
+  std::string start = "halve";
   VerifyOptions options;
   int threads = 0;
   bool json = false;
@@ -35,7 +58,12 @@ struct CaseOptions {
     cmd->add_option("--theta", options.theta, "implicit blend in [0, 1] (1: backward Euler, 0.5: midpoint)");
     cmd->add_option("--cells", options.cells, "cells per axis across the body");
     cmd->add_option("--ppc", options.ppc, "particles per cell per axis");
-    cmd->add_option("--cfl", options.cfl, "CFL number in (0, 1]");
+    cmd->add_option("--cfl", options.cfl, "CFL number in (0, 1], or (0, 2] with --cfl-speed reference");
+    cmd->add_option("--cfl-speed", cfl_speed,
+                    "wave speed of the CFL number: particles (max c_p + |v_p| every step) or reference "
+                    "(c = sqrt(E / rho0), a fixed step)");
+    cmd->add_option("--error", error, "measure the displacement at the particles or the acceleration at the nodes (nodal)");
+    cmd->add_option("--start", start, "cd and musl start: halve the first acceleration, or from the exact v^(-1/2)");
     cmd->add_option("--amplitude", options.amplitude, "displacement amplitude A");
     cmd->add_option("--end-time", options.end_time, "end time (default: one period)");
     cmd->add_option("--threads", threads, "threads (0: all cores)")->check(CLI::NonNegativeNumber);
@@ -46,6 +74,9 @@ struct CaseOptions {
     const VerifyCase c = parse_case(case_name);
     options.kernel = parse_kernel(kernel, "--kernel");
     set_integrator(options, integrator, "--integrator");
+    options.cfl_speed = pick<CflSpeed>(cfl_speed, "--cfl-speed", cfl_speed_names);
+    options.error = pick<ErrorMeasure>(error, "--error", error_names);
+    options.start = pick<HalfStepStart>(start, "--start", start_names);
     validate(options);
     set_num_threads(threads);
     return c;
@@ -60,6 +91,10 @@ nlohmann::json to_json(VerifyCase c, const VerifyOptions& o, const VerifyResult&
                    {"cells", o.cells},
                    {"ppc", o.ppc},
                    {"cfl", o.cfl},
+                   {"cfl_speed", name_of(o.cfl_speed, cfl_speed_names)},
+                   {"error", name_of(o.error, error_names)},
+                   {"start", name_of(o.start, start_names)},
+                   {"dt", r.dt},
                    {"amplitude", o.amplitude},
                    {"end_time", r.end_time},
                    {"steps", r.steps},
@@ -248,20 +283,22 @@ Action add_converge(CLI::App& app) {
       throw InputError("--vary: expected cells or cfl, got '" + *vary + "'");
     const bool vary_cells = *vary == "cells";
     const std::vector<double> vals = parse_values(*values);
-    for (double v : vals) {  // validate every point before running any
-      VerifyOptions o = c->options;
-      if (vary_cells) {
-        if (v != std::floor(v)) throw InputError("--values: cells must be whole numbers");
-        o.cells = static_cast<int>(v);
-      } else {
-        o.cfl = v;
-      }
-      validate(o);
-    }
     const VerifyCase which = c->resolve();
     const std::vector<Series> series = series_text->empty()
                                            ? std::vector<Series>{{c->options.kernel, c->integrator}}
                                            : parse_series(*series_text);
+    for (const Series& s : series)  // validate every point before running any
+      for (double v : vals) {
+        VerifyOptions o = c->options;
+        set_integrator(o, s.integrator, "--series");
+        if (vary_cells) {
+          if (v != std::floor(v)) throw InputError("--values: cells must be whole numbers");
+          o.cells = static_cast<int>(v);
+        } else {
+          o.cfl = v;
+        }
+        validate(o);
+      }
     nlohmann::json rows = nlohmann::json::array();
     for (const Series& s : series) {
       VerifyOptions o = c->options;

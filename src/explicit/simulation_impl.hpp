@@ -135,9 +135,9 @@ Real Simulation<Dim, Kernel>::next_dt() const {
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::step(Real max_dt) {
   const Real dt = std::min(next_dt(), max_dt);
-  // Centered difference starts from v^{-1/2} by halving the first grid acceleration
-  // (Wallstedt & Guilkey 2008, Sec. 4); UVF-MPM is a modification of it and does the same.
-  const Real first_scale = steps_ == 0 ? 0.5 : 1.0;
+  // Centered difference starts from v^{-1/2} by halving the first grid acceleration, unless the particles were
+  // given v^{-1/2} (Wallstedt & Guilkey 2008, Sec. 4); UVF-MPM is a modification of it and does the same.
+  const Real first_scale = steps_ == 0 && !spec_.half_step_velocity_given ? 0.5 : 1.0;
   switch (spec_.integrator) {
     case Integrator::usf:
       step_usf(dt);

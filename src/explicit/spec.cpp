@@ -67,6 +67,8 @@ void validate(const SimulationSpec<Dim>& s) {
     require(s.dt == 0, "dt: must be positive (or 0 to use the CFL number)");
     require(s.cfl > 0 && s.cfl <= 1, "cfl: expected a number in (0, 1]");
   }
+  require(!s.half_step_velocity_given || s.integrator == Integrator::cd || s.integrator == Integrator::musl,
+          "half_step_velocity_given: only CD and UVF-MPM (musl) start from half-step velocities");
   require(s.gravity.allFinite(), "gravity: must be finite");
   require(s.gimp_length >= 0 && s.gimp_length <= s.h, "gimp_length: expected 0 <= l <= h");
   require(s.gimp_length == 0 || s.kernel == KernelKind::ugimp,

@@ -7,6 +7,7 @@
 #include "mpm/verification/axis_aligned.hpp"
 #include "mpm/verification/bar_1d.hpp"
 #include "mpm/verification/expanding_ring.hpp"
+#include "mpm/verification/nodal_error.hpp"
 #include "mpm/verification/study.hpp"
 
 namespace mpm {
@@ -59,13 +60,22 @@ ImplicitSpec<Dim> implicit_spec_of(const SimulationSpec<Dim>& s, Real theta) {
   return is;
 }
 
-/// Step a simulation to the end time, recording the error after every step.
+/// Step a simulation to the end time, recording the error after every step: at the particles, or at the nodes
+/// for the acceleration of the step (not on a first step whose acceleration is halved by design).
 template <class Sim, class Exact>
-void run_to_end(Sim& sim, const Exact& exact, ParticleTable* final_state, VerifyResult& r) {
+void run_to_end(Sim& sim, const Exact& exact, const VerifyOptions& o, ParticleTable* final_state, VerifyResult& r) {
+  const bool halved_start = !o.implicit && (o.integrator == Integrator::cd || o.integrator == Integrator::musl) &&
+                            o.start == HalfStepStart::halve;
   try {
     while (sim.time() < r.end_time * (1 - 1e-14)) {
+      const Real t0 = sim.time();
       sim.step(r.end_time - sim.time());
-      r.error.record(sim.particles(), sim.time(), exact);
+      if (sim.steps() == 1) r.dt = sim.time() - t0;
+      if (o.error == ErrorMeasure::particles) {
+        r.error.record(sim.particles(), sim.time(), exact);
+      } else if constexpr (requires { sim.min_node_mass(); }) {
+        if (sim.steps() > 1 || !halved_start) record_nodal_acceleration(r.error, sim.grid(), sim.min_node_mass(), t0, exact);
+      }
     }
   } catch (const SimulationFailure& e) {
     r.ok = false;
@@ -88,14 +98,17 @@ VerifyResult run_case(const Exact& exact, const VerifyOptions& o, ParticleTable*
   spec.integrator = o.integrator;
   spec.materials = {exact.mat};
   spec.cfl = o.cfl;
+  if (o.cfl_speed == CflSpeed::reference) spec.dt = o.cfl * spec.h / exact.c();
+  spec.half_step_velocity_given = o.start == HalfStepStart::exact;
   spec.body_force = [exact](const Vec<Dim>& X, Real t) { return exact.body_force(X, t); };
 
-  // Reference lattice, then the exact state at t = 0: x = X + u, v, F (stress and volume follow from F).
+  // Reference lattice, then the exact state at t = 0: x = X + u, v, F (stress and volume follow from F); v at
+  // t = -dt/2 for the exact half-step start.
   ParticleSet<Dim> p;
   exact.seed(p, spec.h / o.ppc);
   for (std::size_t i = 0; i < p.size(); ++i) {
     p.x[i] = p.X[i] + exact.displacement(p.X[i], 0);
-    p.v[i] = exact.velocity(p.X[i], 0);
+    p.v[i] = exact.velocity(p.X[i], o.start == HalfStepStart::exact ? -spec.dt / 2 : 0);
     p.F[i] = exact.deformation_gradient(p.X[i], 0);
     if (o.kernel == KernelKind::cpgimp)  // l_p = l_p0 diag(F): Wallstedt & Guilkey 2008, Eq. (63)
       for (int d = 0; d < Dim; ++d) p.l[i][d] = p.l0[i][d] * p.F[i](d, d);
@@ -106,10 +119,10 @@ VerifyResult run_case(const Exact& exact, const VerifyOptions& o, ParticleTable*
   with_kernel(o.kernel, [&]<class K>() {
     if (o.implicit) {
       ImplicitSimulation<Dim, K> sim(implicit_spec_of(spec, o.theta), std::move(p));
-      return run_to_end(sim, exact, final_state, r);
+      return run_to_end(sim, exact, o, final_state, r);
     }
     Simulation<Dim, K> sim(spec, std::move(p));
-    run_to_end(sim, exact, final_state, r);
+    run_to_end(sim, exact, o, final_state, r);
   });
   return r;
 }
@@ -149,7 +162,18 @@ int dimension(VerifyCase c, const VerifyOptions& o) {
 void validate(const VerifyOptions& o) {
   if (o.cells < 2) throw InputError("--cells: expected at least 2 cells per axis");
   if (o.ppc < 1) throw InputError("--ppc: expected at least 1 particle per cell per axis");
-  if (!(o.cfl > 0 && o.cfl <= 1)) throw InputError("--cfl: expected a number in (0, 1]");
+  if (o.cfl_speed == CflSpeed::particles && !(o.cfl > 0 && o.cfl <= 1))
+    throw InputError("--cfl: expected a number in (0, 1]");
+  if (o.cfl_speed == CflSpeed::reference && !(o.cfl > 0 && o.cfl <= 2))
+    throw InputError("--cfl: expected a number in (0, 2] with --cfl-speed reference");
+  if (o.error == ErrorMeasure::nodal && o.implicit)
+    throw InputError("--error nodal: the nodal acceleration is measured for the explicit integrators only");
+  if (o.start == HalfStepStart::exact) {
+    if (o.implicit || (o.integrator != Integrator::cd && o.integrator != Integrator::musl))
+      throw InputError("--start exact: only centered difference (cd) and UVF-MPM (musl) start from v^{-1/2}");
+    if (o.cfl_speed != CflSpeed::reference)
+      throw InputError("--start exact: needs a fixed time step to place v^{-1/2} (--cfl-speed reference)");
+  }
   if (!(o.amplitude >= 0)) throw InputError("--amplitude: expected a non-negative amplitude");
   if (!(o.end_time >= 0)) throw InputError("--end-time: expected a non-negative time (0: one period)");
   if (!(o.theta >= 0 && o.theta <= 1)) throw InputError("--theta: expected a number in [0, 1]");

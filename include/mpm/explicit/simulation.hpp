@@ -44,6 +44,8 @@ class Simulation {
     return particles_;
   }
   const Grid<Dim>& grid() const { return grid_; }
+  /// Nodes at or below this mass are treated as empty (their acceleration is zero) [kg].
+  Real min_node_mass() const { return min_node_mass_; }
   const KinematicConstraints<Dim>& constraints() const { return constraints_; }
   const RigidBodies<Dim>& rigid_bodies() const { return rigid_; }
   /// The Cauchy stress of particle i with its out-of-plane components [Pa] (a Neo-Hookean particle's from its

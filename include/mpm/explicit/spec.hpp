@@ -46,6 +46,9 @@ struct SimulationSpec {
   BodyForceFn<Dim> body_force;          ///< optional b(X, t), evaluated at the start of each step
   Real dt = 0;                          ///< fixed time step [s], or 0 to use the CFL number
   Real cfl = 0;                         ///< dt = cfl h / max_p (c_p + |v_p|) when dt == 0
+  /// CD and UVF-MPM: the particle velocities given are v^{-1/2}, so the first grid acceleration is not halved
+  /// (Wallstedt & Guilkey 2008, Sec. 4: the start from exact half-step data); false starts from v^0.
+  bool half_step_velocity_given = false;
   /// USL and CD with the linear kernel: move and deform particles with the re-projected velocity on nodes that
   /// carry less than a quarter of the lightest particle's mass (Sulsky & Kaul 2004, Eq. (3.2.7)); false runs
   /// the papers' algorithms unchanged (Wallstedt & Guilkey 2008, Eq. (37), Eq. (38), Eq. (39)). Scenes default to true.

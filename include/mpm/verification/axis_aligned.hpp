@@ -45,6 +45,8 @@ struct AxisAligned {
     for (int d = 0; d < Dim; ++d) v[d] = A * std::sin(std::numbers::pi * X[d]) * dT(d, t);
     return v;
   }
+  /// a = d^2u/dt^2 = -omega^2 u: every T_d is a cosine of omega t.
+  Vec<Dim> acceleration(const Vec<Dim>& X, Real t) const { return -omega() * omega() * displacement(X, t); }
   /// F = diag(1 + A pi cos(pi X_d) T_d(t)), Wallstedt & Guilkey 2008, Eq. (57).
   Mat<Dim> deformation_gradient(const Vec<Dim>& X, Real t) const {
     Mat<Dim> F = Mat<Dim>::Zero();

@@ -32,6 +32,8 @@ struct Bar1D {
   Vec<1> velocity(const Vec<1>& X, Real t) const {
     return Vec<1>(-omega() * A * std::sin(k() * X[0]) * std::sin(omega() * t));
   }
+  /// a = d^2u/dt^2 = -omega^2 u.
+  Vec<1> acceleration(const Vec<1>& X, Real t) const { return -omega() * omega() * displacement(X, t); }
   Mat<1> deformation_gradient(const Vec<1>& X, Real t) const {
     return Mat<1>(1 + A * k() * std::cos(k() * X[0]) * std::cos(omega() * t));
   }

@@ -9,7 +9,7 @@
 
 namespace mpm {
 
-/// Accumulates delta_p = |(x_p - X_p) - u_exact(X_p, t)| (Wallstedt & Guilkey 2008, Eq. (64)). L_inf is the
+/// Accumulates samples of an error: here delta_p = |(x_p - X_p) - u_exact(X_p, t)| (Wallstedt & Guilkey 2008, Eq. (64)). L_inf is the
 /// maximum over all particles and all recorded steps (Wallstedt & Guilkey 2008, Eq. (65)); L1 and L2 weight
 /// every particle-step sample equally: L1 = mean delta_p, L2 = sqrt(mean delta_p^2).
 struct ErrorNorms {
@@ -20,13 +20,14 @@ struct ErrorNorms {
 
   template <int Dim, class Exact>
   void record(const ParticleSet<Dim>& p, Real t, const Exact& exact) {
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      const Real delta = ((p.x[i] - p.X[i]) - exact.displacement(p.X[i], t)).norm();
-      linf = std::max(linf, delta);
-      sum += delta;
-      sum_sq += delta * delta;
-    }
-    samples += static_cast<std::int64_t>(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) add(((p.x[i] - p.X[i]) - exact.displacement(p.X[i], t)).norm());
+  }
+  /// One sample.
+  void add(Real delta) {
+    linf = std::max(linf, delta);
+    sum += delta;
+    sum_sq += delta * delta;
+    ++samples;
   }
   Real l1() const { return samples ? sum / static_cast<Real>(samples) : 0; }
   Real l2() const { return samples ? std::sqrt(sum_sq / static_cast<Real>(samples)) : 0; }

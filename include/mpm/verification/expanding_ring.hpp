@@ -53,6 +53,8 @@ struct ExpandingRing {
     const Real R = X.norm();
     return -omega() * A * std::sin(omega() * t) * g(R) / R * X;
   }
+  /// a = d^2u/dt^2 = -(c pi)^2 u.
+  Vec<2> acceleration(const Vec<2>& X, Real t) const { return -omega() * omega() * displacement(X, t); }
   /// F = I + A cos(c pi t) [g' n n^T + (g/R)(I - n n^T)], n = X/R.
   Mat<2> deformation_gradient(const Vec<2>& X, Real t) const {
     const Real R = X.norm();

@@ -18,6 +18,22 @@ enum class VerifyCase {
 VerifyCase parse_case(std::string_view name);  ///< throws InputError naming the expected cases
 std::string_view to_string(VerifyCase c);
 
+/// The wave speed of the CFL condition.
+enum class CflSpeed {
+  particles,  ///< dt = cfl h / max_p(c_p + |v_p|) every step, c_p the dilatational speed at the particle's J
+  reference,  ///< dt = cfl h / c, fixed, c^2 = E / rho0 the solution's wave speed (Wallstedt & Guilkey 2008, Sec. 5)
+};
+/// Where the error is measured.
+enum class ErrorMeasure {
+  particles,  ///< displacement at the particles (Wallstedt & Guilkey 2008, Eq. (64))
+  nodal,      ///< acceleration at the nodes (Wallstedt & Guilkey 2008, Eq. (A.1), Eq. (A.2))
+};
+/// How centered difference and UVF-MPM start.
+enum class HalfStepStart {
+  halve,  ///< from v^0, halving the first grid acceleration (the paper's choice for all its runs)
+  exact,  ///< from the exact v^{-1/2} = v(X, -dt/2) (Wallstedt & Guilkey 2008, Sec. 4); needs a fixed dt
+};
+
 struct VerifyOptions {
   int dim = 0;  ///< 0: the case's own (axis-aligned: 2, or 3 when asked)
   KernelKind kernel = KernelKind::cpgimp;
@@ -28,7 +44,10 @@ struct VerifyOptions {
   Real theta = 1;  ///< the implicit blend: 1 backward Euler, 0.5 the midpoint rule
   int cells = 32;        ///< cells per axis across the body's reference extent
   int ppc = 2;           ///< particles per cell per axis
-  Real cfl = 0.4;        ///< dt = cfl h / max_p(c_p + |v_p|)
+  Real cfl = 0.4;        ///< the CFL number of `cfl_speed`
+  CflSpeed cfl_speed = CflSpeed::particles;
+  ErrorMeasure error = ErrorMeasure::particles;
+  HalfStepStart start = HalfStepStart::halve;
   Real amplitude = 0.1;  ///< A of the manufactured displacement [m]
   Real end_time = 0;     ///< 0: one period of the motion
 };
@@ -47,6 +66,7 @@ struct VerifyResult {
   std::int64_t steps = 0;
   Real end_time = 0;
   ErrorNorms error;  ///< L_inf = 1 for plotting when the run failed (Wallstedt & Guilkey 2008, Sec. 6.1.1)
+  Real dt = 0;       ///< the first step's time step [s]
 };
 
 /// Final particle states as a table: reference and current positions, velocity, J, stress components and
@@ -61,8 +81,8 @@ struct ParticleTable {
 /// step. When `final_state` is given it receives the particles at the end (also after a failure).
 VerifyResult verify(VerifyCase c, const VerifyOptions& o, ParticleTable* final_state = nullptr);
 
-/// Throw InputError for impossible options (cells < 2, ppc < 1, cfl outside (0, 1], amplitude, end time, theta
-/// outside [0, 1]).
+/// Throw InputError for impossible options (cells < 2, ppc < 1, cfl outside (0, 1] or with the reference speed
+/// (0, 2], amplitude, end time, theta outside [0, 1], a nodal error or an exact start the integrator lacks).
 void validate(const VerifyOptions& o);
 
 }  // namespace mpm
