@@ -22,11 +22,15 @@ SERIES = [  # (kernel, integrator): the combinations of the paper's Figs 3-7, pl
     ("cpgimp", "usf"), ("cpgimp", "usl"), ("cpgimp", "cd"), ("ugimp", "cd"), ("linear", "musl"),
     ("bspline2", "cd"), ("bspline3", "cd"),
 ]
+# Linear MPM with USF and USL, which Sec. 6.1.1 ranks against UVF-MPM without plotting them.
+LINEAR_MPM = [("linear", "usf"), ("linear", "usl")]
+# The paper's CFL number: dt = CFL h / c with c^2 = E / rho0, the wave speed of its manufactured solutions.
+PAPER_CFL = ["--cfl-speed", "reference"]
 
 
-def converge(mpm, case, vary, values, extra, title, png):
-    """All SERIES of one study through `mpm converge`, which also draws the plot; rows grouped by series."""
-    series = ",".join(f"{k}:{i}" for k, i in SERIES)
+def converge(mpm, case, vary, values, extra, title, png, series_list):
+    """Every series of one study through `mpm converge`, which also draws the plot; rows grouped by series."""
+    series = ",".join(f"{k}:{i}" for k, i in series_list)
     cmd = [mpm, "converge", case, "--vary", vary, "--values", ",".join(str(v) for v in values),
            "--series", series, "--plot", str(png), "--title", title, "--json", *extra]
     rows = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
@@ -98,26 +102,36 @@ def main():
     ap.add_argument("--quick", action="store_true", help="coarser sweeps (about a minute)")
     args = ap.parse_args()
     start = time.time()
-    cfls = [0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8] if not args.quick else [0.1, 0.4, 0.8]
+    cfls = [0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0] if not args.quick else [0.1, 0.4, 0.8]
     cells = [8, 16, 32, 64, 128] if not args.quick else [8, 16, 32]
-    studies = [  # (case, vary, values, fixed options, title, file)
-        ("axis-aligned", "cfl", cfls, ["--cells", "56" if not args.quick else "16"],
+    fine = [64, 128, 256] if not args.quick else [16, 32]
+    cells56 = ["--cells", "56" if not args.quick else "16"]
+    studies = [  # (case, vary, values, fixed options, series, title, file)
+        ("axis-aligned", "cfl", cfls, cells56 + PAPER_CFL, SERIES + LINEAR_MPM,
          "Axis-aligned: temporal convergence (paper Fig. 3)", "axis_aligned_cfl.png"),
-        ("axis-aligned", "cells", cells, ["--cfl", "0.4"],
+        ("axis-aligned", "cells", cells, ["--cfl", "0.4"] + PAPER_CFL, SERIES,
          "Axis-aligned: spatial convergence (paper Fig. 4)", "axis_aligned_cells.png"),
-        ("expanding-ring", "cfl", cfls, ["--cells", "56" if not args.quick else "16"],
+        ("expanding-ring", "cfl", cfls, cells56 + PAPER_CFL, SERIES + LINEAR_MPM,
          "Expanding ring: temporal convergence (paper Fig. 6)", "ring_cfl.png"),
-        ("expanding-ring", "cells", cells, ["--cfl", "0.4"],
+        ("expanding-ring", "cells", cells, ["--cfl", "0.4"] + PAPER_CFL, SERIES,
          "Expanding ring: spatial convergence (paper Fig. 7)", "ring_cells.png"),
-        ("bar-1d", "cells", [8, 16, 32, 64, 128, 256], ["--cfl", "0.4", "--amplitude", "0.01"],
-         "1-D bar, A = 0.01: spatial convergence", "bar_cells.png"),
+        ("expanding-ring", "cells", fine, ["--cfl", "0.4"] + PAPER_CFL, [("cpgimp", "cd"), ("ugimp", "cd")],
+         "Expanding ring: uGIMP against cpGIMP on the finest meshes", "ring_fine.png"),
+        ("axis-aligned", "cells", cells[:4], ["--cfl", "0.4", "--error", "nodal"] + PAPER_CFL, [("cpgimp", "cd")],
+         "Axis-aligned: nodal acceleration error (paper App. A), A = 0.1", "axis_aligned_nodal.png"),
+        ("axis-aligned", "cells", cells[:4], ["--cfl", "0.4", "--error", "nodal", "--amplitude", "0.001"] + PAPER_CFL,
+         [("cpgimp", "cd")], "Axis-aligned: nodal acceleration error (paper App. A), A = 0.001",
+         "axis_aligned_nodal_small.png"),
+        ("bar-1d", "cells", [8, 16, 32, 64, 128, 256], ["--cfl", "0.4", "--amplitude", "0.01"] + PAPER_CFL,
+         SERIES, "1-D bar, A = 0.01: spatial convergence", "bar_cells.png"),
     ]
     sections = []
-    for case, vary, values, fixed, title, file in studies:
-        results = converge(args.mpm, case, vary, values, fixed, title, ROOT / "docs" / "verification" / file)
+    for case, vary, values, fixed, series, title, file in studies:
+        results = converge(args.mpm, case, vary, values, fixed, title, ROOT / "docs" / "verification" / file,
+                           series)
         sections.append(f"### {title}\n\n`mpm converge {case} --vary {vary} --values "
                         f"{','.join(map(str, values))} {' '.join(fixed)} --series "
-                        f"{','.join(f'{k}:{i}' for k, i in SERIES)} --plot {file}`\n\n"
+                        f"{','.join(f'{k}:{i}' for k, i in series)} --plot {file}`\n\n"
                         f"![{title}](verification/{file})\n\n"
                         f"L-infinity error, observed order in brackets:\n\n{table(results, vary)}\n")
         print(f"{title}: done ({time.time() - start:.0f} s)", file=sys.stderr)

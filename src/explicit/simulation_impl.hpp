@@ -74,7 +74,6 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
       p.m[i] *= p.X[i][0];  // per radian: m_p = rho r_p A_p
       p.V0[i] *= p.X[i][0];
     }
-    if (spec.kernel == KernelKind::ugimp && spec.gimp_length > 0) p.l[i].setConstant(0.5 * spec.gimp_length);
     if (spec.kernel == KernelKind::ugimp || spec.kernel == KernelKind::cpgimp)
       for (int d = 0; d < Dim; ++d)
         if (!(p.l[i][d] > 0 && p.l[i][d] <= 0.5 * g.h))

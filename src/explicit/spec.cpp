@@ -70,9 +70,6 @@ void validate(const SimulationSpec<Dim>& s) {
   require(!s.half_step_velocity_given || s.integrator == Integrator::cd || s.integrator == Integrator::musl,
           "half_step_velocity_given: only CD and UVF-MPM (musl) start from half-step velocities");
   require(s.gravity.allFinite(), "gravity: must be finite");
-  require(s.gimp_length >= 0 && s.gimp_length <= s.h, "gimp_length: expected 0 <= l <= h");
-  require(s.gimp_length == 0 || s.kernel == KernelKind::ugimp,
-          "gimp_length: a smoothing length applies to the ugimp kernel only");
 }
 
 template void validate<1>(const SimulationSpec<1>&);

@@ -183,7 +183,6 @@ SimulationSpec<Dim> make_spec(const Scene& sc) {
   for (int d = 0; d < Dim; ++d) spec.cells[d] = sc.cells[d];
   spec.integrator = sc.integrator;
   spec.kernel = sc.kernel;
-  spec.gimp_length = sc.gimp_length;
   spec.materials = materials_of(sc);
   spec.geometry = sc.geometry;
   spec.boundary = boundary_of<Dim>(sc);
@@ -230,6 +229,8 @@ ParticleSet<Dim> seed_bodies(const Scene& sc) {
     }
     const std::string name = "bodies[" + std::to_string(k) + "] (" + b.name + ")";
     if (p.size() == first) throw InputError(sc.file.string() + ": " + name + ": the body has no particles");
+    if (sc.kernel == KernelKind::ugimp && sc.gimp_length)  // the smoothing length l as half-lengths l/2, both engines
+      for (std::size_t i = first; i < p.size(); ++i) p.l[i] = p.l0[i] = Vec<Dim>::Constant(0.5 * *sc.gimp_length);
     for (std::size_t i = first; i < p.size(); ++i) {
       const Vec<Dim> X = p.X[i];
       for (int d = 0; d < Dim; ++d)

@@ -88,9 +88,11 @@ void read_simulation(const Section& s, Scene& sc) {
   sc.implicit = integrator == "implicit";
   if (!sc.implicit) sc.integrator = parse_integrator(integrator);
   sc.kernel = parse_kernel(s.choice("kernel", "cpgimp", {"linear", "ugimp", "cpgimp", "bspline2", "bspline3"}));
-  sc.gimp_length = s.number("gimp_length", 0);
-  if (sc.gimp_length < 0) s.fail("gimp_length", "expected a non-negative length [m]");
-  if (sc.gimp_length > 0 && sc.kernel != KernelKind::ugimp) s.fail("gimp_length", "applies to kernel = \"ugimp\" only");
+  if (s.has("gimp_length")) {
+    sc.gimp_length = s.number("gimp_length", 0);
+    if (!(*sc.gimp_length >= 0)) s.fail("gimp_length", "expected a smoothing length >= 0 [m] (0: linear MPM)");
+    if (sc.kernel != KernelKind::ugimp) s.fail("gimp_length", "applies to kernel = \"ugimp\" only");
+  }
   if (s.has("dt") == s.has("cfl")) s.fail(s.has("dt") ? "dt" : "cfl", "give exactly one of dt [s] and cfl");
   sc.dt = s.number("dt", 0);
   sc.cfl = s.number("cfl", 0);
@@ -246,9 +248,10 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
   const toml::table* grid = top.table("grid");
   if (!grid) top.fail("grid", "missing [grid] table (lo, hi, cells, faces)");
   read_grid(Section(*grid, "grid", loc, {"lo", "hi", "cells", "faces", "constrained_acceleration"}), sc, loc);
-  if (sc.gimp_length > sc.h)  // Steffen et al. 2008, Sec. 4.1: the smoothing length lies in (0, h]
+  if (sc.gimp_length > sc.h)  // Steffen et al. 2008, Sec. 4.1: the smoothing length lies in [0, h]
     Section(*sim, "simulation", loc, simulation_keys)
-        .fail("gimp_length", "expected a smoothing length in (0, h] with h = " + std::to_string(sc.h) + " the cell size");
+        .fail("gimp_length", "expected a smoothing length in [0, h] with h = " + std::to_string(sc.h) + " the cell size");
+  if (sc.gimp_length == 0.0) sc.kernel = KernelKind::linear;  // Steffen et al. 2008, Sec. 4.1: l = 0 is linear MPM
   // Read and checked whatever the integrator, so that one scene runs implicitly or (--set) explicitly.
   if (const toml::table* im = top.table("implicit")) {
     read_implicit(Section(*im, "implicit", loc,

@@ -32,9 +32,6 @@ struct SimulationSpec {
   IVec<Dim> cells{};                    ///< cells per axis
   Integrator integrator = Integrator::usl;
   KernelKind kernel = KernelKind::linear;
-  /// uGIMP smoothing length l (full particle width used by the kernel, 0 < l <= h, Steffen et al. 2008
-  /// Sec. 4.1); 0 uses each particle's own size.
-  Real gimp_length = 0;
   /// Neo-Hookean (hyperelastic) and rate-form (hypoelastic, von Mises) materials, in any mix.
   std::vector<Material> materials;
   /// 2-D only: plane strain, or with rate-form materials plane stress and axisymmetry (masses and volumes of

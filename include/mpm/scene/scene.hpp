@@ -3,6 +3,7 @@
 #include <array>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -83,7 +84,9 @@ struct Scene {
   bool implicit = false;  ///< integrator = "implicit": the [implicit] table applies
   Geometry geometry = Geometry::plane_strain;
   KernelKind kernel = KernelKind::linear;
-  double gimp_length = 0;
+  /// uGIMP smoothing length l, the full particle width the kernel uses (Steffen et al. 2008, Sec. 4.1: l = 0 is
+  /// linear MPM, which the reader selects, l = h gives the quadratic B-spline); absent: each particle's own size.
+  std::optional<double> gimp_length;
   double dt = 0, cfl = 0;  ///< exactly one is positive
   int threads = 0;
   bool reproject_light_nodes = true;  ///< light_nodes = "reproject" (see SimulationSpec::reproject_light_nodes)
