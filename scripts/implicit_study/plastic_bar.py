@@ -59,13 +59,24 @@ def plastic_bar(args):
              "needs none) and 2.5x at 1x, and our GMRES takes 7 iterations per Newton step against the paper's 4. "
              "As for the elastic bar we have not found the cause; the frozen-Jacobian row takes one GMRES "
              "iteration per Newton step.")
-    d.append("- t = 100: the particle stress is not uniform (see the table), so the mean is not the uniaxial "
-             "value. Particles in the same column share one strain history, and the columns differ: at t = 100 "
-             "those in the cell next to the fixed end stopped straining near t = 52 (sigma_xx ~ 145), and a column "
-             "near the middle sits at 53-124, while the columns nearest the puller follow the uniaxial law "
-             "(276-284). The strain of a column is the velocity gradient of the cell it occupies, which changes "
-             "as columns cross nodes and the nodal masses shift. Why whole cells stop straining is not explained "
-             "yet; the paper reports no stress at t = 100 to compare with.")
+    d.append("- t = 100: the stress is not uniform, for two causes that `tests/verification/test_bar_variants.cpp` "
+             "asserts (`PlasticBarAtOneHundred.*`). (1) Cell crossing with linear shape functions: the x-force on a "
+             "free node is (sum of sigma_xx V over the cell to its right - the same over the cell to its left) / h, "
+             "so quasi-static equilibrium makes sum sigma_xx V equal in every cell, not the stress. After two "
+             "columns cross into new cells the cells hold 6, 12, 6 and 12 particles; the four sums agree to 1e-4 "
+             "while the particles in the crowded cells carry half the stress, unload elastically and stop "
+             "straining for good (Steffen et al. 2008, Sec. 4.2: the O(1) quadrature error of linear MPM). "
+             "With `--set simulation.kernel=\"cpgimp\"`, whose particle domains tile the stretched bar, every "
+             "particle more than a cell from the puller is within 5% of the uniaxial value (269.5-288.3 against "
+             "278.8). (2) The grip: the puller prescribes its velocity on every node it touches, and that "
+             "reaches one cell beyond its edge (the node x = 0.4 throughout), so the strained gauge is the fixed "
+             "0.4 < x < 0.7 (hence eps = v t / 0.3, not the ln(4/3) of a bar stretched along its whole length, "
+             "which would give 240.7), and material dragged into the cell between the puller's edge and that "
+             "node stops straining: with cpGIMP the first column at 64.7-70.5, the second at 241-246. A "
+             "particle whose stencil holds only prescribed nodes has no velocity gradient, and a grip moving "
+             "through the grid always drags material into such a cell, so with this loading no kernel makes "
+             "every particle uniaxial. The example keeps the linear kernel of the paper, whose t = 24 run ends "
+             "before any particle leaves its cell. The paper reports no stress at t = 100.")
     text = f"""## 3. Elastic-plastic bar in tension (Sec. 3.1.2 and 3.2.6, Tables 3 and 5, Fig. 4)
 
 Scene `examples/implicit/plastic-bar.toml`: the bar of Sec. 1 with von Mises plasticity, yield stress
