@@ -25,15 +25,17 @@ constexpr Real basis_radius() {
 }
 
 template <class Kernel>
-DensityProjection project(int cells, int ppc, int samples) {
+DensityProjection project(const DensityCase& c) {
   using Basis = GridBasis<Kernel>;
   DensityProjection out;
-  out.h = 1.0 / cells;
-  const int margin = cells / 5;  // 0.2 / h cells on either side of the bar
-  const GridGeometry<1> g{Vec<1>(-0.2), out.h, IVec<1>{cells + 2 * margin}, Kernel::ghost};
+  out.h = 1.0 / c.cells;
+  const int margin = c.boundary_aligned ? 0 : c.cells / 5;  // 0.2 / h cells on either side of the bar, or none
+  const GridGeometry<1> g{Vec<1>(-margin * out.h), out.h, IVec<1>{c.cells + 2 * margin}, Kernel::ghost};
   const NodeLayout<1> layout(g);
   ParticleSet<1> p;
-  fill_box<1>(p, Vec<1>(0.0), Vec<1>(1.0), out.h / ppc, 1.0, 0);
+  fill_box<1>(p, Vec<1>(0.0), Vec<1>(1.0), out.h / c.ppc, 1.0, 0);
+  if (c.gimp_length)
+    for (Vec<1>& l : p.l) l.setConstant(0.5 * *c.gimp_length);
 
   // Nodal mass and volume, m_i = sum_p S_ip m_p and V_i = sum_p S_ip V_p (Steffen et al. 2008, Sec. 4.3).
   std::vector<Real> mass(g.node_count(), 0.0), volume(g.node_count(), 0.0);
@@ -51,6 +53,7 @@ DensityProjection project(int cells, int ppc, int samples) {
     if (!(mass[n] > 0)) continue;
     density[n] = mass[n] / volume[n];
     const Real xn = g.position(g.coords(static_cast<std::ptrdiff_t>(n)))[0];
+    if (xn < 0 || xn > 1) out.outside_mass += mass[n];
     if (out.node_x.empty()) first = xn;
     last = xn;
     out.node_x.push_back(xn);
@@ -60,9 +63,9 @@ DensityProjection project(int cells, int ppc, int samples) {
   out.support_hi = last + basis_radius<Basis>() * out.h;
 
   // rho(x) = sum_i rho_i phi_i(x) (Steffen et al. 2008, Sec. 4.3), sampled at interval midpoints.
-  const Real lo = g.lo[0], width = g.hi()[0] - lo, dx = width / samples;
+  const Real lo = g.lo[0], width = g.hi()[0] - lo, dx = width / c.samples;
   const Vec<1> no_size(0.0);
-  for (int k = 0; k < samples; ++k) {
+  for (int k = 0; k < c.samples; ++k) {
     const Vec<1> x(lo + (k + 0.5) * dx);
     Real rho = 0;
     for_each_node(make_stencil<1, Basis>(g, layout, x, no_size), layout,
@@ -76,11 +79,14 @@ DensityProjection project(int cells, int ppc, int samples) {
 }
 }  // namespace
 
-DensityProjection project_density_1d(KernelKind kernel, int cells, int ppc, int samples) {
-  if (cells < 5 || cells % 5 != 0) throw InputError("--cells: expected a positive multiple of 5");
-  if (ppc < 1) throw InputError("--ppc: expected at least 1 particle per cell");
-  if (samples < 10) throw InputError("--samples: expected at least 10");
-  return with_kernel(kernel, [&]<class Kernel>() { return project<Kernel>(cells, ppc, samples); });
+DensityProjection project_density_1d(const DensityCase& c) {
+  if (c.cells < 5 || c.cells % 5 != 0) throw InputError("--cells: expected a positive multiple of 5");
+  if (c.ppc < 1) throw InputError("--ppc: expected at least 1 particle per cell");
+  if (c.samples < 10) throw InputError("--samples: expected at least 10");
+  if (c.gimp_length && c.kernel != KernelKind::ugimp) throw InputError("--gimp-length: applies to --kernel ugimp only");
+  if (c.gimp_length && !(*c.gimp_length > 0 && *c.gimp_length <= 1.0 / c.cells))
+    throw InputError("--gimp-length: expected a smoothing length in (0, h], h = 1 / cells");
+  return with_kernel(c.kernel, [&]<class Kernel>() { return project<Kernel>(c); });
 }
 
 }  // namespace mpm

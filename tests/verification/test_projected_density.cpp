@@ -3,11 +3,22 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <optional>
 
 #include "mpm/verification/projected_density.hpp"
 
 namespace mpm {
 namespace {
+
+/// The bar with 3 particles per cell.
+DensityCase bar(KernelKind kernel, int cells, int samples) {
+  DensityCase c;
+  c.kernel = kernel;
+  c.cells = cells;
+  c.ppc = 3;
+  c.samples = samples;
+  return c;
+}
 
 struct Expected {
   KernelKind kernel;
@@ -35,7 +46,7 @@ const Expected expected[] = {
 TEST(ProjectedDensity, SupportAndL1ErrorMatchTheBases) {
   for (const Expected& e : expected) {
     SCOPED_TRACE(std::string(to_string(e.kernel)));
-    const DensityProjection d = project_density_1d(e.kernel, 10, 3, 14000);
+    const DensityProjection d = project_density_1d(bar(e.kernel, 10, 14000));
     EXPECT_NEAR(d.support_lo, -e.support_cells * d.h, 1e-12);
     EXPECT_NEAR(d.support_hi, 1 + e.support_cells * d.h, 1e-12);
     // Midpoint rule over 14000 intervals on a piecewise polynomial: error O(dx^2) at each kink, dx = 1e-4.
@@ -52,9 +63,44 @@ TEST(ProjectedDensity, GeometricErrorIsFirstOrderInH) {
   // Steffen et al. 2008 Sec. 4.3: the geometric error is O(h) for every kernel; halving h halves it. From
   // h = 1/20 on, no tail reaches past the grid end at -0.2, so the ratio is exactly 2.
   for (KernelKind k : {KernelKind::linear, KernelKind::bspline2, KernelKind::bspline3}) {
-    const Real coarse = project_density_1d(k, 20, 3, 14000).l1_error;
-    const Real fine = project_density_1d(k, 40, 3, 28000).l1_error;
+    const Real coarse = project_density_1d(bar(k, 20, 14000)).l1_error;
+    const Real fine = project_density_1d(bar(k, 40, 28000)).l1_error;
     EXPECT_NEAR(coarse / fine, 2.0, 1e-5);
+  }
+}
+
+// The boundary-aligned case (Steffen et al. 2008, Sec. 4.3): the grid is the bar [0, 1] itself. Linear MPM and
+// GIMP with the particles' own width project nothing beyond it: the outermost particle sits l_p/2 inside the
+// end, and the extra node h outside is h + l_p/2 from it, where its GIMP weight reaches zero. uGIMP with a
+// smoothing length wider than the particles, and both B-splines, load the extra nodes. With 3 particles per
+// cell (m_p = h/3, the outermost at h/6, 3h/6, 5h/6, ...), per end:
+// - quadratic B-spline, and uGIMP with l = h (the same basis): only the outermost particle reaches the node at
+//   -h, at 7h/6 with weight (1.5 - 7/6)^2 / 2 = 1/18: mass h/54.
+// - cubic B-spline: the node at -h gets (2 - r/h)^3 / 6 from r = 7h/6, 9h/6 and 11h/6, i.e.
+//   (125 + 27 + 1) / 1296 = 153/1296; the node at -2h is beyond 2h of every particle: mass (h/3) 153/1296.
+TEST(ProjectedDensity, BoundaryAlignedExtraNodesGetMassOnlyFromWideBases) {
+  const Real h = 0.1;
+  struct Aligned {
+    const char* name;
+    KernelKind kernel;
+    std::optional<Real> gimp_length;
+    Real outside_mass;
+  };
+  for (const Aligned& a : {Aligned{"linear", KernelKind::linear, {}, 0.0},
+                           Aligned{"cpgimp", KernelKind::cpgimp, {}, 0.0},
+                           Aligned{"ugimp, l = l_p", KernelKind::ugimp, {}, 0.0},
+                           Aligned{"ugimp, l = h", KernelKind::ugimp, h, 2 * h / 54},
+                           Aligned{"bspline2", KernelKind::bspline2, {}, 2 * h / 54},
+                           Aligned{"bspline3", KernelKind::bspline3, {}, 2 * (h / 3) * 153.0 / 1296}}) {
+    SCOPED_TRACE(a.name);
+    DensityCase c = bar(a.kernel, 10, 1000);
+    c.boundary_aligned = true;
+    c.gimp_length = a.gimp_length;
+    const DensityProjection d = project_density_1d(c);
+    EXPECT_NEAR(d.outside_mass, a.outside_mass, 1e-15);
+    // Inside the body the field is still exact: every loaded node has rho_i = 1 and the bases are partitions
+    // of unity over [0, 1] once the extra nodes are counted.
+    EXPECT_LT(d.l1_error, 1e-14);
   }
 }
 
