@@ -23,6 +23,7 @@ namespace {
 constexpr std::array<std::string_view, 2> cfl_speed_names{"particles", "reference"};
 constexpr std::array<std::string_view, 2> error_names{"particles", "nodal"};
 constexpr std::array<std::string_view, 2> start_names{"halve", "exact"};
+constexpr std::array<std::string_view, 2> acceleration_names{"zero", "velocity-difference"};
 
 /// The enumerator named `name`; throws InputError naming `key` and the expected names.
 template <class Enum, std::size_t N>
@@ -46,6 +47,7 @@ struct CaseOptions {
   std::string cfl_speed = "particles";
   std::string error = "particles";
   std::string start = "halve";
+  std::string constrained_acceleration = "zero";
   VerifyOptions options;
   int threads = 0;
   bool json = false;
@@ -64,6 +66,9 @@ struct CaseOptions {
                     "(c = sqrt(E / rho0), a fixed step)");
     cmd->add_option("--error", error, "measure the displacement at the particles or the acceleration at the nodes (nodal)");
     cmd->add_option("--start", start, "cd and musl start: halve the first acceleration, or from the exact v^(-1/2)");
+    cmd->add_option("--constrained-acceleration", constrained_acceleration,
+                    "acceleration on the symmetry planes' nodes: zero or velocity-difference (Steffen et al. 2008, "
+                    "Eq. 30)");
     cmd->add_option("--amplitude", options.amplitude, "displacement amplitude A");
     cmd->add_option("--end-time", options.end_time, "end time (default: one period)");
     cmd->add_option("--threads", threads, "threads (0: all cores)")->check(CLI::NonNegativeNumber);
@@ -77,6 +82,8 @@ struct CaseOptions {
     options.cfl_speed = pick<CflSpeed>(cfl_speed, "--cfl-speed", cfl_speed_names);
     options.error = pick<ErrorMeasure>(error, "--error", error_names);
     options.start = pick<HalfStepStart>(start, "--start", start_names);
+    options.constrained_acceleration =
+        pick<ConstrainedAcceleration>(constrained_acceleration, "--constrained-acceleration", acceleration_names);
     validate(options);
     set_num_threads(threads);
     return c;
@@ -94,6 +101,7 @@ nlohmann::json to_json(VerifyCase c, const VerifyOptions& o, const VerifyResult&
                    {"cfl_speed", name_of(o.cfl_speed, cfl_speed_names)},
                    {"error", name_of(o.error, error_names)},
                    {"start", name_of(o.start, start_names)},
+                   {"constrained_acceleration", name_of(o.constrained_acceleration, acceleration_names)},
                    {"dt", r.dt},
                    {"amplitude", o.amplitude},
                    {"end_time", r.end_time},

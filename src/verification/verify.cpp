@@ -94,6 +94,7 @@ VerifyResult run_case(const Exact& exact, const VerifyOptions& o, ParticleTable*
                      " (larger A inverts the material)");
   SimulationSpec<Dim> spec;
   exact.configure(spec, o.cells);
+  spec.boundary.acceleration = o.constrained_acceleration;
   spec.kernel = o.kernel;
   spec.integrator = o.integrator;
   spec.materials = {exact.mat};
@@ -174,6 +175,9 @@ void validate(const VerifyOptions& o) {
     if (o.cfl_speed != CflSpeed::reference)
       throw InputError("--start exact: needs a fixed time step to place v^{-1/2} (--cfl-speed reference)");
   }
+  if (o.constrained_acceleration == ConstrainedAcceleration::velocity_difference && o.implicit)
+    throw InputError("--constrained-acceleration: the implicit integrator solves for the end-of-step velocities and "
+                     "has no constrained acceleration to choose");
   if (!(o.amplitude >= 0)) throw InputError("--amplitude: expected a non-negative amplitude");
   if (!(o.end_time >= 0)) throw InputError("--end-time: expected a non-negative time (0: one period)");
   if (!(o.theta >= 0 && o.theta <= 1)) throw InputError("--theta: expected a number in [0, 1]");

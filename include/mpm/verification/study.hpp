@@ -48,6 +48,8 @@ struct VerifyOptions {
   CflSpeed cfl_speed = CflSpeed::particles;
   ErrorMeasure error = ErrorMeasure::particles;
   HalfStepStart start = HalfStepStart::halve;
+  /// Acceleration on the constrained nodes of the symmetry planes: zero, or Steffen et al. 2008, Eq. (30).
+  ConstrainedAcceleration constrained_acceleration = ConstrainedAcceleration::zero;
   Real amplitude = 0.1;  ///< A of the manufactured displacement [m]
   Real end_time = 0;     ///< 0: one period of the motion
 };
