@@ -1,5 +1,7 @@
 #include "mpm/boundary/boundary.hpp"
 
+#include "mpm/core/errors.hpp"
+
 namespace mpm {
 
 namespace {
@@ -17,6 +19,21 @@ Vec<Dim> reflect(Vec<Dim> v, int axis) {
 }
 }  // namespace
 
+constexpr const char* face_name[] = {"x-min", "x-max", "y-min", "y-max", "z-min", "z-max"};
+
+template <int Dim>
+void validate_periodic(const BoundarySpec<Dim>& spec, const IVec<Dim>& cells) {
+  for (int d = 0; d < Dim; ++d) {
+    const bool lo = spec.faces[2 * d].type == FaceType::periodic, hi = spec.faces[2 * d + 1].type == FaceType::periodic;
+    if (lo != hi)
+      throw InputError(std::string("boundary ") + face_name[lo ? 2 * d + 1 : 2 * d] +
+                       ": expected \"periodic\", as its opposite face " + face_name[lo ? 2 * d : 2 * d + 1] +
+                       " is (periodic faces come in pairs)");
+    if (lo && cells[d] < 2)
+      throw InputError(std::string("boundary ") + face_name[2 * d] + ": a periodic axis needs at least 2 cells");
+  }
+}
+
 template <int Dim>
 KinematicConstraints<Dim>::KinematicConstraints(const BoundarySpec<Dim>& spec, const GridGeometry<Dim>& g)
     : acceleration_(spec.acceleration) {
@@ -26,7 +43,6 @@ KinematicConstraints<Dim>::KinematicConstraints(const BoundarySpec<Dim>& spec, c
     const bool high = face % 2 == 1;
     const int plane = high ? g.cells[axis] : 0;
     const int outward = high ? 1 : -1;
-    static constexpr const char* face_name[] = {"x-min", "x-max", "y-min", "y-max", "z-min", "z-max"};
     if (fc.type == FaceType::velocity) {
       Group grp{face_name[face], {}, -1, fc.velocity};
       for_all_nodes(g, [&](std::int32_t f, const IVec<Dim>& i) {
@@ -172,6 +188,9 @@ std::vector<Vec<Dim>> KinematicConstraints<Dim>::velocities(Real t) const {
   return out;
 }
 
+template void validate_periodic<1>(const BoundarySpec<1>&, const IVec<1>&);
+template void validate_periodic<2>(const BoundarySpec<2>&, const IVec<2>&);
+template void validate_periodic<3>(const BoundarySpec<3>&, const IVec<3>&);
 template class KinematicConstraints<1>;
 template class KinematicConstraints<2>;
 template class KinematicConstraints<3>;

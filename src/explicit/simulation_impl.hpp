@@ -37,7 +37,9 @@ std::string format(const Vec<Dim>& x) {
 template <int Dim, class Kernel>
 GridGeometry<Dim> make_geometry(const SimulationSpec<Dim>& spec) {
   validate(spec);
-  return GridGeometry<Dim>{spec.grid_lo, spec.h, spec.cells, Kernel::ghost};
+  GridGeometry<Dim> g{spec.grid_lo, spec.h, spec.cells, Kernel::ghost};
+  g.periodic = periodic_axes(spec.boundary);
+  return g;
 }
 }  // namespace detail
 
@@ -46,6 +48,7 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
     : spec_(spec),
       particles_(std::move(particles)),
       grid_(detail::make_geometry<Dim, Kernel>(spec)),
+      halo_(grid_.geometry),
       constraints_(spec.boundary, grid_.geometry),
       rigid_(spec.rigid_bodies, grid_.geometry),
       sizes_(spec.kernel == KernelKind::cpgimp ? SizeUpdate::deformed : SizeUpdate::fixed),
@@ -249,7 +252,8 @@ void Simulation<Dim, Kernel>::scatter() {
   p2g<what>(particles_, stencils_, order_, body_accel_, grid_);
   if constexpr (what.force && Dim == 2)  // the hoop force in a pass of its own, as in the implicit step
     if (axisymmetric_) p2g_add(stencils_, order_, grid_, HoopForce{particles_.V, particles_.state.sigma, particles_.x});
-  halo_.sum_into_owners(grid_);
+  if constexpr (what.mass_momentum) halo_.sum_into_owners(grid_, NodeFields::mass_momentum);
+  if constexpr (what.force) halo_.sum_into_owners(grid_, NodeFields::force);
   if constexpr (what.mass_momentum) constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   if constexpr (what.force) constraints_.fold_and_mirror(grid_, NodeFields::force);
 }

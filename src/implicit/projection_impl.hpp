@@ -19,7 +19,7 @@ void ImplicitSimulation<Dim, Kernel>::project(Real dt) {
   if (build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, strip_))
     order_.build(strip_, ScatterOrder::strip_count<Dim, Kernel::width>(grid_.geometry));
   p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils_, order_, {}, grid_);  // as explicit
-  halo_.sum_into_owners(grid_);
+  halo_.sum_into_owners(grid_, NodeFields::mass_momentum);
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
     GridNode<Dim>& node = grid_.nodes[n];
@@ -79,7 +79,7 @@ template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::scatter_momentum(const std::vector<Vec<Dim>>& v_p) {
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].v_new.setZero(); });
   p2g_add(stencils_, order_, grid_, Momentum<Dim, NodeSlots<Dim>::v_new, false>{particles_.m, v_p});
-  halo_.sum_into_owners(grid_);
+  halo_.sum_into_owners(grid_, &GridNode<Dim>::v_new);
   constraints_.fold_and_mirror(grid_, &GridNode<Dim>::v_new);
 }
 
@@ -92,7 +92,7 @@ void ImplicitSimulation<Dim, Kernel>::scatter_force(const std::vector<SymTensor<
   p2g_add(stencils_, order_, grid_, InternalForce<Dim, SymTensor<3>>{p.V, sigma});
   if constexpr (Dim == 2)  // the hoop force in a pass of its own, as in the explicit step
     if (spec_.geometry == Geometry::axisymmetric) p2g_add(stencils_, order_, grid_, HoopForce{p.V, sigma, p.x});
-  halo_.sum_into_owners(grid_);
+  halo_.sum_into_owners(grid_, NodeFields::force);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { f[n] = grid_.nodes[n].a; });
 }
@@ -109,7 +109,7 @@ void ImplicitSimulation<Dim, Kernel>::add_body_force(Real dt) {
   });
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
   p2g_add(stencils_, order_, grid_, BodyForce<Dim>{p.m, body_accel_});
-  halo_.sum_into_owners(grid_);
+  halo_.sum_into_owners(grid_, NodeFields::force);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { f_ext_[n] += grid_.nodes[n].a; });
 }

@@ -43,7 +43,8 @@ template <int Dim, class Kernel>
 ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spec, ParticleSet<Dim> particles)
     : spec_((validate(spec), spec)),
       particles_(std::move(particles)),
-      grid_(GridGeometry<Dim>{spec.grid_lo, spec.h, spec.cells, Kernel::ghost}),
+      grid_(GridGeometry<Dim>{spec.grid_lo, spec.h, spec.cells, Kernel::ghost, {}, periodic_axes(spec.boundary)}),
+      halo_(grid_.geometry),
       constraints_(spec.boundary, grid_.geometry),
       layout_(grid_.geometry),
       rigid_(spec.rigid_bodies, grid_.geometry) {
@@ -80,6 +81,7 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
   face_reactions_.assign(constraints_.names().size(), Vec<Dim>::Zero());
   mirrored_.assign(grid_.size(), 0);
   constraints_.mark_mirrored(mirrored_);
+  halo_.mark_images(mirrored_);
   const std::size_t nodes = grid_.size();
   f_k_.assign(nodes, Vec<Dim>::Zero());
   f_ext_.assign(nodes, Vec<Dim>::Zero());
@@ -253,7 +255,7 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
       [&](const GridNode<Dim>& node, std::size_t n) { return momentum ? momentum_velocity_[n] : node.v_new; }, v_move_);
   if (!momentum) gather_over_active_nodes([](const GridNode<Dim>& node, std::size_t) { return node.v_new - node.v; }, dv_);
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
-    trial_.x[i] = p.x[i] + dt * v_move_[i];     // Sulsky & Kaul 2004, Eq. (2.3.2), or Eq. (3.2.5)
+    trial_.x[i] = grid_.geometry.wrap(p.x[i] + dt * v_move_[i]);  // Sulsky & Kaul 2004, Eq. (2.3.2), or Eq. (3.2.5)
     if (!momentum) trial_.v[i] = p.v[i] + dv_[i];  // Sulsky & Kaul 2004, Eq. (2.3.3); else Eq. (3.2.6)
   });
   for (std::size_t i = 0; i < p.size(); ++i)

@@ -116,6 +116,9 @@ BoundarySpec<Dim> boundary_of(const Scene& sc) {
       case SceneFace::Kind::symmetry:
         fc.type = FaceType::symmetry;
         break;
+      case SceneFace::Kind::periodic:
+        fc.type = FaceType::periodic;
+        break;
       case SceneFace::Kind::velocity:
         fc.type = FaceType::velocity;
         fc.velocity = velocity_of<Dim>(face.velocity);

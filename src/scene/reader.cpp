@@ -143,17 +143,25 @@ void read_grid(const Section& s, Scene& sc, const Locator& loc) {
     if (!node) continue;
     SceneFace& face = sc.faces[k];
     if (node->is_string()) {
-      const std::string kind = f.choice(names[k], "free", {"free", "fixed", "symmetry"});
-      face.kind = kind == "free" ? SceneFace::Kind::free
-                                 : (kind == "fixed" ? SceneFace::Kind::fixed : SceneFace::Kind::symmetry);
+      const std::string kind = f.choice(names[k], "free", {"free", "fixed", "symmetry", "periodic"});
+      face.kind = kind == "free"    ? SceneFace::Kind::free
+                  : kind == "fixed" ? SceneFace::Kind::fixed
+                  : kind == "symmetry" ? SceneFace::Kind::symmetry
+                                       : SceneFace::Kind::periodic;
     } else if (node->is_table()) {
       const Section v(*node->as_table(), f.key_of(names[k]), loc, {"velocity"});
       if (!v.has("velocity")) v.fail("velocity", "missing (an array of prescribed velocity components)");
       face.kind = SceneFace::Kind::velocity;
       face.velocity = v.expressions("velocity", n, time_var, sc.constants);
     } else {
-      f.fail(names[k], "expected \"free\", \"fixed\", \"symmetry\" or { velocity = [...] }");
+      f.fail(names[k], "expected \"free\", \"fixed\", \"symmetry\", \"periodic\" or { velocity = [...] }");
     }
+  }
+  for (std::size_t d = 0; d < n; ++d) {  // Steffen et al. 2008, Sec. 4.3: periodic faces come in pairs
+    const bool lo = sc.faces[2 * d].kind == SceneFace::Kind::periodic, hi = sc.faces[2 * d + 1].kind == SceneFace::Kind::periodic;
+    if (lo != hi)
+      f.fail(names[lo ? 2 * d + 1 : 2 * d], "expected \"periodic\", as the opposite face " + names[lo ? 2 * d : 2 * d + 1] +
+                                                " is (periodic faces come in pairs)");
   }
 }
 

@@ -12,7 +12,8 @@
 
 namespace mpm {
 
-enum class FaceType { free, velocity, symmetry };
+/// periodic: the face and its opposite are one (both must say so); the grid's halo carries it (grid/halo.hpp).
+enum class FaceType { free, velocity, symmetry, periodic };
 
 /// A prescribed velocity as a function of time; an empty function means zero (a fixed wall).
 template <int Dim>
@@ -43,8 +44,17 @@ struct BoundarySpec {
   ConstrainedAcceleration acceleration = ConstrainedAcceleration::zero;
 };
 
-/// Which node fields a symmetry fold or mirror acts on.
-enum class NodeFields { mass_momentum, force };
+/// The axes whose faces are periodic (validated in pairs by the specs).
+template <int Dim>
+std::array<bool, Dim> periodic_axes(const BoundarySpec<Dim>& spec) {
+  std::array<bool, Dim> axes{};
+  for (int d = 0; d < Dim; ++d) axes[d] = spec.faces[2 * d].type == FaceType::periodic;
+  return axes;
+}
+
+/// Throws InputError unless every periodic face has a periodic opposite face and its axis at least 2 cells.
+template <int Dim>
+void validate_periodic(const BoundarySpec<Dim>& spec, const IVec<Dim>& cells);
 
 /// Boundary conditions compiled to node lists for one grid.
 template <int Dim>

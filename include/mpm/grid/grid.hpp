@@ -1,5 +1,6 @@
 #pragma once
 /// Uniform Cartesian background grid with ghost ("extra") node layers, node fields as flat arrays.
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
@@ -20,6 +21,9 @@ struct GridGeometry {
   /// Global index of node (0, ..., 0): the arrays are local to this box of the grid, node and cell indices in
   /// messages, checkpoints and outputs are global (zero in one process).
   IVec<Dim> offset{};
+  /// Axes whose two faces are one periodic pair (Steffen et al. 2008, Sec. 4.3): node cells_d is node 0 again,
+  /// and a particle leaving through one face enters through the other.
+  std::array<bool, Dim> periodic{};
 
   int nodes_along(int d) const { return cells[d] + 1 + 2 * ghost; }
   std::size_t node_count() const {
@@ -62,6 +66,16 @@ struct GridGeometry {
   Vec<Dim> hi() const {
     Vec<Dim> x;
     for (int d = 0; d < Dim; ++d) x[d] = lo[d] + h * cells[d];
+    return x;
+  }
+  /// x brought into [lo, hi) along the periodic axes by one period (a particle moves less than a cell a step).
+  Vec<Dim> wrap(Vec<Dim> x) const {
+    for (int d = 0; d < Dim; ++d)
+      if (periodic[d]) {
+        const Real length = h * cells[d];
+        if (x[d] >= lo[d] + length) x[d] -= length;
+        else if (x[d] < lo[d]) x[d] += length;
+      }
     return x;
   }
   /// True when x lies in the physical domain (boundary included).
@@ -109,6 +123,9 @@ static_assert(offsetof(GridNode<1>, v) == NodeSlots<1>::v * sizeof(Real) &&
 /// A node velocity field a stage reads: the projected (or re-projected) v, or the advanced v_new.
 template <int Dim>
 using NodeVelocity = Vec<Dim> GridNode<Dim>::*;
+
+/// Which node fields a halo sum or a symmetry fold acts on.
+enum class NodeFields { mass_momentum, force };
 
 /// The background grid: its geometry and one GridNode per node (ghosts included), flat.
 template <int Dim>

@@ -1,7 +1,13 @@
 #pragma once
-/// The communication points of a grid split into boxes, one per process. They are named and called by both
-/// engines in one process too, where every node is owned and there is no halo: both calls do nothing, and the
-/// distributed run fills them in without touching the physics.
+/// The communication points of a grid: after P2G, the contributions that nodes outside a box's own range
+/// received are added into the nodes that own them; before G2P, the owners' values are copied back out. One
+/// process owns every node of a non-periodic grid, and both calls do nothing. Along a periodic axis the nodes
+/// beyond the owned range [0, cells - 1] (the node on the high face and the extra layers) are images of owned
+/// nodes one period away, so a periodic grid is its own halo; a distributed run adds other ranks' nodes
+/// without touching the physics.
+#include <cstdint>
+#include <vector>
+
 #include "mpm/grid/grid.hpp"
 
 namespace mpm {
@@ -9,10 +15,23 @@ namespace mpm {
 template <int Dim>
 class Halo {
  public:
-  /// After P2G: add the contributions the halo nodes received into their owners' nodes.
-  void sum_into_owners(Grid<Dim>& /*grid*/) const {}
-  /// Before G2P: copy the owners' node values to the halo nodes.
-  void copy_to_ghosts(Grid<Dim>& /*grid*/) const {}
+  explicit Halo(const GridGeometry<Dim>& g);
+
+  /// After P2G: add the images' contributions into their owners, and give the images the sums, so that every
+  /// copy of a node holds the same fields.
+  void sum_into_owners(Grid<Dim>& grid, NodeFields fields) const;
+  /// The same for one vector field (a re-projected momentum, a force).
+  void sum_into_owners(Grid<Dim>& grid, NodeVelocity<Dim> field) const;
+  /// Before G2P: copy the owners' node records to their images.
+  void copy_to_ghosts(Grid<Dim>& grid) const;
+  /// Set mask[n] = 1 for every node that is an image of another (no unknown of its own).
+  void mark_images(std::vector<std::uint8_t>& mask) const;
+  /// The node that owns node n: n itself, or the owner it is an image of.
+  std::int32_t owner_of(std::int32_t n) const;
+
+ private:
+  std::vector<std::int32_t> image_, owner_;  ///< pairs, in flat-index order of the images
+  std::vector<std::int32_t> owner_of_;       ///< per node; empty when the grid has no periodic axis
 };
 
 }  // namespace mpm

@@ -155,7 +155,7 @@ class ImplicitSimulation {
     Real value;
   };
   std::vector<Fixed> fixed_;
-  std::vector<std::uint8_t> mirrored_;  // ghost nodes that copy a mirror node
+  std::vector<std::uint8_t> mirrored_;  // nodes that copy another: symmetry ghosts, periodic images
   Trial trial_;
   Eigen::VectorXd last_x_;
   ImplicitCounters counters_;

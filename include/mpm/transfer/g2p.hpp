@@ -126,6 +126,11 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
         x = block.load(p.x);
         for (int c = 0; c < Dim; ++c) {
           x[c] += dt * v_p[c];
+          if (geo.periodic[c]) {  // out through one face of a periodic pair, in through the other
+            const Real length = geo.h * geo.cells[c];
+            x[c] = x[c] >= geo.lo[c] + length ? x[c] - length : x[c];
+            x[c] = x[c] < geo.lo[c] ? x[c] + length : x[c];
+          }
           ok &= (x[c] >= geo.lo[c]) & (x[c] <= geo.lo[c] + geo.h * geo.cells[c]) & (v[c] - v[c] == 0);
         }
         block.store(p.x, x);
