@@ -172,6 +172,7 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
   Residual problem(*this, dt);
   Eigen::VectorXd r;
   last_newton_ = 0;
+  last_residual_norms_.clear();
   if (spec_.theta == 0) {
     // Explicit: the unknowns follow from the forces at t^k (Sulsky & Kaul 2004, Eq. (2.4.4)); one evaluation
     // updates the stress.
@@ -211,13 +212,15 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
     ++counters_.newton_iterations;
   } else {
     // The frozen-Jacobian preconditioner is built at the initial guess, which then needs no second evaluation.
-    const bool preconditioned = spec_.frozen_jacobian;
+    const bool preconditioned = spec_.frozen_jacobian || spec_.solver == ImplicitSolver::newton_direct;
     if (preconditioned) {
       ++counters_.residual_evaluations;
       if (!residual_at(x, dt, r) || !factorise_tangent(x, dt)) return false;
     }
     numerics::NewtonSettings settings = spec_.newton;
-    settings.krylov = spec_.solver == ImplicitSolver::newton_cg ? numerics::Krylov::cg : numerics::Krylov::gmres;
+    settings.krylov = spec_.solver == ImplicitSolver::newton_cg       ? numerics::Krylov::cg
+                      : spec_.solver == ImplicitSolver::newton_direct ? numerics::Krylov::direct
+                                                                      : numerics::Krylov::gmres;
     settings.precondition = preconditioned;
     const numerics::SolveStats stats = numerics::solve(problem, x, settings, preconditioned ? &r : nullptr);
     counters_.newton_iterations += stats.newton_iterations;
@@ -225,6 +228,7 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
     counters_.residual_evaluations += stats.residual_evaluations;
     counters_.backtracks += stats.backtracks;
     last_newton_ = stats.newton_iterations;
+    last_residual_norms_ = stats.residual_norms;
     if (!stats.converged) return false;
     // The trial state must be that of the solution, not of the last perturbed evaluation.
     if (x.size() != last_x_.size() || x != last_x_) {

@@ -11,7 +11,7 @@ namespace mpm {
 namespace {
 constexpr std::array<std::string_view, 3> geometry_names{"plane-strain", "plane-stress", "axisymmetric"};
 constexpr std::array<std::string_view, 2> formulation_names{"velocity", "momentum"};
-constexpr std::array<std::string_view, 3> solver_names{"newton-cg", "newton-gmres", "cg"};
+constexpr std::array<std::string_view, 4> solver_names{"newton-cg", "newton-gmres", "cg", "newton-direct"};
 
 template <class Enum, class Names>
 Enum parse(const Names& names, std::string_view name, std::string_view key) {

@@ -201,6 +201,7 @@ class Newton {
         refresh_ = false;
       }
       krylov_step(eta);
+      refresh_ = refresh_ || settings_.krylov == Krylov::direct;  // the next iterate gets its own factorisation
       if (s_.isZero(0.0)) return fail("the Krylov solve produced no step (J s = 0, or D_h F failed)");
       // Step 5: x_{n+1} = x_n + lambda s
       const double norm_old = norm_;
@@ -233,6 +234,10 @@ class Newton {
   void krylov_step(double eta) {
     rhs_ = -fx_;
     s_.setZero();
+    if (settings_.krylov == Krylov::direct) {
+      apply_preconditioner(rhs_, s_);
+      return;
+    }
     const LinearOperator apply = [this](const Vector& p, Vector& jp) { apply_jacobian(p, jp); };
     LinearOperator precondition;
     if (settings_.precondition)
@@ -327,6 +332,9 @@ void validate(const NewtonSettings& s, const std::string& where) {
   require_at_least(s.max_krylov, 1, where, "max_krylov");
   require_at_least(s.max_backtracks, 0, where, "max_backtracks");
   require_at_least(s.refresh_after, 0, where, "refresh_after");
+  if (s.krylov == Krylov::direct && !s.precondition)
+    throw InputError(where + " krylov: a direct solve of the Newton step needs the problem's factorisation "
+                             "(precondition = true)");
 }
 
 SolveStats solve(NonlinearProblem& problem, Vector& x, const NewtonSettings& settings, const Vector* residual_at_x) {

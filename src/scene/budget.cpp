@@ -89,7 +89,8 @@ MemoryModel engine_memory(const Scene& sc) {
   return with_kernel(sc.kernel, [&]<class Kernel>() {
     if (sc.implicit)
         return ImplicitSimulation<Dim, Kernel>::memory_model(sc.implicit_step.newton.restart,
-                                                             sc.implicit_step.frozen_jacobian);
+                                                             sc.implicit_step.frozen_jacobian ||
+                                                                 sc.implicit_step.solver == ImplicitSolver::newton_direct);
     bool rate_form = false;
     for (const SceneMaterial& m : sc.materials) rate_form = rate_form || is_rate_form(m.law);
     return Simulation<Dim, Kernel>::memory_model(!sc.body_force.empty() || !sc.tractions.empty(), rate_form);

@@ -170,8 +170,9 @@ void read_implicit(const Section& s, Scene& sc) {
   im.theta = s.number("theta", 1);
   if (!(im.theta >= 0 && im.theta <= 1)) s.fail("theta", "expected a number in [0, 1] (0 explicit, 1 fully implicit)");
   im.formulation = parse_formulation(s.choice("formulation", "momentum", {"velocity", "momentum"}), "");
-  im.solver = parse_solver(s.choice("solver", "newton-gmres", {"newton-gmres", "newton-cg", "cg"}), "");
-  if (im.solver != ImplicitSolver::newton_gmres && im.formulation != Formulation::velocity)
+  im.solver = parse_solver(s.choice("solver", "newton-gmres", {"newton-gmres", "newton-cg", "cg", "newton-direct"}), "");
+  if ((im.solver == ImplicitSolver::newton_cg || im.solver == ImplicitSolver::linear_cg) &&
+      im.formulation != Formulation::velocity)
     s.fail("solver", "CG needs the symmetric velocity formulation (formulation = \"velocity\")");
   numerics::NewtonSettings& n = im.newton;
   n.newton_tolerance = s.number("newton_tolerance", 1e-5);

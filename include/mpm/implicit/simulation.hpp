@@ -86,6 +86,8 @@ class ImplicitSimulation {
   const std::vector<Vec<Dim>>& rigid_displacements() const { return rigid_.displacements(); }
   /// Newton iterations of the last step (0 for theta = 0).
   int last_newton_iterations() const { return last_newton_; }
+  /// ||F|| at each Newton iterate of the last step's solve, the initial guess first (empty for theta = 0 and cg).
+  const std::vector<double>& last_residual_norms() const { return last_residual_norms_; }
 
   /// Continue from a saved state (particles and material state set already): the clock, step size and counters.
   void restore(Real time, std::int64_t steps, Real dt, const ImplicitCounters& counters,
@@ -163,6 +165,7 @@ class ImplicitSimulation {
   Real explicit_dt_ = 0, dt_ = 0, time_ = 0;
   std::int64_t steps_ = 0;
   int last_newton_ = 0;
+  std::vector<double> last_residual_norms_;
 };
 
 }  // namespace mpm

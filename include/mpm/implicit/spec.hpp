@@ -20,9 +20,11 @@ namespace mpm {
 /// or nodal momentum (non-symmetric: Sulsky & Kaul 2004, Sec. 3.2.1, Eq. (3.2.3) to Eq. (3.2.7)).
 enum class Formulation { velocity, momentum };
 
-/// Newton-CG (Algs 1 and 3), Newton-GMRES (Algs 1 and 4), or one linear CG solve (Alg. 2) of the system
-/// linearised at the start of the step (exact for small-strain linear elasticity).
-enum class ImplicitSolver { newton_cg, newton_gmres, linear_cg };
+/// Newton-CG (Algs 1 and 3), Newton-GMRES (Algs 1 and 4), one linear CG solve (Alg. 2) of the system
+/// linearised at the start of the step (exact for small-strain linear elasticity), or Newton with each step
+/// solved directly by a sparse LU factorisation of the assembled Jacobian, rebuilt at every iterate (Alg. 1,
+/// step 4 without a Krylov method).
+enum class ImplicitSolver { newton_cg, newton_gmres, linear_cg, newton_direct };
 
 /// The time step: the explicit reference step is cfl h / max_p (c_p + |v_p|) at t = 0 (or the fixed dt); the
 /// step starts at start_factor times it and grows by `growth` per step up to step_factor times it (the

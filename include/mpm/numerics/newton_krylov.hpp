@@ -34,8 +34,10 @@ class NonlinearProblem {
   virtual bool refresh_preconditioner(const Vector& /*x*/, const Vector& /*fx*/) { return false; }
 };
 
-/// The Krylov method of the inner linear solves.
-enum class Krylov { cg, gmres };
+/// The solver of the Newton step's linear system (Alg. 1, step 4): a Krylov method, or `direct`, the problem's
+/// preconditioner taken as an exact factorisation of the Jacobian and rebuilt at every iterate (needs
+/// precondition; Sulsky & Kaul 2004, Alg. 1 allows any solver of step 4).
+enum class Krylov { cg, gmres, direct };
 
 /// How the linear tolerance gamma (the forcing term) is chosen at each Newton step.
 enum class Forcing { constant, eisenstat_walker };

@@ -1,0 +1,126 @@
+// The numbers docs/implicit.md reports for the examples of Sulsky & Kaul 2004 (scripts/implicit-study.py), run
+// here at the sizes the suite affords: the cost rows of Tables 4 and 5 (steps, Newton and GMRES iterations), the
+// colliding disks' energy kept, and the upsetting's final radius and platen load at 1000x and 10000x.
+//
+// Tolerances: steps are set by the step control and must match exactly; Newton and GMRES counts and the results
+// carry the rounding of the transfers, which differs with the vector width of the machine (AVX-512 or AVX2), so
+// counts are held to 10% and results to what the doc rounds them to.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "mpm/implicit/simulation.hpp"
+#include "mpm/scene/build.hpp"
+#include "mpm/scene/scene.hpp"
+
+namespace {
+namespace fs = std::filesystem;
+using namespace mpm;
+
+const fs::path examples = fs::path(__FILE__).parent_path().parent_path().parent_path() / "examples/implicit";
+constexpr double pi = 3.14159265358979323846;
+
+std::vector<std::string> factors(int step, int start) {
+  return {"implicit.step_factor=" + std::to_string(step), "implicit.start_factor=" + std::to_string(start)};
+}
+
+struct CostRow {
+  const char* scene;
+  const char* run;
+  int step_factor, start_factor;
+  std::int64_t steps, newton, gmres;  // docs/implicit.md
+};
+
+class CostTable : public ::testing::TestWithParam<CostRow> {};
+
+TEST_P(CostTable, CountsAreTheDocs) {
+  const CostRow& c = GetParam();
+  const Scene sc = read_scene(examples / c.scene, factors(c.step_factor, c.start_factor));
+  ImplicitSimulation<2, LinearKernel> sim(make_implicit_spec<2>(sc), seed_bodies<2>(sc));
+  sim.run_until(sc.end_time);
+  const auto& n = sim.counters();
+  std::printf("%s %s: %lld steps, %lld Newton, %lld GMRES\n", c.scene, c.run, static_cast<long long>(sim.steps()),
+              static_cast<long long>(n.newton_iterations), static_cast<long long>(n.krylov_iterations));
+  EXPECT_EQ(sim.steps(), c.steps);
+  EXPECT_NEAR(static_cast<double>(n.newton_iterations), static_cast<double>(c.newton), 0.1 * static_cast<double>(c.newton));
+  EXPECT_NEAR(static_cast<double>(n.krylov_iterations), static_cast<double>(c.gmres), 0.1 * static_cast<double>(c.gmres));
+}
+
+// Table 4 (elastic bar) and Table 5 (elastic-plastic bar): every implicit row of the doc.
+INSTANTIATE_TEST_SUITE_P(
+    Tables4And5, CostTable,
+    ::testing::Values(CostRow{"elastic-bar.toml", "1x a", 1, 1, 2321, 203, 518},
+                      CostRow{"elastic-bar.toml", "10x a", 10, 1, 241, 111, 544},
+                      CostRow{"elastic-bar.toml", "10x b", 10, 10, 233, 104, 508},
+                      CostRow{"elastic-bar.toml", "100x a", 100, 1, 44, 41, 199},
+                      CostRow{"elastic-bar.toml", "100x b", 100, 10, 32, 32, 158},
+                      CostRow{"elastic-bar.toml", "100x c", 100, 100, 24, 25, 125},
+                      CostRow{"plastic-bar.toml", "1x a", 1, 1, 5570, 684, 2549},
+                      CostRow{"plastic-bar.toml", "10x a", 10, 1, 566, 565, 3929},
+                      CostRow{"plastic-bar.toml", "10x b", 10, 10, 557, 557, 3888},
+                      CostRow{"plastic-bar.toml", "100x a", 100, 1, 77, 77, 532},
+                      CostRow{"plastic-bar.toml", "100x b", 100, 10, 64, 64, 460},
+                      CostRow{"plastic-bar.toml", "100x c", 100, 100, 56, 57, 416}),
+    [](const auto& test) {
+      std::string n = std::string(test.param.scene).substr(0, 7) + "_" + test.param.run;
+      for (char& ch : n)
+        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+      return n;
+    });
+
+// Colliding disks (Table 2's cases, Fig. 3): the total energy kept at t = 150 falls with the step, as the paper's
+// curves show. Doc: 0.8697 at 10x a, 0.1195 at 100x a, with 706 and 91 steps.
+TEST(CollidingDisks, EnergyKeptFallsWithTheStepAsDocumented) {
+  struct Case {
+    int step_factor;
+    std::int64_t steps;
+    double kept;
+  };
+  for (const Case& c : {Case{10, 706, 0.8697}, Case{100, 91, 0.1195}}) {
+    const Scene sc = read_scene(examples / "colliding-disks.toml", factors(c.step_factor, 1));
+    ImplicitSimulation<2, LinearKernel> sim(make_implicit_spec<2>(sc), seed_bodies<2>(sc));
+    auto energy = [&] {
+      double e = 0;
+      const ParticleSet<2>& p = sim.particles();
+      for (std::size_t i = 0; i < p.size(); ++i) e += 0.5 * p.m[i] * p.v[i].squaredNorm() + sim.state().energy[i];
+      return e;
+    };
+    const double start = energy();
+    sim.run_until(sc.end_time);
+    const double kept = energy() / start;
+    std::printf("%dx a: %lld steps, energy kept %.4f\n", c.step_factor, static_cast<long long>(sim.steps()), kept);
+    EXPECT_EQ(sim.steps(), c.steps);
+    EXPECT_NEAR(kept, c.kept, 5e-4);
+  }
+}
+
+// Upsetting (Table 6, Figs 10 and 12a): final radius (largest particle r) and platen load -2 pi R_y at the last
+// step. Doc: 16.66 mm and 841 kN at 1000x (108 steps), 16.66 mm and 930 kN at 10000x (16 steps). The paper:
+// about 16.5 mm and 1050 kN.
+TEST(Upsetting, RadiusAndLoadAreTheDocs) {
+  struct Case {
+    int factor;
+    std::int64_t steps;
+    double radius_mm, load_kn;
+  };
+  for (const Case& c : {Case{1000, 108, 16.66, 841}, Case{10000, 16, 16.66, 930}}) {
+    const Scene sc = read_scene(examples / "upsetting.toml", factors(c.factor, c.factor));
+    ImplicitSimulation<2, LinearKernel> sim(make_implicit_spec<2>(sc), seed_bodies<2>(sc));
+    sim.run_until(sc.end_time);
+    double radius = 0;
+    for (const Vec<2>& x : sim.particles().x) radius = std::max(radius, x[0]);
+    const double load = -2 * pi * sim.rigid_reactions()[0][1];
+    std::printf("%dx: %lld steps, radius %.3f mm, load %.1f kN\n", c.factor, static_cast<long long>(sim.steps()),
+                radius * 1e3, load / 1e3);
+    EXPECT_EQ(sim.steps(), c.steps);
+    EXPECT_NEAR(radius * 1e3, c.radius_mm, 0.005);
+    EXPECT_NEAR(load / 1e3, c.load_kn, 0.5);
+  }
+}
+
+}  // namespace
