@@ -23,6 +23,14 @@ def bar_runs(problem, scene):
     return runs
 
 
+def cg_runs(problem, scene):
+    """The paper's Newton-CG runs of one bar (Tables 1 and 3): the velocity formulation and the unscaled residual
+    (Sec. 3.2.2: only its Newton-GMRES runs use the dimensionless form), with the scene's tolerances."""
+    common = ["implicit.solver=newton-cg", "implicit.formulation=velocity", "implicit.residual=unscaled"]
+    return [Run(problem, f"CG {f}x {FOOT[s]}", scene, common + [f"implicit.step_factor={f}", f"implicit.start_factor={s}"])
+            for s, f in [(1, 1), (1, 10), (10, 10), (1, 100), (10, 100), (100, 100)]]
+
+
 def final_sigma(run):
     """(mean, max |deviation|) of sigma_xx over the particles in the last frame."""
     if not run.ok:

@@ -112,7 +112,7 @@ Real ImplicitSimulation<Dim, Kernel>::wave_speed_of(const Material& material, st
 
 template <int Dim, class Kernel>
 Real ImplicitSimulation<Dim, Kernel>::residual_scale(Real dt) const {
-  return 1 / (modulus_ * std::pow(spec_.h, Dim) * dt);
+  return spec_.scaled_residual ? 1 / (modulus_ * std::pow(spec_.h, Dim) * dt) : 1;  // Sulsky & Kaul 2004, Sec. 3.2.2
 }
 
 template <int Dim, class Kernel>

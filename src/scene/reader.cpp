@@ -188,6 +188,7 @@ void read_implicit(const Section& s, Scene& sc) {
                   : numerics::Forcing::eisenstat_walker;
   im.frozen_jacobian = s.choice("preconditioner", "none", {"none", "frozen-jacobian"}) == "frozen-jacobian";
   n.refresh_after = s.integer("refresh_after", 8);
+  im.scaled_residual = s.choice("residual", "scaled", {"scaled", "unscaled"}) == "scaled";
   try {
     numerics::validate(n, "");
   } catch (const InputError& e) {  // "KEY: what": report it at the key as written in the file
@@ -266,7 +267,7 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
     read_implicit(Section(*im, "implicit", loc,
                           {"theta", "formulation", "solver", "newton_tolerance", "linear_tolerance", "derivative_step",
                            "restart", "max_newton", "max_krylov", "line_search", "max_backtracks", "forcing",
-                           "preconditioner", "refresh_after", "step_factor", "start_factor", "growth", "max_retries"}),
+                           "preconditioner", "refresh_after", "residual", "step_factor", "start_factor", "growth", "max_retries"}),
                   sc);
   }
   const std::vector<const toml::table*> materials = top.tables("materials");

@@ -55,6 +55,10 @@ struct ImplicitSpec {
   /// forward differences and reused while the unknowns, the step and the Krylov counts stay the same (not in
   /// the paper).
   bool frozen_jacobian = false;
+  /// Newton's residual divided by Y h^Dim dt, Y the largest Young's modulus (Sulsky & Kaul 2004, Sec. 3.2.2: the
+  /// dimensionless form of its Newton-GMRES runs); false keeps it in force x time, as its Newton-CG runs
+  /// (Tables 1-3), so that newton_tolerance is an absolute tolerance in those units.
+  bool scaled_residual = true;
   StepControl step;
   /// Neo-Hookean and rate-form materials (Neo-Hookean in plane strain only).
   std::vector<Material> materials;

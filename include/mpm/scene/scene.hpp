@@ -44,6 +44,7 @@ struct SceneImplicit {
   ImplicitSolver solver = ImplicitSolver::newton_gmres;
   numerics::NewtonSettings newton;
   bool frozen_jacobian = false;
+  bool scaled_residual = true;  ///< residual = "scaled" (Sec. 3.2.2) or "unscaled"
   double step_factor = 1, start_factor = 1, growth = 1.2;
   int max_retries = 8;
 };
