@@ -35,6 +35,7 @@
 #include "mpm/shape/stencil.hpp"
 #include "mpm/transfer/p2g.hpp"
 #include "mpm/transfer/scatter_order.hpp"
+#include "../verification/support.hpp"
 
 namespace {
 
@@ -121,17 +122,13 @@ std::vector<Point> errors(int lo, int hi, Size size = Size::smoothing_length) {
 
 /// Least-squares slope of log(error) against log(dx) over the points with lo <= dx <= hi.
 Real loglog_slope(const std::vector<Point>& pts, Real lo, Real hi) {
-  Real n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (const Point& q : pts) {
-    if (q.dx < lo || q.dx > hi) continue;
-    const Real x = std::log(q.dx), y = std::log(q.error);
-    n += 1;
-    sx += x;
-    sy += y;
-    sxx += x * x;
-    sxy += x * y;
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+  std::vector<Real> x, y;
+  for (const Point& q : pts)
+    if (q.dx >= lo && q.dx <= hi) {
+      x.push_back(std::log(q.dx));
+      y.push_back(std::log(q.error));
+    }
+  return mpm::testing::fitted_slope(x, y);
 }
 
 class Quadrature : public ::testing::Test {

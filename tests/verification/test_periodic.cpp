@@ -4,8 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
+#include <sstream>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -14,9 +13,9 @@
 #include "mpm/implicit/simulation.hpp"
 #include "mpm/scene/build.hpp"
 #include "mpm/scene/scene.hpp"
+#include "support.hpp"
 
 namespace {
-namespace fs = std::filesystem;
 using namespace mpm;
 
 constexpr double h = 0.1;       // the cell size
@@ -26,8 +25,8 @@ constexpr double length = 1.0;  // the period along x
 /// and shears, in a 10 x 10 grid periodic along x and free along y; run for 0.25 s.
 Scene block(const std::string& integrator, const std::string& kernel, double left) {
   const double xc = left + 0.2;
-  const fs::path file = fs::temp_directory_path() / ("periodic_" + std::to_string(::getpid()) + ".toml");
-  std::ofstream(file) << "[simulation]\nend_time = 0.25\ncfl = 0.4\nintegrator = \"" << integrator
+  std::ostringstream text;
+  text << "[simulation]\nend_time = 0.25\ncfl = 0.4\nintegrator = \"" << integrator
                       << "\"\nkernel = \"" << kernel << "\"\n"
                       << R"toml(
 [grid]
@@ -45,9 +44,7 @@ density = 1000
 shape = "box"
 )toml" << "lo = [" << left << ", 0.3]\nhi = [" << left + 0.4 << ", 0.7]\n"
                       << "velocity = [\"1 + 0.4 * (x - " << xc << ") - 0.3 * (y - 0.5)\", \"0.3 * (x - " << xc << ")\"]\n";
-  Scene sc = read_scene(file);
-  fs::remove(file);
-  return sc;
+  return mpm::testing::scene_from_text("periodic", text.str());
 }
 
 struct Final {

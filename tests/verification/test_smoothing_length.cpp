@@ -4,8 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <filesystem>
-#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -13,9 +12,9 @@
 #include "mpm/implicit/simulation.hpp"
 #include "mpm/scene/build.hpp"
 #include "mpm/scene/scene.hpp"
+#include "support.hpp"
 
 namespace {
-namespace fs = std::filesystem;
 using namespace mpm;
 
 constexpr double h = 0.1;  // the scene's cell size
@@ -23,8 +22,8 @@ constexpr double h = 0.1;  // the scene's cell size
 /// A hypoelastic block in the middle of a 10 x 10 grid of cells h = 0.1 (2 x 2 particles per cell, spacing h/2),
 /// stretched and rotated by its initial velocity, crossing cells, run for 0.2 s (about 16 steps).
 Scene block(const std::string& integrator, const std::string& kernel) {
-  const fs::path file = fs::temp_directory_path() / ("smoothing_length_" + std::to_string(::getpid()) + ".toml");
-  std::ofstream(file) << "[simulation]\nend_time = 0.2\ncfl = 0.5\nintegrator = \"" << integrator << "\"\n"
+  std::ostringstream text;
+  text << "[simulation]\nend_time = 0.2\ncfl = 0.5\nintegrator = \"" << integrator << "\"\n"
                       << kernel << R"toml(
 [grid]
 lo = [0.0, 0.0]
@@ -42,9 +41,7 @@ lo = [0.3, 0.3]
 hi = [0.7, 0.7]
 velocity = ["0.8 * (x - 0.5) - 0.5 * (y - 0.5)", "0.5 * (x - 0.5)"]
 )toml";
-  Scene sc = read_scene(file);
-  fs::remove(file);
-  return sc;
+  return mpm::testing::scene_from_text("smoothing_length", text.str());
 }
 
 /// The particle positions at the end of the scene.
