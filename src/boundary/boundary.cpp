@@ -5,6 +5,8 @@
 namespace mpm {
 
 namespace {
+constexpr const char* face_name[] = {"x-min", "x-max", "y-min", "y-max", "z-min", "z-max"};
+
 /// Visit every node (ghosts included) with its grid coordinates.
 template <int Dim, class Fn>
 void for_all_nodes(const GridGeometry<Dim>& g, Fn&& fn) {
@@ -18,8 +20,6 @@ Vec<Dim> reflect(Vec<Dim> v, int axis) {
   return v;
 }
 }  // namespace
-
-constexpr const char* face_name[] = {"x-min", "x-max", "y-min", "y-max", "z-min", "z-max"};
 
 template <int Dim>
 void validate_periodic(const BoundarySpec<Dim>& spec, const IVec<Dim>& cells) {

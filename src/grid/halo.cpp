@@ -8,7 +8,6 @@ Halo<Dim>::Halo(const GridGeometry<Dim>& g) {
   for (int d = 0; d < Dim; ++d) any = any || g.periodic[d];
   if (!any) return;
   const auto count = static_cast<std::ptrdiff_t>(g.node_count());
-  owner_of_.resize(static_cast<std::size_t>(count));
   for (std::ptrdiff_t f = 0; f < count; ++f) {
     IVec<Dim> i = g.coords(f);
     bool image = false;
@@ -17,10 +16,9 @@ Halo<Dim>::Halo(const GridGeometry<Dim>& g) {
         i[d] = ((i[d] % g.cells[d]) + g.cells[d]) % g.cells[d];
         image = true;
       }
-    owner_of_[f] = static_cast<std::int32_t>(image ? g.flat(i) : f);
     if (image) {
       image_.push_back(static_cast<std::int32_t>(f));
-      owner_.push_back(owner_of_[f]);
+      owner_.push_back(static_cast<std::int32_t>(g.flat(i)));
     }
   }
 }
@@ -43,16 +41,6 @@ void Halo<Dim>::sum_into_owners(Grid<Dim>& grid, NodeVelocity<Dim> field) const 
 template <int Dim>
 void Halo<Dim>::copy_to_ghosts(Grid<Dim>& grid) const {
   for (std::size_t k = 0; k < image_.size(); ++k) grid.nodes[image_[k]] = grid.nodes[owner_[k]];
-}
-
-template <int Dim>
-void Halo<Dim>::mark_images(std::vector<std::uint8_t>& mask) const {
-  for (std::int32_t n : image_) mask[n] = 1;
-}
-
-template <int Dim>
-std::int32_t Halo<Dim>::owner_of(std::int32_t n) const {
-  return owner_of_.empty() ? n : owner_of_[n];
 }
 
 template class Halo<1>;

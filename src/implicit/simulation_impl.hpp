@@ -81,7 +81,7 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
   face_reactions_.assign(constraints_.names().size(), Vec<Dim>::Zero());
   mirrored_.assign(grid_.size(), 0);
   constraints_.mark_mirrored(mirrored_);
-  halo_.mark_images(mirrored_);
+  halo_.for_each_image([&](std::int32_t image, std::int32_t) { mirrored_[image] = 1; });
   const std::size_t nodes = grid_.size();
   f_k_.assign(nodes, Vec<Dim>::Zero());
   f_ext_.assign(nodes, Vec<Dim>::Zero());

@@ -88,9 +88,9 @@ bool ImplicitSimulation<Dim, Kernel>::factorise_tangent(const Eigen::VectorXd& x
   const auto n = static_cast<Eigen::Index>(dof_node_.size());
   std::vector<int> dof_of(grid_.size() * Dim, -1);
   for (Eigen::Index k = 0; k < n; ++k) dof_of[dof_node_[k] * Dim + dof_comp_[k]] = static_cast<int>(k);
-  for (std::size_t node = 0; node < grid_.size(); ++node)  // a periodic image stands for its owner's unknowns
-    if (const std::int32_t owner = halo_.owner_of(static_cast<std::int32_t>(node)); owner != static_cast<std::int32_t>(node))
-      for (int c = 0; c < Dim; ++c) dof_of[node * Dim + c] = dof_of[owner * Dim + c];
+  halo_.for_each_image([&](std::int32_t image, std::int32_t owner) {  // an image stands for its owner's unknowns
+    for (int c = 0; c < Dim; ++c) dof_of[image * Dim + c] = dof_of[owner * Dim + c];
+  });
   struct Local {
     std::int32_t node;
     Real S;

@@ -333,8 +333,8 @@ void validate(const NewtonSettings& s, const std::string& where) {
   require_at_least(s.max_backtracks, 0, where, "max_backtracks");
   require_at_least(s.refresh_after, 0, where, "refresh_after");
   if (s.krylov == Krylov::direct && !s.precondition)
-    throw InputError(where + " krylov: a direct solve of the Newton step needs the problem's factorisation "
-                             "(precondition = true)");
+    reject(where, "krylov", "precondition = true with a direct solve (it solves by the problem's factorisation)",
+           "precondition = false");
 }
 
 SolveStats solve(NonlinearProblem& problem, Vector& x, const NewtonSettings& settings, const Vector* residual_at_x) {

@@ -74,6 +74,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadArgument{"verify axis-aligned --start exact --cfl-speed reference --integrator usl",
                     "--start exact: only centered difference (cd) and UVF-MPM (musl)"},
         BadArgument{"verify axis-aligned --cells many", "--cells"},
+        BadArgument{"verify axis-aligned --constrained-acceleration sticky",
+                    "--constrained-acceleration: expected zero or velocity-difference, got 'sticky'"},
+        BadArgument{"verify axis-aligned --integrator implicit --constrained-acceleration velocity-difference",
+                    "--constrained-acceleration: the implicit integrator solves for the end-of-step velocities"},
         BadArgument{"verify ring",
                     "case: unknown case 'ring' (expected axis-aligned, bar-1d or expanding-ring)"},
         BadArgument{"verify axis-aligned --amplitude 0.5", "--amplitude"},
@@ -136,6 +140,12 @@ TEST(Cli, DensityProjectionReportsItsSupport) {
   o = run_mpm("density-1d --cells 7");
   EXPECT_EQ(o.status, 2);
   EXPECT_NE(o.err.find("--cells: expected a positive multiple of 5"), std::string::npos) << o.err;
+  o = run_mpm("density-1d --gimp-length 0.05");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("--gimp-length: applies to --kernel ugimp only"), std::string::npos) << o.err;
+  o = run_mpm("density-1d --kernel ugimp --gimp-length 0.5");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("--gimp-length: expected a smoothing length in (0, h]"), std::string::npos) << o.err;
 }
 
 TEST(Cli, BenchRejectsBadKernelAndDimension) {

@@ -757,6 +757,7 @@ TEST(NewtonSettings, ValidateNamesTheBadKey) {
       {"max_krylov", [](auto& s) { s.max_krylov = -3; }},
       {"max_backtracks", [](auto& s) { s.max_backtracks = -1; }},
       {"refresh_after", [](auto& s) { s.refresh_after = -1; }},
+      {"krylov", [](auto& s) { s.krylov = nk::Krylov::direct; }},
   };
   for (const Case& c : cases) {
     nk::NewtonSettings s;

@@ -24,14 +24,14 @@ class Halo {
   void sum_into_owners(Grid<Dim>& grid, NodeVelocity<Dim> field) const;
   /// Before G2P: copy the owners' node records to their images.
   void copy_to_ghosts(Grid<Dim>& grid) const;
-  /// Set mask[n] = 1 for every node that is an image of another (no unknown of its own).
-  void mark_images(std::vector<std::uint8_t>& mask) const;
-  /// The node that owns node n: n itself, or the owner it is an image of.
-  std::int32_t owner_of(std::int32_t n) const;
+  /// Call fn(image, owner) for every node that is an image of another, in flat-index order of the images.
+  template <class Fn>
+  void for_each_image(Fn&& fn) const {
+    for (std::size_t k = 0; k < image_.size(); ++k) fn(image_[k], owner_[k]);
+  }
 
  private:
   std::vector<std::int32_t> image_, owner_;  ///< pairs, in flat-index order of the images
-  std::vector<std::int32_t> owner_of_;       ///< per node; empty when the grid has no periodic axis
 };
 
 }  // namespace mpm

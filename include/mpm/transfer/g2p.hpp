@@ -106,6 +106,11 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
   const GridGeometry<Dim>& geo = grid.geometry;
   const NodeLayout<Dim> layout(geo);
   std::atomic<std::int64_t> first_fault{ParticleFault::none};
+  // Periodic axes, as locals: the wrap below costs a register test on grids without one.
+  bool wraps = false;
+  Vec<Dim> period = Vec<Dim>::Zero();
+  for (int c = 0; c < Dim; ++c)
+    if (geo.periodic[c]) wraps = true, period[c] = geo.h * geo.cells[c];
   constexpr Sums sums{.acceleration = what.velocity, .velocity = interpolate_velocity, .gradient = what.deformation};
   g2p_gather<sums>(stencils, grid, v_grid, [&](const LaneBlock& block, const GatheredLanes<Dim>& sum)
                                                __attribute__((always_inline)) {
@@ -126,10 +131,9 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
         x = block.load(p.x);
         for (int c = 0; c < Dim; ++c) {
           x[c] += dt * v_p[c];
-          if (geo.periodic[c]) {  // out through one face of a periodic pair, in through the other
-            const Real length = geo.h * geo.cells[c];
-            x[c] = x[c] >= geo.lo[c] + length ? x[c] - length : x[c];
-            x[c] = x[c] < geo.lo[c] ? x[c] + length : x[c];
+          if (wraps && period[c] > 0) {  // out through one face of a periodic pair, in through the other
+            x[c] = x[c] >= geo.lo[c] + period[c] ? x[c] - period[c] : x[c];
+            x[c] = x[c] < geo.lo[c] ? x[c] + period[c] : x[c];
           }
           ok &= (x[c] >= geo.lo[c]) & (x[c] <= geo.lo[c] + geo.h * geo.cells[c]) & (v[c] - v[c] == 0);
         }
