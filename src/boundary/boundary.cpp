@@ -22,16 +22,21 @@ Vec<Dim> reflect(Vec<Dim> v, int axis) {
 }  // namespace
 
 template <int Dim>
-void validate_periodic(const BoundarySpec<Dim>& spec, const IVec<Dim>& cells) {
+void validate_faces(const BoundarySpec<Dim>& spec, const IVec<Dim>& cells, Geometry geometry, Real lo0,
+                    const std::string& at) {
   for (int d = 0; d < Dim; ++d) {
     const bool lo = spec.faces[2 * d].type == FaceType::periodic, hi = spec.faces[2 * d + 1].type == FaceType::periodic;
     if (lo != hi)
-      throw InputError(std::string("boundary ") + face_name[lo ? 2 * d + 1 : 2 * d] +
+      throw InputError(at + "boundary " + face_name[lo ? 2 * d + 1 : 2 * d] +
                        ": expected \"periodic\", as its opposite face " + face_name[lo ? 2 * d : 2 * d + 1] +
                        " is (periodic faces come in pairs)");
-    if (lo && cells[d] < 2)
-      throw InputError(std::string("boundary ") + face_name[2 * d] + ": a periodic axis needs at least 2 cells");
+    if (lo && cells[d] < 2) throw InputError(at + "boundary " + face_name[2 * d] + ": a periodic axis needs at least 2 cells");
   }
+  if (geometry != Geometry::axisymmetric) return;
+  if (spec.faces[0].type == FaceType::periodic)
+    throw InputError(at + "boundary x-min: the radial axis of an axisymmetric grid cannot be periodic");
+  if (spec.faces[0].type == FaceType::outflow && lo0 == 0)
+    throw InputError(at + "boundary x-min: the axis r = 0 of an axisymmetric grid cannot be an outflow face");
 }
 
 template <int Dim>
@@ -188,9 +193,9 @@ std::vector<Vec<Dim>> KinematicConstraints<Dim>::velocities(Real t) const {
   return out;
 }
 
-template void validate_periodic<1>(const BoundarySpec<1>&, const IVec<1>&);
-template void validate_periodic<2>(const BoundarySpec<2>&, const IVec<2>&);
-template void validate_periodic<3>(const BoundarySpec<3>&, const IVec<3>&);
+template void validate_faces<1>(const BoundarySpec<1>&, const IVec<1>&, Geometry, Real, const std::string&);
+template void validate_faces<2>(const BoundarySpec<2>&, const IVec<2>&, Geometry, Real, const std::string&);
+template void validate_faces<3>(const BoundarySpec<3>&, const IVec<3>&, Geometry, Real, const std::string&);
 template class KinematicConstraints<1>;
 template class KinematicConstraints<2>;
 template class KinematicConstraints<3>;

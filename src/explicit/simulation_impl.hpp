@@ -39,6 +39,7 @@ GridGeometry<Dim> make_geometry(const SimulationSpec<Dim>& spec) {
   validate(spec);
   GridGeometry<Dim> g{spec.grid_lo, spec.h, spec.cells, Kernel::ghost};
   g.periodic = periodic_axes(spec.boundary);
+  g.outflow = outflow_faces(spec.boundary);
   return g;
 }
 }  // namespace detail
@@ -136,6 +137,7 @@ Real Simulation<Dim, Kernel>::next_dt() const {
 
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::step(Real max_dt) {
+  remove_outflow();
   const Real dt = std::min(next_dt(), max_dt);
   // Centered difference starts from v^{-1/2} by halving the first grid acceleration, unless the particles were
   // given v^{-1/2} (Wallstedt & Guilkey 2008, Sec. 4); UVF-MPM is a modification of it and does the same.
@@ -157,6 +159,36 @@ void Simulation<Dim, Kernel>::step(Real max_dt) {
   rigid_.advance(time_, dt);
   time_ += dt;
   ++steps_;
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::remove_outflow() {
+  const std::vector<std::size_t> gone = beyond_outflow(particles_, grid_.geometry);
+  if (gone.empty()) return;
+  for (std::size_t i : gone) outflow_.add(particles_, i, strain_energy(i));
+  erase(gone);
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::restore_outflow(std::size_t n, const Outflow<Dim>& out) {
+  erase(indices_from(n, particles_.size()));
+  outflow_ = out;
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::erase(const std::vector<std::size_t>& gone) {
+  erase_particles(particles_, gone);
+  grad_v_.resize(grad_v_.empty() ? 0 : particles_.size());
+  hoop_rate_.resize(hoop_rate_.empty() ? 0 : particles_.size());
+  stencils_current_ = false;  // the next step locates the rest again and rebuilds the scatter order
+}
+
+template <int Dim, class Kernel>
+Real Simulation<Dim, Kernel>::strain_energy(std::size_t i) const {
+  const ParticleSet<Dim>& p = particles_;
+  const Material& m = spec_.materials[p.material[i]];
+  return is_rate_form(m) ? p.state.energy[i]
+                         : p.V0[i] * std::get<NeoHookean>(m).template energy_density<Dim>(p.F[i], p.F[i].determinant());
 }
 
 template <int Dim, class Kernel>

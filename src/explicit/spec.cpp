@@ -57,9 +57,7 @@ void validate(const SimulationSpec<Dim>& s) {
           "simulation.geometry: plane stress and axisymmetry are 2-D models");
   require(s.geometry != Geometry::axisymmetric || s.grid_lo[0] >= 0,
           "grid.lo: an axisymmetric grid must lie at radius x >= 0");
-  validate_periodic<Dim>(s.boundary, s.cells);
-  require(s.geometry != Geometry::axisymmetric || s.boundary.faces[0].type != FaceType::periodic,
-          "boundary x-min: the radial axis of an axisymmetric grid cannot be periodic");
+  validate_faces<Dim>(s.boundary, s.cells, s.geometry, s.grid_lo[0], "");
   for (const RigidBody<Dim>& b : s.rigid_bodies) {
     require(!b.points.empty(), "rigid body '" + b.name + "': has no points");
     require(static_cast<bool>(b.velocity), "rigid body '" + b.name + "': needs a velocity");

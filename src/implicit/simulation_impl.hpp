@@ -43,7 +43,8 @@ template <int Dim, class Kernel>
 ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spec, ParticleSet<Dim> particles)
     : spec_((validate(spec), spec)),
       particles_(std::move(particles)),
-      grid_(GridGeometry<Dim>{spec.grid_lo, spec.h, spec.cells, Kernel::ghost, {}, periodic_axes(spec.boundary)}),
+      grid_(GridGeometry<Dim>{spec.grid_lo, spec.h, spec.cells, Kernel::ghost, {}, periodic_axes(spec.boundary),
+                              outflow_faces(spec.boundary)}),
       halo_(grid_.geometry),
       constraints_(spec.boundary, grid_.geometry),
       layout_(grid_.geometry),
@@ -131,7 +132,15 @@ void ImplicitSimulation<Dim, Kernel>::run_until(Real t_end) {
 }
 
 template <int Dim, class Kernel>
+void ImplicitSimulation<Dim, Kernel>::remove_outflow() {
+  const std::vector<std::size_t> gone = beyond_outflow(particles_, grid_.geometry);
+  for (std::size_t i : gone) outflow_.add(particles_, i, particles_.state.energy[i]);
+  if (!gone.empty()) erase_particles(particles_, gone);  // the next projection locates the rest again
+}
+
+template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::step(Real max_dt) {
+  remove_outflow();
   Real dt = std::min(dt_, max_dt);
   // A step that would leave less than 1e-6 of itself to max_dt (the end time, reached through sums of rounded steps)
   // takes that sliver along: a sliver step's residual, divided by its dt, would be round-off.
@@ -263,7 +272,7 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
     if (!momentum) trial_.v[i] = p.v[i] + dv_[i];  // Sulsky & Kaul 2004, Eq. (2.3.3); else Eq. (3.2.6)
   });
   for (std::size_t i = 0; i < p.size(); ++i)
-    if (!grid_.geometry.contains(trial_.x[i])) {
+    if (!grid_.geometry.contains(trial_.x[i]) && !grid_.geometry.beyond_outflow(trial_.x[i])) {
       std::ostringstream os;
       os.precision(9);
       os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << i << " would leave the grid";

@@ -51,9 +51,7 @@ void validate(const ImplicitSpec<Dim>& s, const std::string& where) {
           at + "simulation.geometry: plane stress and axisymmetry are 2-D models");
   require(s.geometry != Geometry::axisymmetric || s.grid_lo[0] >= 0,
           at + "grid.lo: an axisymmetric grid must lie at radius x >= 0");
-  validate_periodic<Dim>(s.boundary, s.cells);
-  require(s.geometry != Geometry::axisymmetric || s.boundary.faces[0].type != FaceType::periodic,
-          at + "boundary x-min: the radial axis of an axisymmetric grid cannot be periodic");
+  validate_faces<Dim>(s.boundary, s.cells, s.geometry, s.grid_lo[0], at);
   require(s.theta >= 0 && s.theta <= 1, at + "implicit.theta: expected a number in [0, 1]");
   require(s.solver != ImplicitSolver::linear_cg || s.formulation == Formulation::velocity,
           at + "implicit.solver: cg (linear) needs the symmetric velocity formulation");

@@ -119,6 +119,9 @@ BoundarySpec<Dim> boundary_of(const Scene& sc) {
       case SceneFace::Kind::periodic:
         fc.type = FaceType::periodic;
         break;
+      case SceneFace::Kind::outflow:
+        fc.type = FaceType::outflow;
+        break;
       case SceneFace::Kind::velocity:
         fc.type = FaceType::velocity;
         fc.velocity = velocity_of<Dim>(face.velocity);

@@ -123,13 +123,8 @@ class Explicit {
   /// Stored energy sum_p V0 W(F) of the Neo-Hookean particles (the potential of Wallstedt & Guilkey 2008,
   /// Eq. (54)) plus the internal energy of the rate-form ones (Sulsky & Kaul 2004, Eq. (2.2.16)).
   Real strain_energy() const {
-    const ParticleSet<Dim>& p = sim_.particles();
     Real e = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      const Material& m = spec_.materials[p.material[i]];
-      e += is_rate_form(m) ? p.state.energy[i]
-                           : p.V0[i] * std::get<NeoHookean>(m).template energy_density<Dim>(p.F[i], p.F[i].determinant());
-    }
+    for (std::size_t i = 0; i < sim_.particles().size(); ++i) e += sim_.strain_energy(i);
     return e;
   }
   /// Acceleration of the external loads on particle i over the last step.

@@ -143,18 +143,19 @@ void read_grid(const Section& s, Scene& sc, const Locator& loc) {
     if (!node) continue;
     SceneFace& face = sc.faces[k];
     if (node->is_string()) {
-      const std::string kind = f.choice(names[k], "free", {"free", "fixed", "symmetry", "periodic"});
-      face.kind = kind == "free"    ? SceneFace::Kind::free
-                  : kind == "fixed" ? SceneFace::Kind::fixed
+      const std::string kind = f.choice(names[k], "free", {"free", "fixed", "symmetry", "periodic", "outflow"});
+      face.kind = kind == "free"       ? SceneFace::Kind::free
+                  : kind == "fixed"    ? SceneFace::Kind::fixed
                   : kind == "symmetry" ? SceneFace::Kind::symmetry
-                                       : SceneFace::Kind::periodic;
+                  : kind == "periodic" ? SceneFace::Kind::periodic
+                                       : SceneFace::Kind::outflow;
     } else if (node->is_table()) {
       const Section v(*node->as_table(), f.key_of(names[k]), loc, {"velocity"});
       if (!v.has("velocity")) v.fail("velocity", "missing (an array of prescribed velocity components)");
       face.kind = SceneFace::Kind::velocity;
       face.velocity = v.expressions("velocity", n, time_var, sc.constants);
     } else {
-      f.fail(names[k], "expected \"free\", \"fixed\", \"symmetry\", \"periodic\" or { velocity = [...] }");
+      f.fail(names[k], "expected \"free\", \"fixed\", \"symmetry\", \"periodic\", \"outflow\" or { velocity = [...] }");
     }
   }
   for (std::size_t d = 0; d < n; ++d) {  // Steffen et al. 2008, Sec. 4.3: periodic faces come in pairs

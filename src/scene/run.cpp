@@ -79,6 +79,7 @@ class SceneRun {
           in_step_ = false;
           compute_seconds_ += std::chrono::duration<double>(Clock::now() - step_start).count();
           account_work();
+          sim_.remove_outflow();
           if (has_check()) acc_.error.record(sim_.particles(), sim_.time(), ExactFromScene<Dim>{&sc_.exact_displacement});
           write_history_row();
           if (sc_.output_every > 0 && sim_.time() >= next_output_time() * (1 - 1e-12)) write_frame();
@@ -127,6 +128,11 @@ class SceneRun {
 
  private:
   bool has_check() const { return !sc_.exact_displacement.empty(); }
+  bool has_outflow() const {
+    for (const SceneFace& f : sc_.faces)
+      if (f.kind == SceneFace::Kind::outflow) return true;
+    return false;
+  }
   Real next_output_time() const { return static_cast<Real>(acc_.frames) * sc_.output_every; }
 
   /// Create the output folder; a fresh run clears the outputs of an earlier one, a restart keeps what came
@@ -163,6 +169,10 @@ class SceneRun {
     for (int d = 0; d < Dim; ++d) history_ << ",momentum_" << axis[d];
     for (const std::string& name : engine_.reaction_names())
       for (int d = 0; d < Dim; ++d) history_ << ",reaction_" << name << "_" << axis[d];
+    if (has_outflow()) {
+      history_ << ",outflow_mass,outflow_energy";
+      for (int d = 0; d < Dim; ++d) history_ << ",outflow_momentum_" << axis[d];
+    }
     history_ << '\n';
   }
 
@@ -189,6 +199,11 @@ class SceneRun {
     for (int d = 0; d < Dim; ++d) history_ << ',' << t.momentum[d];
     for (const Vec<Dim>& r : engine_.reactions())
       for (int d = 0; d < Dim; ++d) history_ << ',' << r[d];
+    if (has_outflow()) {
+      const Outflow<Dim>& out = sim_.outflow();
+      history_ << ',' << out.mass << ',' << out.kinetic_energy + out.strain_energy;
+      for (int d = 0; d < Dim; ++d) history_ << ',' << out.momentum[d];
+    }
     history_ << '\n';
     if (!history_) history_failed();
   }
@@ -258,6 +273,14 @@ class SceneRun {
     if (failure.empty()) {  // after a failure the particle state is not valid: no energies from it
       const Totals<Dim> t = totals();
       j["energy"] = {{"kinetic", t.kinetic}, {"strain", t.strain}, {"external_work", acc_.external_work}};
+    }
+    if (has_outflow()) {
+      const Outflow<Dim>& out = sim_.outflow();
+      j["outflow"] = {{"particles", out.particles},
+                      {"mass", out.mass},
+                      {"momentum", std::vector<double>(out.momentum.data(), out.momentum.data() + Dim)},
+                      {"kinetic_energy", out.kinetic_energy},
+                      {"strain_energy", out.strain_energy}};
     }
     io::write_file_atomically(o_.out_dir / "summary.json", j.dump(2) + '\n');
   }

@@ -1,6 +1,7 @@
 #pragma once
 // The checkpoint of a scene run: the particle arrays, the clock, the engine's state and the run's accumulators,
 // bit for bit, so that a restart ends bitwise equal to an uninterrupted run.
+#include <algorithm>
 #include <cstdint>
 #include <string>
 
@@ -34,6 +35,12 @@ io::CheckpointData save(const Scene& sc, const Engine& engine, const Accumulator
   c.reals = {{"x", flat(p.x)}, {"X", flat(p.X)}, {"v", flat(p.v)}, {"F", flat(p.F)}, {"m", p.m}, {"V0", p.V0},
              {"l0", flat(p.l0)}, {"l", flat(p.l)}};
   c.integers["material"] = std::vector<std::int64_t>(p.material.begin(), p.material.end());
+  const Outflow<Dim>& out = engine.sim().outflow();
+  c.integer_scalars["outflow_particles"] = out.particles;
+  c.real_scalars["outflow_mass"] = out.mass;
+  c.real_scalars["outflow_kinetic_energy"] = out.kinetic_energy;
+  c.real_scalars["outflow_strain_energy"] = out.strain_energy;
+  c.reals["outflow_momentum"] = std::vector<double>(out.momentum.data(), out.momentum.data() + Dim);
   engine.save(c);
   return c;
 }
@@ -49,9 +56,20 @@ void restore(const io::CheckpointData& c, Engine& engine, Accumulators& a, const
     return it->second;
   };
   ParticleSet<Dim>& p = engine.sim().particles();
-  if (scalar(c.integer_scalars, "dim") != Dim ||
-      scalar(c.integer_scalars, "particles") != static_cast<std::int64_t>(p.size()))
+  const std::int64_t particles = scalar(c.integer_scalars, "particles");
+  const std::int64_t gone = scalar(c.integer_scalars, "outflow_particles");
+  if (scalar(c.integer_scalars, "dim") != Dim || particles < 0 || gone < 0 ||
+      particles + gone != static_cast<std::int64_t>(p.size()))
     throw InputError(where + ": the checkpoint holds a different scene (dimension or particle count differ)");
+  Outflow<Dim> out;
+  out.particles = gone;
+  out.mass = scalar(c.real_scalars, "outflow_mass");
+  out.kinetic_energy = scalar(c.real_scalars, "outflow_kinetic_energy");
+  out.strain_energy = scalar(c.real_scalars, "outflow_strain_energy");
+  const std::vector<double>& momentum = scalar(c.reals, "outflow_momentum");
+  if (momentum.size() != Dim) throw InputError(where + ": array 'outflow_momentum' has the wrong size");
+  std::copy(momentum.begin(), momentum.end(), out.momentum.data());
+  engine.sim().restore_outflow(static_cast<std::size_t>(particles), out);
   auto array = [&](const std::string& key) -> const std::vector<double>& { return scalar(c.reals, key); };
   unflat(array("x"), p.x, "x");
   unflat(array("X"), p.X, "X");

@@ -193,7 +193,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"UnknownFaceName", {{"", "[grid.faces]\ntop = \"fixed\"\n"}}, "grid.faces.top",
                  {"unknown key (expected one of x-min, x-max, y-min, y-max)"}, 35},
         BadScene{"UnknownFaceKind", {{"", "[grid.faces]\ny-min = \"stuck\"\n"}}, "grid.faces.y-min",
-                 {"expected one of free, fixed, symmetry, periodic, got 'stuck'"}, 35},
+                 {"expected one of free, fixed, symmetry, periodic, outflow, got 'stuck'"}, 35},
         BadScene{"UnpairedPeriodicFace", {{"", "[grid.faces]\nx-min = \"periodic\"\n"}}, "grid.faces.x-max",
                  {"expected \"periodic\", as the opposite face x-min is (periodic faces come in pairs)"}, 34},
         BadScene{"FaceVelocityComponents", {{"", "[grid.faces]\ny-min = { velocity = [0.0] }\n"}},

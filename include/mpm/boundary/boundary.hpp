@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "mpm/core/model_geometry.hpp"
 #include "mpm/core/parallel.hpp"
 #include "mpm/core/types.hpp"
 #include "mpm/grid/grid.hpp"
@@ -13,7 +14,8 @@
 namespace mpm {
 
 /// periodic: the face and its opposite are one (both must say so); the grid's halo carries it (grid/halo.hpp).
-enum class FaceType { free, velocity, symmetry, periodic };
+/// outflow: a free face that particles may cross; the engines remove them once they have (particles/outflow.hpp).
+enum class FaceType { free, velocity, symmetry, periodic, outflow };
 
 /// A prescribed velocity as a function of time; an empty function means zero (a fixed wall).
 template <int Dim>
@@ -52,9 +54,20 @@ std::array<bool, Dim> periodic_axes(const BoundarySpec<Dim>& spec) {
   return axes;
 }
 
-/// Throws InputError unless every periodic face has a periodic opposite face and its axis at least 2 cells.
+/// The faces particles may leave through, in the order of BoundarySpec::faces.
 template <int Dim>
-void validate_periodic(const BoundarySpec<Dim>& spec, const IVec<Dim>& cells);
+std::array<bool, 2 * Dim> outflow_faces(const BoundarySpec<Dim>& spec) {
+  std::array<bool, 2 * Dim> faces{};
+  for (int f = 0; f < 2 * Dim; ++f) faces[f] = spec.faces[f].type == FaceType::outflow;
+  return faces;
+}
+
+/// Throws InputError (prefixed with `at`) unless every periodic face has a periodic opposite face and its axis
+/// at least 2 cells, and an axisymmetric grid's radial axis is neither periodic nor, on the axis r = lo = 0, an
+/// outflow face.
+template <int Dim>
+void validate_faces(const BoundarySpec<Dim>& spec, const IVec<Dim>& cells, Geometry geometry, Real lo0,
+                    const std::string& at);
 
 /// Boundary conditions compiled to node lists for one grid.
 template <int Dim>

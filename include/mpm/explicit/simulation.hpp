@@ -10,6 +10,7 @@
 #include "mpm/grid/grid.hpp"
 #include "mpm/grid/halo.hpp"
 #include "mpm/explicit/spec.hpp"
+#include "mpm/particles/outflow.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/shape/kernels.hpp"
 #include "mpm/shape/stencil.hpp"
@@ -27,8 +28,20 @@ class Simulation {
   Simulation(const SimulationSpec<Dim>& spec, ParticleSet<Dim> particles);
 
   /// Advance one time step of min(next_dt(), max_dt). Throws SimulationFailure (naming step, time, particle
-  /// and cause) on a non-finite value, J <= 0, or a particle leaving the grid.
+  /// and cause) on a non-finite value, J <= 0, or a particle leaving the grid other than through an outflow face.
+  /// Particles that crossed an outflow face stay in particles(), beyond the grid, until remove_outflow() or the
+  /// next step, which begins with it.
   void step(Real max_dt = std::numeric_limits<Real>::infinity());
+  /// Remove the particles beyond outflow faces, adding what they carry to outflow().
+  void remove_outflow();
+  /// What has left through the outflow faces since t = 0.
+  const Outflow<Dim>& outflow() const { return outflow_; }
+  /// Continue from a checkpoint taken after particles left: keep the first n particles (the restart overwrites
+  /// their fields) and what had left.
+  void restore_outflow(std::size_t n, const Outflow<Dim>& out);
+  /// Stored energy of particle i: V0 W(F) of a Neo-Hookean particle (Wallstedt & Guilkey 2008, Eq. (54)), the
+  /// internal energy of a rate-form one (Sulsky & Kaul 2004, Eq. (2.2.16)) [J].
+  Real strain_energy(std::size_t i) const;
   /// Step until time t_end is reached (the last step is shortened to land on t_end).
   void run_until(Real t_end);
 
@@ -99,6 +112,8 @@ class Simulation {
   /// deforming G2P pass recorded.
   ParticleFault update_stress(Real dt);
   void check(ParticleFault fault, Real dt) const;
+  /// Remove the particles at `gone` (ascending) with their per-particle arrays.
+  void erase(const std::vector<std::size_t>& gone);
 
   SimulationSpec<Dim> spec_;
   ParticleSet<Dim> particles_;
@@ -124,6 +139,7 @@ class Simulation {
   bool stencils_current_ = false, strips_changed_ = false;
   ScatterOrder order_;
   std::vector<Vec<Dim>> body_accel_;
+  Outflow<Dim> outflow_;
   Real time_ = 0;
   std::int64_t steps_ = 0;
 };

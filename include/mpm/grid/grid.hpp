@@ -24,6 +24,9 @@ struct GridGeometry {
   /// Axes whose two faces are one periodic pair (Steffen et al. 2008, Sec. 4.3): node cells_d is node 0 again,
   /// and a particle leaving through one face enters through the other.
   std::array<bool, Dim> periodic{};
+  /// Faces (x-min, x-max, y-min, ...) that particles may cross: one that has is outside the grid and is removed
+  /// after the step (Steffen et al. 2008, Sec. 3.4: material leaves through a free boundary).
+  std::array<bool, 2 * Dim> outflow{};
 
   int nodes_along(int d) const { return cells[d] + 1 + 2 * ghost; }
   std::size_t node_count() const {
@@ -83,6 +86,16 @@ struct GridGeometry {
     for (int d = 0; d < Dim; ++d)
       if (!(x[d] >= lo[d] && x[d] <= lo[d] + h * cells[d])) return false;
     return true;
+  }
+  /// True when x lies outside the physical domain, beyond outflow faces only.
+  bool beyond_outflow(const Vec<Dim>& x) const {
+    bool beyond = false;
+    for (int d = 0; d < Dim; ++d) {
+      const bool below = x[d] < lo[d], above = x[d] > lo[d] + h * cells[d];
+      if ((below && !outflow[2 * d]) || (above && !outflow[2 * d + 1]) || !(x[d] == x[d])) return false;
+      beyond = beyond || below || above;
+    }
+    return beyond;
   }
 };
 

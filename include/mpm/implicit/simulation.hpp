@@ -13,6 +13,7 @@
 #include "mpm/grid/grid.hpp"
 #include "mpm/grid/halo.hpp"
 #include "mpm/implicit/spec.hpp"
+#include "mpm/particles/outflow.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/shape/kernels.hpp"
 #include "mpm/shape/stencil.hpp"
@@ -38,8 +39,20 @@ class ImplicitSimulation {
   ImplicitSimulation(const ImplicitSpec<Dim>& spec, ParticleSet<Dim> particles);
 
   /// Advance one step of min(next_dt(), max_dt), halving and retrying when the solve fails. Throws
-  /// SimulationFailure when the retries run out or a particle leaves the grid.
+  /// SimulationFailure when the retries run out or a particle leaves the grid other than through an outflow face.
+  /// Particles that crossed an outflow face stay in particles(), beyond the grid, until remove_outflow() or the
+  /// next step, which begins with it.
   void step(Real max_dt = std::numeric_limits<Real>::infinity());
+  /// Remove the particles beyond outflow faces, adding what they carry to outflow().
+  void remove_outflow();
+  /// What has left through the outflow faces since t = 0.
+  const Outflow<Dim>& outflow() const { return outflow_; }
+  /// Continue from a checkpoint taken after particles left: keep the first n particles (the restart overwrites
+  /// their fields) and what had left.
+  void restore_outflow(std::size_t n, const Outflow<Dim>& out) {
+    erase_particles(particles_, indices_from(n, particles_.size()));
+    outflow_ = out;
+  }
   void run_until(Real t_end);
   /// The bytes a simulation will hold: particles with their material and trial states and stencils; per node
   /// the force fields, the unknowns' maps and the Krylov workspace (GMRES(restart): restart + 1 basis vectors
@@ -161,6 +174,7 @@ class ImplicitSimulation {
   Trial trial_;
   Eigen::VectorXd last_x_;
   ImplicitCounters counters_;
+  Outflow<Dim> outflow_;
   std::vector<Vec<Dim>> face_reactions_, body_accel_;
   Real explicit_dt_ = 0, dt_ = 0, time_ = 0;
   std::int64_t steps_ = 0;

@@ -17,7 +17,7 @@ namespace mpm {
 
 /// A grid face: free, fixed (zero velocity), symmetry plane, or a prescribed velocity v(t).
 struct SceneFace {
-  enum class Kind { free, fixed, symmetry, velocity, periodic } kind = Kind::free;
+  enum class Kind { free, fixed, symmetry, velocity, periodic, outflow } kind = Kind::free;
   std::vector<ExpressionPtr> velocity;  ///< one expression of t per component (kind == velocity)
 };
 

@@ -111,6 +111,16 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
   Vec<Dim> period = Vec<Dim>::Zero();
   for (int c = 0; c < Dim; ++c)
     if (geo.periodic[c]) wraps = true, period[c] = geo.h * geo.cells[c];
+  // The bounds a particle may not cross (none beyond an outflow face), and whether the stencils of the next step
+  // are located at positions clamped to the grid: a particle beyond an outflow face is removed after the step.
+  bool clamps = false;
+  Vec<Dim> lo_bound, hi_bound;
+  for (int c = 0; c < Dim; ++c) {
+    const Real inf = std::numeric_limits<Real>::infinity();
+    lo_bound[c] = geo.outflow[2 * c] ? -inf : geo.lo[c];
+    hi_bound[c] = geo.outflow[2 * c + 1] ? inf : geo.lo[c] + geo.h * geo.cells[c];
+    clamps = clamps || geo.outflow[2 * c] || geo.outflow[2 * c + 1];
+  }
   constexpr Sums sums{.acceleration = what.velocity, .velocity = interpolate_velocity, .gradient = what.deformation};
   g2p_gather<sums>(stencils, grid, v_grid, [&](const LaneBlock& block, const GatheredLanes<Dim>& sum)
                                                __attribute__((always_inline)) {
@@ -135,7 +145,7 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
             x[c] = x[c] >= geo.lo[c] + period[c] ? x[c] - period[c] : x[c];
             x[c] = x[c] < geo.lo[c] ? x[c] + period[c] : x[c];
           }
-          ok &= (x[c] >= geo.lo[c]) & (x[c] <= geo.lo[c] + geo.h * geo.cells[c]) & (v[c] - v[c] == 0);
+          ok &= (x[c] >= lo_bound[c]) & (x[c] <= hi_bound[c]) & (v[c] - v[c] == 0);
         }
         block.store(p.x, x);
       }
@@ -171,7 +181,15 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
       }
     }
     if constexpr (what.position)
-      if (next) next->store(block, locate_block<Dim, Kernel>(geo, layout, x, block.load(p.l)));
+      if (next) {
+        if (clamps)
+          for (int c = 0; c < Dim; ++c) {
+            const RealLanes lo = simd::broadcast(geo.lo[c]), hi = simd::broadcast(geo.lo[c] + geo.h * geo.cells[c]);
+            x[c] = x[c] < lo ? lo : x[c];
+            x[c] = x[c] > hi ? hi : x[c];
+          }
+        next->store(block, locate_block<Dim, Kernel>(geo, layout, x, block.load(p.l)));
+      }
     std::int64_t fault = ParticleFault::none;
     for (int k = block.active - 1; k >= 0; --k)
       if (!ok[k]) fault = block.index[k];

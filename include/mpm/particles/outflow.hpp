@@ -1,0 +1,81 @@
+#pragma once
+/// Particles leaving through outflow faces: what they carry out, and their removal from the particle set
+/// (Steffen et al. 2008, Sec. 3.4: at a free boundary material advects out of the domain).
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "mpm/core/types.hpp"
+#include "mpm/grid/grid.hpp"
+#include "mpm/particles/particles.hpp"
+
+namespace mpm {
+
+/// What has left through the outflow faces since t = 0 (per unit thickness or per radian, as the particles).
+template <int Dim>
+struct Outflow {
+  std::int64_t particles = 0;
+  Real mass = 0;                              ///< [kg]
+  Vec<Dim> momentum = Vec<Dim>::Zero();       ///< [kg m/s]
+  Real kinetic_energy = 0, strain_energy = 0;  ///< 1/2 m v^2 and the engine's strain (internal) energy [J]
+
+  /// Count particle i of p, whose strain (internal) energy is `strain`, as gone.
+  void add(const ParticleSet<Dim>& p, std::size_t i, Real strain) {
+    ++particles;
+    mass += p.m[i];
+    momentum += p.m[i] * p.v[i];
+    kinetic_energy += 0.5 * p.m[i] * p.v[i].squaredNorm();
+    strain_energy += strain;
+  }
+};
+
+/// The particles (ascending) that lie beyond an outflow face of g.
+template <int Dim>
+std::vector<std::size_t> beyond_outflow(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g) {
+  std::vector<std::size_t> gone;
+  bool any = false;
+  for (bool f : g.outflow) any = any || f;
+  if (!any) return gone;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (g.beyond_outflow(p.x[i])) gone.push_back(i);
+  return gone;
+}
+
+/// Remove the entries at `gone` (ascending) from a, keeping the order of the rest; arrays shorter than the
+/// particle set (unused, empty) are left as they are.
+template <class T>
+void erase_at(std::vector<T>& a, const std::vector<std::size_t>& gone, std::size_t particles) {
+  if (a.size() != particles) return;
+  std::size_t out = 0, next = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (next < gone.size() && gone[next] == i) {
+      ++next;
+      continue;
+    }
+    if (out != i) a[out] = std::move(a[i]);
+    ++out;
+  }
+  a.resize(out);
+}
+
+/// Remove the particles at `gone` (ascending) from every array of p and its material state.
+template <int Dim>
+void erase_particles(ParticleSet<Dim>& p, const std::vector<std::size_t>& gone) {
+  const std::size_t n = p.size();
+  erase_at(p.x, gone, n), erase_at(p.X, gone, n), erase_at(p.v, gone, n), erase_at(p.F, gone, n);
+  erase_at(p.m, gone, n), erase_at(p.V0, gone, n), erase_at(p.V, gone, n);
+  erase_at(p.l0, gone, n), erase_at(p.l, gone, n), erase_at(p.sigma, gone, n), erase_at(p.material, gone, n);
+  MaterialState& s = p.state;
+  erase_at(s.sigma, gone, n), erase_at(s.eps_bar, gone, n), erase_at(s.temperature, gone, n);
+  erase_at(s.energy, gone, n), erase_at(s.stretch3, gone, n);
+}
+
+/// The indices n, ..., size - 1: the particles a restart drops when its checkpoint holds n of the size seeded
+/// (the others had left; the restart overwrites the fields of the first n).
+inline std::vector<std::size_t> indices_from(std::size_t n, std::size_t size) {
+  std::vector<std::size_t> gone;
+  for (std::size_t i = n; i < size; ++i) gone.push_back(i);
+  return gone;
+}
+
+}  // namespace mpm
