@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """Regenerate docs/implicit.md and docs/implicit/*.png: the examples of Sulsky & Kaul (2004), "Implicit dynamics
-in the material-point method", Sec. 3 (Tables 1-6, Figs 1, 3, 4 and 10-12), run by the real engine.
+in the material-point method", Sec. 3 (Tables 1-6, Figs 1, 3, 4, 6-8 and 10-12), run by the real engine.
 
 Usage (after building): /usr/bin/python3 scripts/implicit-study.py [--quick] [--mpm build/bin/mpm]
-                        [--threads N] [--repeat N] [--timeout S] [--reuse] [--problems bar,disks,plastic,upsetting]
+                        [--threads N] [--repeat N] [--timeout S] [--reuse]
+                        [--problems bar,disks,plastic,upsetting,parameters]
                         [--preconditioner NAME]
 Needs Debian's python3-numpy and python3-matplotlib. The runs go to out/implicit-study/.
 --quick skips the slow upsetting runs (1x, 10x and the finest mesh, 96 x 72, with and without the preconditioner)
@@ -18,6 +19,7 @@ import time
 from implicit_study.disks import disks
 from implicit_study.document import write_document
 from implicit_study.elastic_bar import elastic_bar
+from implicit_study.parameters import parameters
 from implicit_study.paths import FIGS, OUT, ROOT
 from implicit_study.plastic_bar import plastic_bar
 from implicit_study.progress import log
@@ -38,8 +40,8 @@ def main():
                     help="implicit.preconditioner of the elastic bar's improvement rows (default frozen-jacobian)")
     ap.add_argument("--reuse", action="store_true",
                     help="reuse a run in out/implicit-study whose command is unchanged (for editing the report)")
-    ap.add_argument("--problems", default="bar,disks,plastic,upsetting",
-                    help="comma-separated subset of bar,disks,plastic,upsetting (default: all)")
+    ap.add_argument("--problems", default="bar,disks,plastic,upsetting,parameters",
+                    help="comma-separated subset of bar,disks,plastic,upsetting,parameters (default: all)")
     args = ap.parse_args()
     start = time.time()
     if not pathlib.Path(args.mpm).exists():
@@ -47,7 +49,8 @@ def main():
     FIGS.mkdir(parents=True, exist_ok=True)
     (ROOT / OUT).mkdir(parents=True, exist_ok=True)
     chosen = [p.strip() for p in args.problems.split(",") if p.strip()]
-    problems = {"bar": elastic_bar, "disks": disks, "plastic": plastic_bar, "upsetting": upsetting}
+    problems = {"bar": elastic_bar, "disks": disks, "plastic": plastic_bar, "upsetting": upsetting,
+                "parameters": parameters}
     for p in chosen:
         if p not in problems:
             raise SystemExit(f"implicit-study: unknown problem {p!r} (expected {', '.join(problems)})")
