@@ -28,6 +28,7 @@ void ImplicitSimulation<Dim, Kernel>::project(Real dt) {
   });
   scatter_force(particles_.state.sigma, f_k_);
   if (spec_.body_force) add_body_force(dt);
+  if (spec_.consistent_mass) project_consistent(dt);
   if (!rigid_.empty()) {
     std::ostringstream when;
     when.precision(9);

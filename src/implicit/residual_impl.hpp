@@ -49,12 +49,14 @@ void ImplicitSimulation<Dim, Kernel>::node_velocity_from(const Eigen::VectorXd& 
 
 // F(x) of Sulsky & Kaul 2004, Eq. (2.4.12), in the form (P^L - P^k) - dt ((1 - theta) f^k + theta f^L + f^ext)
 // on the free unknowns (P^L = m v^L in the velocity formulation, Sulsky & Kaul 2004, Eq. (2.4.5); Eq. (3.2.4) in
-// the momentum one), divided by Y h^Dim dt (Sec. 3.2.2). The stress follows from the strain increments of v^L
+// the momentum one; P^L - P^k = M (v^L - v^k) with the consistent mass of Eq. (2.2.6)), divided by Y h^Dim dt
+// (Sec. 3.2.2). The stress follows from the strain increments of v^L
 // (Sulsky & Kaul 2004, Eq. (2.2.18), Eq. (2.2.19), Eq. (2.2.20), Eq. (2.2.21)).
 template <int Dim, class Kernel>
 bool ImplicitSimulation<Dim, Kernel>::residual_at(const Eigen::VectorXd& x, Real dt, Eigen::VectorXd& r) {
   last_x_ = x;
   node_velocity_from(x);
+  if (spec_.consistent_mass) consistent_inertia();
   const ParticleSet<Dim>& p = particles_;
   const std::size_t np = p.size();
   Trial& t = trial_;
@@ -103,8 +105,9 @@ bool ImplicitSimulation<Dim, Kernel>::residual_at(const Eigen::VectorXd& x, Real
     const GridNode<Dim>& node = grid_.nodes[n];
     const Real P_L = spec_.formulation == Formulation::momentum ? x[static_cast<Eigen::Index>(k)]
                                                                  : node.m * x[static_cast<Eigen::Index>(k)];
+    const Real dP = spec_.consistent_mass ? mass_dv_[n][c] : P_L - node.m * node.v[c];
     const Real force = (1 - theta) * f_k_[n][c] + theta * f_trial_[n][c] + f_ext_[n][c];
-    r[static_cast<Eigen::Index>(k)] = scale * (P_L - node.m * node.v[c] - dt * force);
+    r[static_cast<Eigen::Index>(k)] = scale * (dP - dt * force);
   }
   return r.allFinite();
 }
@@ -121,7 +124,8 @@ void ImplicitSimulation<Dim, Kernel>::compute_reactions(Real dt) {
   for (const Fixed& f : fixed_) {
     const GridNode<Dim>& node = grid_.nodes[f.node];
     const int c = f.component;
-    const Real force = node.m * (f.value - node.v[c]) / dt -
+    const Real inertia = spec_.consistent_mass ? mass_dv_[f.node][c] : node.m * (f.value - node.v[c]);
+    const Real force = inertia / dt -
                        ((1 - theta) * f_k_[f.node][c] + theta * f_trial_[f.node][c] + f_ext_[f.node][c]);
     (f.owner < groups ? face_reactions_[f.owner] : rigid_reactions[f.owner - groups])[c] += force;
   }

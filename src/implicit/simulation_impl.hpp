@@ -8,6 +8,7 @@
 #include "mpm/core/parallel.hpp"
 
 #include "mpm/implicit/simulation.hpp"
+#include "consistent_mass_impl.hpp"
 #include "projection_impl.hpp"
 #include "residual_impl.hpp"
 #include "tangent_impl.hpp"
@@ -182,7 +183,7 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
   Eigen::VectorXd r;
   last_newton_ = 0;
   last_residual_norms_.clear();
-  if (spec_.theta == 0) {
+  if (spec_.theta == 0 && !spec_.consistent_mass) {
     // Explicit: the unknowns follow from the forces at t^k (Sulsky & Kaul 2004, Eq. (2.4.4)); one evaluation
     // updates the stress.
     for (std::size_t k = 0; k < dof_node_.size(); ++k) {

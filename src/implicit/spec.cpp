@@ -57,6 +57,11 @@ void validate(const ImplicitSpec<Dim>& s, const std::string& where) {
           at + "implicit.solver: cg (linear) needs the symmetric velocity formulation");
   require(s.solver != ImplicitSolver::newton_cg || s.formulation == Formulation::velocity,
           at + "implicit.solver: newton-cg needs the symmetric velocity formulation (use newton-gmres)");
+  require(!s.consistent_mass || s.formulation == Formulation::velocity,
+          at + "implicit.mass: the consistent mass matrix needs the velocity formulation");
+  require(!s.consistent_mass || (!s.frozen_jacobian && s.solver != ImplicitSolver::newton_direct),
+          at + "implicit.mass: the assembled Jacobians of the frozen-Jacobian preconditioner and newton-direct use the "
+               "lumped mass");
   numerics::validate(s.newton, at + "[implicit]");
   const StepControl& c = s.step;
   if (c.dt > 0)

@@ -190,6 +190,12 @@ void read_implicit(const Section& s, Scene& sc) {
   im.frozen_jacobian = s.choice("preconditioner", "none", {"none", "frozen-jacobian"}) == "frozen-jacobian";
   n.refresh_after = s.integer("refresh_after", 8);
   im.scaled_residual = s.choice("residual", "scaled", {"scaled", "unscaled"}) == "scaled";
+  im.consistent_mass = s.choice("mass", "lumped", {"lumped", "consistent"}) == "consistent";
+  if (im.consistent_mass && im.formulation != Formulation::velocity)
+    s.fail("mass", "the consistent mass matrix needs the velocity formulation (formulation = \"velocity\")");
+  if (im.consistent_mass && (im.frozen_jacobian || im.solver == ImplicitSolver::newton_direct))
+    s.fail("mass", "the assembled Jacobians of preconditioner = \"frozen-jacobian\" and solver = \"newton-direct\" "
+                   "use the lumped mass");
   try {
     numerics::validate(n, "");
   } catch (const InputError& e) {  // "KEY: what": report it at the key as written in the file
@@ -268,7 +274,8 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
     read_implicit(Section(*im, "implicit", loc,
                           {"theta", "formulation", "solver", "newton_tolerance", "linear_tolerance", "derivative_step",
                            "restart", "max_newton", "max_krylov", "line_search", "max_backtracks", "forcing",
-                           "preconditioner", "refresh_after", "residual", "step_factor", "start_factor", "growth", "max_retries"}),
+                           "preconditioner", "refresh_after", "residual", "mass", "step_factor", "start_factor", "growth",
+                           "max_retries"}),
                   sc);
   }
   const std::vector<const toml::table*> materials = top.tables("materials");

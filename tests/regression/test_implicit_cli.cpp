@@ -89,6 +89,12 @@ INSTANTIATE_TEST_SUITE_P(
         BadSetting{"OutflowOnTheAxis",
                    "--set simulation.geometry=axisymmetric --set 'grid.faces={x-min=\"outflow\"}'",
                    "x-min", "the axis r = 0 of an axisymmetric grid cannot be an outflow face"},
+        BadSetting{"ConsistentMassWithMomentum", "--set implicit.mass=consistent", "implicit.mass",
+                   "the consistent mass matrix needs the velocity formulation"},
+        BadSetting{"ConsistentMassWithFrozenJacobian",
+                   "--set implicit.mass=consistent --set implicit.formulation=velocity "
+                   "--set implicit.preconditioner=frozen-jacobian",
+                   "implicit.mass", "use the lumped mass"},
         BadSetting{"UnknownResidual", "--set implicit.residual=relative", "implicit.residual",
                    "expected one of scaled, unscaled"},
         BadSetting{"CgWithMomentum", "--set implicit.solver=newton-cg", "implicit.solver", "CG needs the symmetric velocity formulation"},

@@ -103,19 +103,20 @@ std::int64_t cost(const std::string& gamma, const std::string& epsilon) {
 // 1e-6 costs less than twice 1e-4 for gamma <= 1e-2, as the paper says, but 2.4x for gamma = 1e-1.
 TEST(ImplicitParameters, SmallerLinearParameterCostsMore) {
   const char* gammas[] = {"1e-1", "1e-2", "1e-4", "1e-6"};
-  std::int64_t at[3][4];
+  double at[3][4];  // evaluation units
   const char* epsilons[] = {"1e-1", "1e-4", "1e-6"};
   for (int e = 0; e < 3; ++e)
-    for (int g = 0; g < 4; ++g) at[e][g] = cost(gammas[g], epsilons[e]);
+    for (int g = 0; g < 4; ++g) at[e][g] = static_cast<double>(cost(gammas[g], epsilons[e]));
   for (int e = 0; e < 3; ++e)
-    std::printf("epsilon %s: %lld %lld %lld %lld\n", epsilons[e], static_cast<long long>(at[e][0]),
-                static_cast<long long>(at[e][1]), static_cast<long long>(at[e][2]), static_cast<long long>(at[e][3]));
+    std::printf("epsilon %s: %.0f %.0f %.0f %.0f\n", epsilons[e], at[e][0], at[e][1], at[e][2], at[e][3]);
   for (int e = 0; e < 2; ++e)
     for (int g = 0; g + 1 < 4; ++g) EXPECT_LT(at[e][g], at[e][g + 1]) << "epsilon " << epsilons[e] << ", gamma " << gammas[g];
   for (int g = 0; g < 4; ++g) {
     EXPECT_GT(at[1][g], 1.9 * at[0][g]) << "gamma " << gammas[g];
     EXPECT_LT(at[1][g], 2.5 * at[0][g]) << "gamma " << gammas[g];
-    if (g > 0) EXPECT_LT(at[2][g], 2 * at[1][g]) << "gamma " << gammas[g];
+    if (g > 0) {
+      EXPECT_LT(at[2][g], 2 * at[1][g]) << "gamma " << gammas[g];
+    }
   }
   EXPECT_GT(at[2][0], 2 * at[1][0]);
 }

@@ -130,6 +130,11 @@ class ImplicitSimulation {
   template <class Value>
   void gather_over_active_nodes(Value value, std::vector<Vec<Dim>>& out);
   void node_velocity_from(const Eigen::VectorXd& x);
+  /// The consistent mass matrix (implicit.mass = "consistent"): u <- M u on the node field u, the projection of
+  /// v^k with it, and the residual's inertia term M (v^L - v^k) into mass_dv_.
+  void consistent_mass_times(std::vector<Vec<Dim>>& u);
+  void project_consistent(Real dt);
+  void consistent_inertia();
   bool residual_at(const Eigen::VectorXd& x, Real dt, Eigen::VectorXd& r);
   void accept(Real dt);
   void compute_reactions(Real dt);
@@ -160,6 +165,7 @@ class ImplicitSimulation {
   std::vector<Vec<Dim>> f_k_, f_ext_, f_trial_;
   std::vector<Vec<Dim>> momentum_velocity_;  // momentum formulation: P_i^L / m_i
   std::vector<Vec<Dim>> dv_, v_move_;  // per particle: sum_i N_i (v_i^L - v_i^k), and the velocity that moves it
+  std::vector<Vec<Dim>> mass_dv_, u_p_;  // consistent mass: M (v^L - v^k) per node; a node field at the particles
   // Unknowns: free (node, component) pairs; constrained ones with their value and owner (face group or rigid body).
   std::vector<std::int32_t> dof_node_;
   std::vector<std::int8_t> dof_comp_;

@@ -59,6 +59,9 @@ struct ImplicitSpec {
   /// dimensionless form of its Newton-GMRES runs); false keeps it in force x time, as its Newton-CG runs
   /// (Tables 1-3), so that newton_tolerance is an absolute tolerance in those units.
   bool scaled_residual = true;
+  /// The consistent mass matrix of Sulsky & Kaul 2004, Eq. (2.2.6) in the momentum equation and the projection,
+  /// in place of the lumped one of Eq. (2.2.12) that the paper runs with (velocity formulation only).
+  bool consistent_mass = false;
   StepControl step;
   /// Neo-Hookean and rate-form materials (Neo-Hookean in plane strain only).
   std::vector<Material> materials;

@@ -45,6 +45,8 @@ struct SceneImplicit {
   numerics::NewtonSettings newton;
   bool frozen_jacobian = false;
   bool scaled_residual = true;  ///< residual = "scaled" (Sec. 3.2.2) or "unscaled"
+  /// mass = "consistent" (Sulsky & Kaul 2004, Eq. (2.2.6)) or "lumped" (Sulsky & Kaul 2004, Eq. (2.2.12))
+  bool consistent_mass = false;
   double step_factor = 1, start_factor = 1, growth = 1.2;
   int max_retries = 8;
 };
