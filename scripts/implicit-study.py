@@ -4,7 +4,7 @@ in the material-point method", Sec. 3 (Tables 1-6, Figs 1, 3, 4, 6-8 and 10-12),
 
 Usage (after building): /usr/bin/python3 scripts/implicit-study.py [--quick] [--mpm build/bin/mpm]
                         [--threads N] [--repeat N] [--timeout S] [--reuse]
-                        [--problems bar,disks,plastic,upsetting,parameters]
+                        [--problems bar,disks,plastic,upsetting,parameters,candidates]
                         [--preconditioner NAME]
 Needs Debian's python3-numpy and python3-matplotlib. The runs go to out/implicit-study/.
 --quick skips the slow upsetting runs (1x, 10x and the finest mesh, 96 x 72, with and without the preconditioner)
@@ -16,6 +16,7 @@ import pathlib
 import sys
 import time
 
+from implicit_study.candidates import candidates
 from implicit_study.disks import disks
 from implicit_study.document import write_document
 from implicit_study.elastic_bar import elastic_bar
@@ -40,8 +41,8 @@ def main():
                     help="implicit.preconditioner of the elastic bar's improvement rows (default frozen-jacobian)")
     ap.add_argument("--reuse", action="store_true",
                     help="reuse a run in out/implicit-study whose command is unchanged (for editing the report)")
-    ap.add_argument("--problems", default="bar,disks,plastic,upsetting,parameters",
-                    help="comma-separated subset of bar,disks,plastic,upsetting,parameters (default: all)")
+    ap.add_argument("--problems", default="bar,disks,plastic,upsetting,parameters,candidates",
+                    help="comma-separated subset of bar,disks,plastic,upsetting,parameters,candidates (default: all)")
     args = ap.parse_args()
     start = time.time()
     if not pathlib.Path(args.mpm).exists():
@@ -50,7 +51,7 @@ def main():
     (ROOT / OUT).mkdir(parents=True, exist_ok=True)
     chosen = [p.strip() for p in args.problems.split(",") if p.strip()]
     problems = {"bar": elastic_bar, "disks": disks, "plastic": plastic_bar, "upsetting": upsetting,
-                "parameters": parameters}
+                "parameters": parameters, "candidates": candidates}
     for p in chosen:
         if p not in problems:
             raise SystemExit(f"implicit-study: unknown problem {p!r} (expected {', '.join(problems)})")

@@ -78,8 +78,9 @@ def elastic_bar(args):
              "milliseconds, so repeats move it by up to 2x; the evaluation units are deterministic.")
     d.append("- Counts: with the paper's parameters (epsilon = 1e-5, gamma = 1e-3, h = 1e-5) our GMRES takes about "
              "5 iterations per Newton step where the paper's takes 2, and this sets most of the gap in the ratios. "
-             "We have not found the cause. The residual scaling is the paper's (Sec. 3.2.2); the right end differs (ours "
-             "is a roller, the paper's no-slip), which changes the operator's spectrum. The "
+             "Sec. 6 tests the candidate causes one at a time: at the paper's step our steps and Newton iterations "
+             "are the paper's to 10%, and none of the others (the paper's no-slip end, the formulation, the mass "
+             "matrix, h, the restart, the kernel) brings the GMRES count down; its cause is not found. The "
              "preconditioned rows show that the linear solves, not Newton, carry the difference: with the Jacobian "
              "factorised, every Newton step takes one GMRES iteration.")
 

@@ -37,23 +37,7 @@ Scene shear_wave(double mu, double factor) {
 newton_tolerance = 1e-10
 linear_tolerance = 1e-8
 max_retries = 0
-[grid]
-lo = [0.0, 0.0]
-hi = [1.0, 1.0]
-cells = [8, 8]
-faces = { x-min = "periodic", x-max = "periodic", y-min = "periodic", y-max = "periodic" }
-[[materials]]
-name = "m"
-model = "hypoelastic"
-E = 1000.0
-nu = 0.25
-density = 10.0
-[[bodies]]
-shape = "box"
-lo = [0.0, 0.0]
-hi = [1.0, 1.0]
-velocity = ["1e-4 * sin(2 * _pi * y)", 0]
-)toml";
+)toml" << mpm::testing::periodic_shear_wave;
   return mpm::testing::scene_from_text("implicit_theta", text.str());
 }
 
