@@ -142,6 +142,9 @@ class Explicit {
     if (!sim_.particles().state.empty()) add_state_fields(sim_.particles().state, fields);
   }
   void summarize(nlohmann::json&) const {}
+  /// history.csv's solver columns: none for the explicit step.
+  std::vector<std::string> counter_names() const { return {}; }
+  std::vector<std::int64_t> counters() const { return {}; }
   void save(io::CheckpointData& c) const {
     if (!sim_.particles().state.empty()) save_state(sim_.particles(), c);
     if (!spec_.rigid_bodies.empty()) c.reals["rigid_displacement"] = flat(sim_.rigid_bodies().displacements());
@@ -224,6 +227,12 @@ class Implicit {
                      {"residual_evaluations", c.residual_evaluations},
                      {"line_search_backtracks", c.backtracks},
                      {"step_retries", c.retries}};
+  }
+  /// history.csv's solver columns: Newton and Krylov iterations since t = 0 (their differences per step draw
+  /// Sulsky & Kaul 2004, Fig. 9a).
+  std::vector<std::string> counter_names() const { return {"newton_iterations", "krylov_iterations"}; }
+  std::vector<std::int64_t> counters() const {
+    return {sim_.counters().newton_iterations, sim_.counters().krylov_iterations};
   }
   void save(io::CheckpointData& c) const {
     save_state(sim_.particles(), c);

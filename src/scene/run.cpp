@@ -169,6 +169,7 @@ class SceneRun {
     for (int d = 0; d < Dim; ++d) history_ << ",momentum_" << axis[d];
     for (const std::string& name : engine_.reaction_names())
       for (int d = 0; d < Dim; ++d) history_ << ",reaction_" << name << "_" << axis[d];
+    for (const std::string& name : engine_.counter_names()) history_ << ',' << name;
     if (has_outflow()) {
       history_ << ",outflow_mass,outflow_energy";
       for (int d = 0; d < Dim; ++d) history_ << ",outflow_momentum_" << axis[d];
@@ -199,6 +200,7 @@ class SceneRun {
     for (int d = 0; d < Dim; ++d) history_ << ',' << t.momentum[d];
     for (const Vec<Dim>& r : engine_.reactions())
       for (int d = 0; d < Dim; ++d) history_ << ',' << r[d];
+    for (const std::int64_t n : engine_.counters()) history_ << ',' << n;
     if (has_outflow()) {
       const Outflow<Dim>& out = sim_.outflow();
       history_ << ',' << out.mass << ',' << out.kinetic_energy + out.strain_energy;

@@ -231,3 +231,33 @@ contact_axes = ["x"]
 }
 
 }  // namespace
+
+namespace {
+// history.csv's last two columns count the Newton and Krylov iterations since t = 0, row by row: they start at 0,
+// never fall, and end at summary.json's counts.
+TEST(ImplicitHistory, CountsNewtonAndKrylovIterations) {
+  const fs::path dir = scratch("history_counts");
+  const std::string out = (dir / "out").string();
+  ASSERT_EQ(run(bar + " --quiet --out " + out, dir / "log"), 0) << slurp(dir / "log");
+  std::istringstream history(slurp(fs::path(out) / "history.csv"));
+  std::string line;
+  std::getline(history, line);
+  EXPECT_NE(line.find(",newton_iterations,krylov_iterations"), std::string::npos) << line;
+  long long newton = -1, krylov = -1, rows = 0;
+  while (std::getline(history, line)) {
+    const std::size_t last = line.rfind(','), before = line.rfind(',', last - 1);
+    const long long n = std::stoll(line.substr(before + 1, last - before - 1)), k = std::stoll(line.substr(last + 1));
+    if (rows++ == 0) {
+      EXPECT_TRUE(n == 0 && k == 0);
+    }
+    EXPECT_GE(n, newton);
+    EXPECT_GE(k, krylov);
+    newton = n, krylov = k;
+  }
+  const nlohmann::json s = summary(out);
+  EXPECT_EQ(rows, s["steps"].get<long long>() + 1);
+  EXPECT_EQ(newton, s["implicit"]["newton_iterations"].get<long long>());
+  EXPECT_EQ(krylov, s["implicit"]["krylov_iterations"].get<long long>());
+  fs::remove_all(dir);
+}
+}  // namespace
