@@ -4,7 +4,7 @@ in the material-point method", Sec. 3 (Tables 1-6, Figs 1, 3, 4, 6-8 and 10-12),
 
 Usage (after building): /usr/bin/python3 scripts/implicit-study.py [--quick] [--mpm build/bin/mpm]
                         [--threads N] [--repeat N] [--timeout S] [--reuse]
-                        [--problems bar,disks,plastic,upsetting,parameters,candidates]
+                        [--problems bar,disks,plastic,upsetting,parameters,candidates,variants]
                         [--preconditioner NAME]
 Needs Debian's python3-numpy and python3-matplotlib. The runs go to out/implicit-study/.
 --quick skips the slow upsetting runs (1x, 10x and the finest mesh, 96 x 72, with and without the preconditioner)
@@ -25,6 +25,7 @@ from implicit_study.paths import FIGS, OUT, ROOT
 from implicit_study.plastic_bar import plastic_bar
 from implicit_study.progress import log
 from implicit_study.upsetting import upsetting
+from implicit_study.variants import variants
 
 
 def main():
@@ -41,8 +42,9 @@ def main():
                     help="implicit.preconditioner of the elastic bar's improvement rows (default frozen-jacobian)")
     ap.add_argument("--reuse", action="store_true",
                     help="reuse a run in out/implicit-study whose command is unchanged (for editing the report)")
-    ap.add_argument("--problems", default="bar,disks,plastic,upsetting,parameters,candidates",
-                    help="comma-separated subset of bar,disks,plastic,upsetting,parameters,candidates (default: all)")
+    ap.add_argument("--problems", default="bar,disks,plastic,upsetting,parameters,candidates,variants",
+                    help="comma-separated subset of bar,disks,plastic,upsetting,parameters,candidates,variants "
+                         "(default: all)")
     args = ap.parse_args()
     start = time.time()
     if not pathlib.Path(args.mpm).exists():
@@ -51,7 +53,7 @@ def main():
     (ROOT / OUT).mkdir(parents=True, exist_ok=True)
     chosen = [p.strip() for p in args.problems.split(",") if p.strip()]
     problems = {"bar": elastic_bar, "disks": disks, "plastic": plastic_bar, "upsetting": upsetting,
-                "parameters": parameters, "candidates": candidates}
+                "parameters": parameters, "candidates": candidates, "variants": variants}
     for p in chosen:
         if p not in problems:
             raise SystemExit(f"implicit-study: unknown problem {p!r} (expected {', '.join(problems)})")

@@ -100,7 +100,7 @@ Mech. Engrg. 193 (2004) 1137-1170, Sec. 3.
 ## Running the study
 
 `/usr/bin/python3 scripts/implicit-study.py [--quick] [--threads N] [--repeat N] [--timeout S] [--reuse]
-[--problems bar,disks,plastic,upsetting,parameters,candidates] [--preconditioner NAME] [--mpm build/bin/mpm]`: `--quick` leaves out the slow upsetting
+[--problems bar,disks,plastic,upsetting,parameters,candidates,variants] [--preconditioner NAME] [--mpm build/bin/mpm]`: `--quick` leaves out the slow upsetting
 runs (1x, 10x and the finest mesh, 96 x 72); `--reuse` keeps runs whose command line is unchanged.
 
 {STATEMENTS}
