@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "mpm/core/errors.hpp"
 #include "mpm/io/checkpoint.hpp"
@@ -21,6 +22,31 @@ struct Accumulators {
   ErrorNorms error;           ///< the [check] error norms so far
 };
 
+/// What has left through outflow faces, into a checkpoint and back. A checkpoint written before outflow faces
+/// existed holds none of it: nothing had left.
+template <int Dim>
+void save_outflow(const Outflow<Dim>& out, io::CheckpointData& c) {
+  c.integer_scalars["outflow_particles"] = out.particles;
+  c.real_scalars["outflow_mass"] = out.mass;
+  c.real_scalars["outflow_kinetic_energy"] = out.kinetic_energy;
+  c.real_scalars["outflow_strain_energy"] = out.strain_energy;
+  c.reals["outflow_momentum"] = std::vector<double>(out.momentum.data(), out.momentum.data() + Dim);
+}
+template <int Dim>
+Outflow<Dim> load_outflow(const io::CheckpointData& c, const std::string& where) {
+  Outflow<Dim> out;
+  const auto gone = c.integer_scalars.find("outflow_particles");
+  if (gone == c.integer_scalars.end()) return out;
+  out.particles = gone->second;
+  out.mass = scene_engines::entry(c.real_scalars, "outflow_mass", where);
+  out.kinetic_energy = scene_engines::entry(c.real_scalars, "outflow_kinetic_energy", where);
+  out.strain_energy = scene_engines::entry(c.real_scalars, "outflow_strain_energy", where);
+  const std::vector<double>& momentum = scene_engines::entry(c.reals, "outflow_momentum", where);
+  if (momentum.size() != Dim) throw InputError(where + ": array 'outflow_momentum' has the wrong size");
+  std::copy(momentum.begin(), momentum.end(), out.momentum.data());
+  return out;
+}
+
 template <int Dim, class Engine>
 io::CheckpointData save(const Scene& sc, const Engine& engine, const Accumulators& a) {
   using scene_engines::flat;
@@ -35,12 +61,7 @@ io::CheckpointData save(const Scene& sc, const Engine& engine, const Accumulator
   c.reals = {{"x", flat(p.x)}, {"X", flat(p.X)}, {"v", flat(p.v)}, {"F", flat(p.F)}, {"m", p.m}, {"V0", p.V0},
              {"l0", flat(p.l0)}, {"l", flat(p.l)}};
   c.integers["material"] = std::vector<std::int64_t>(p.material.begin(), p.material.end());
-  const Outflow<Dim>& out = engine.sim().outflow();
-  c.integer_scalars["outflow_particles"] = out.particles;
-  c.real_scalars["outflow_mass"] = out.mass;
-  c.real_scalars["outflow_kinetic_energy"] = out.kinetic_energy;
-  c.real_scalars["outflow_strain_energy"] = out.strain_energy;
-  c.reals["outflow_momentum"] = std::vector<double>(out.momentum.data(), out.momentum.data() + Dim);
+  save_outflow(engine.sim().outflow(), c);
   engine.save(c);
   return c;
 }
@@ -57,18 +78,10 @@ void restore(const io::CheckpointData& c, Engine& engine, Accumulators& a, const
   };
   ParticleSet<Dim>& p = engine.sim().particles();
   const std::int64_t particles = scalar(c.integer_scalars, "particles");
-  const std::int64_t gone = scalar(c.integer_scalars, "outflow_particles");
-  if (scalar(c.integer_scalars, "dim") != Dim || particles < 0 || gone < 0 ||
-      particles + gone != static_cast<std::int64_t>(p.size()))
+  const Outflow<Dim> out = load_outflow<Dim>(c, where);
+  if (scalar(c.integer_scalars, "dim") != Dim || particles < 0 || out.particles < 0 ||
+      particles + out.particles != static_cast<std::int64_t>(p.size()))
     throw InputError(where + ": the checkpoint holds a different scene (dimension or particle count differ)");
-  Outflow<Dim> out;
-  out.particles = gone;
-  out.mass = scalar(c.real_scalars, "outflow_mass");
-  out.kinetic_energy = scalar(c.real_scalars, "outflow_kinetic_energy");
-  out.strain_energy = scalar(c.real_scalars, "outflow_strain_energy");
-  const std::vector<double>& momentum = scalar(c.reals, "outflow_momentum");
-  if (momentum.size() != Dim) throw InputError(where + ": array 'outflow_momentum' has the wrong size");
-  std::copy(momentum.begin(), momentum.end(), out.momentum.data());
   engine.sim().restore_outflow(static_cast<std::size_t>(particles), out);
   auto array = [&](const std::string& key) -> const std::vector<double>& { return scalar(c.reals, key); };
   unflat(array("x"), p.x, "x");
