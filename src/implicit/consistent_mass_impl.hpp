@@ -32,7 +32,9 @@ void ImplicitSimulation<Dim, Kernel>::consistent_mass_times(std::vector<Vec<Dim>
 // The node velocities v^k with M v^k = sum_p m_p v_p N_i(x_p) (Sulsky & Kaul 2004, Eq. (2.2.5) with the consistent
 // mass of Eq. (2.2.6) in place of the lumped one of Eq. (2.2.14)), on the owned nodes that carry mass, by CG
 // preconditioned with the lumped mass; GridNode::v holds the lumped projection on entry and the result on exit.
-// Throws SimulationFailure when CG does not converge (a singular mass matrix: too few particles per cell).
+// M is singular where few particles share a node's support, but the momentum lies in its range (it is the mass
+// matrix's own product with the particle velocities), so CG converges there too (measured with one particle per
+// cell). Throws SimulationFailure when CG does not converge.
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::project_consistent(Real dt) {
   std::vector<std::int32_t> active;
@@ -68,9 +70,9 @@ void ImplicitSimulation<Dim, Kernel>::project_consistent(Real dt) {
   if (!stats.converged) {
     std::ostringstream os;
     os.precision(9);
-    os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": the consistent mass matrix (implicit.mass = "
-       << "\"consistent\") is singular after " << stats.iterations
-       << " CG iterations: seed more particles per cell, or use the lumped mass";
+    os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": the projection with the consistent mass matrix "
+       << "(implicit.mass = \"consistent\") did not converge in " << stats.iterations
+       << " CG iterations: use the lumped mass";
     throw SimulationFailure(os.str());
   }
   for (std::size_t k = 0; k < active.size(); ++k)
