@@ -255,18 +255,20 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
 
 
 // Update the particles from the converged step (Sulsky & Kaul 2004, Eq. (2.3.2), Eq. (2.3.3), Eq. (2.3.4),
-// Eq. (2.3.5), or Eq. (3.2.5), Eq. (3.2.6)). The new
+// Eq. (2.3.5), or Eq. (3.2.5), Eq. (3.2.6)); with move_with_projected_velocity the momentum formulation moves
+// them with the v^L of Sulsky & Kaul 2004, Eq. (3.2.7), as the velocity formulation does. The new
 // positions are checked before anything changes, so a failure leaves the last good state.
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
   ParticleSet<Dim>& p = particles_;
   const bool momentum = spec_.formulation == Formulation::momentum;
+  const bool with_momentum = momentum && !spec_.move_with_projected_velocity;
   const bool deformed_sizes = spec_.kernel == KernelKind::cpgimp;
   const bool axisymmetric = Dim == 2 && spec_.geometry == Geometry::axisymmetric;
   trial_.x.resize(p.size());
   if (!momentum) trial_.v.resize(p.size());
   gather_over_active_nodes(
-      [&](const GridNode<Dim>& node, std::size_t n) { return momentum ? momentum_velocity_[n] : node.v_new; }, v_move_);
+      [&](const GridNode<Dim>& node, std::size_t n) { return with_momentum ? momentum_velocity_[n] : node.v_new; }, v_move_);
   if (!momentum) gather_over_active_nodes([](const GridNode<Dim>& node, std::size_t) { return node.v_new - node.v; }, dv_);
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
     trial_.x[i] = grid_.geometry.wrap(p.x[i] + dt * v_move_[i]);  // Sulsky & Kaul 2004, Eq. (2.3.2), or Eq. (3.2.5)

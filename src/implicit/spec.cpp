@@ -59,6 +59,9 @@ void validate(const ImplicitSpec<Dim>& s, const std::string& where) {
           at + "implicit.solver: newton-cg needs the symmetric velocity formulation (use newton-gmres)");
   require(!s.consistent_mass || s.formulation == Formulation::velocity,
           at + "implicit.mass: the consistent mass matrix needs the velocity formulation");
+  require(!s.move_with_projected_velocity || s.formulation == Formulation::momentum,
+          at + "implicit.positions: \"projected-velocity\" belongs to the momentum formulation (the velocity "
+               "formulation moves the particles with its unknown v^L)");
   require(!s.consistent_mass || (!s.frozen_jacobian && s.solver != ImplicitSolver::newton_direct),
           at + "implicit.mass: the assembled Jacobians of the frozen-Jacobian preconditioner and newton-direct use the "
                "lumped mass");

@@ -277,6 +277,7 @@ ImplicitSpec<Dim> make_implicit_spec(const Scene& sc) {
   spec.frozen_jacobian = im.frozen_jacobian;
   spec.scaled_residual = im.scaled_residual;
   spec.consistent_mass = im.consistent_mass;
+  spec.move_with_projected_velocity = im.move_with_projected_velocity;
   spec.step = {sc.cfl, sc.dt, im.step_factor, im.start_factor, im.growth, im.max_retries};
   spec.materials = materials_of(sc);
   spec.boundary = boundary_of<Dim>(sc);

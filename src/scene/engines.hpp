@@ -217,6 +217,9 @@ class Implicit {
     const ImplicitCounters& c = sim_.counters();
     j["implicit"] = {{"theta", spec_.theta},
                      {"formulation", to_string(spec_.formulation)},
+                     {"positions", spec_.formulation == Formulation::velocity ? "velocity"
+                                   : spec_.move_with_projected_velocity ? "projected-velocity"
+                                                                       : "momentum"},
                      {"solver", to_string(spec_.solver)},
                      {"preconditioner", spec_.frozen_jacobian ? "frozen-jacobian" : "none"},
                      {"preconditioner_builds", c.preconditioner_builds},

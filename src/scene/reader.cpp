@@ -196,6 +196,11 @@ void read_implicit(const Section& s, Scene& sc) {
   if (im.consistent_mass && (im.frozen_jacobian || im.solver == ImplicitSolver::newton_direct))
     s.fail("mass", "the assembled Jacobians of preconditioner = \"frozen-jacobian\" and solver = \"newton-direct\" "
                    "use the lumped mass");
+  im.move_with_projected_velocity =
+      s.choice("positions", "momentum", {"momentum", "projected-velocity"}) == "projected-velocity";
+  if (im.move_with_projected_velocity && im.formulation != Formulation::momentum)
+    s.fail("positions", "\"projected-velocity\" belongs to the momentum formulation (formulation = \"momentum\"); "
+                        "the velocity formulation moves the particles with its unknown");
   try {
     numerics::validate(n, "");
   } catch (const InputError& e) {  // "KEY: what": report it at the key as written in the file
@@ -274,7 +279,7 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
     read_implicit(Section(*im, "implicit", loc,
                           {"theta", "formulation", "solver", "newton_tolerance", "linear_tolerance", "derivative_step",
                            "restart", "max_newton", "max_krylov", "line_search", "max_backtracks", "forcing",
-                           "preconditioner", "refresh_after", "residual", "mass", "step_factor", "start_factor", "growth",
+                           "preconditioner", "refresh_after", "residual", "mass", "positions", "step_factor", "start_factor", "growth",
                            "max_retries"}),
                   sc);
   }

@@ -95,6 +95,11 @@ INSTANTIATE_TEST_SUITE_P(
                    "--set implicit.mass=consistent --set implicit.formulation=velocity "
                    "--set implicit.preconditioner=frozen-jacobian",
                    "implicit.mass", "use the lumped mass"},
+        BadSetting{"ProjectedPositionsWithVelocity",
+                   "--set implicit.positions=projected-velocity --set implicit.formulation=velocity",
+                   "implicit.positions", "belongs to the momentum formulation"},
+        BadSetting{"UnknownPositions", "--set implicit.positions=flip", "implicit.positions",
+                   "expected one of momentum, projected-velocity"},
         BadSetting{"UnknownResidual", "--set implicit.residual=relative", "implicit.residual",
                    "expected one of scaled, unscaled"},
         BadSetting{"CgWithMomentum", "--set implicit.solver=newton-cg", "implicit.solver", "CG needs the symmetric velocity formulation"},

@@ -62,6 +62,11 @@ struct ImplicitSpec {
   /// The consistent mass matrix of Sulsky & Kaul 2004, Eq. (2.2.6) in the momentum equation and the projection,
   /// in place of the lumped one of Eq. (2.2.12) that the paper runs with (velocity formulation only).
   bool consistent_mass = false;
+  /// Momentum formulation: move the particles with the velocity v^L projected from their updated velocities
+  /// (Sulsky & Kaul 2004, Eq. (3.2.7)), the field whose gradient strains them, instead of with sum_i P_i^L N_i /
+  /// m_i (Sulsky & Kaul 2004, Eq. (3.2.5)), the paper's position update, which moves them by a field their
+  /// stress never sees, so that their positions drift from the deformation they record (docs/implicit.md, Sec. 7).
+  bool move_with_projected_velocity = false;
   StepControl step;
   /// Neo-Hookean and rate-form materials (Neo-Hookean in plane strain only).
   std::vector<Material> materials;

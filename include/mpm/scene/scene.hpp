@@ -47,6 +47,9 @@ struct SceneImplicit {
   bool scaled_residual = true;  ///< residual = "scaled" (Sec. 3.2.2) or "unscaled"
   /// mass = "consistent" (Sulsky & Kaul 2004, Eq. (2.2.6)) or "lumped" (Sulsky & Kaul 2004, Eq. (2.2.12))
   bool consistent_mass = false;
+  /// positions = "projected-velocity" (Sulsky & Kaul 2004, Eq. (3.2.7)) or "momentum" (Sulsky & Kaul 2004,
+  /// Eq. (3.2.5))
+  bool move_with_projected_velocity = false;
   double step_factor = 1, start_factor = 1, growth = 1.2;
   int max_retries = 8;
 };
