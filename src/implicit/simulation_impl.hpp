@@ -147,6 +147,7 @@ void ImplicitSimulation<Dim, Kernel>::step(Real max_dt) {
   // takes that sliver along: a sliver step's residual, divided by its dt, would be round-off.
   if (max_dt > dt && max_dt - dt < 1e-6 * dt) dt = max_dt;
   bool halved = false;
+  attempts_.clear();
   for (int retry = 0; !try_step(dt); ++retry) {
     if (retry == spec_.step.max_retries) {
       std::ostringstream os;
@@ -170,6 +171,7 @@ void ImplicitSimulation<Dim, Kernel>::step(Real max_dt) {
 // equation for the free nodal unknowns, then update the particles from the converged solution.
 template <int Dim, class Kernel>
 bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
+  attempts_.push_back({dt, {}});
   project(dt);
   build_dofs(time_ + dt);
   const bool momentum = spec_.formulation == Formulation::momentum;
@@ -182,7 +184,6 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
   Residual problem(*this, dt);
   Eigen::VectorXd r;
   last_newton_ = 0;
-  last_residual_norms_.clear();
   if (spec_.theta == 0 && !spec_.consistent_mass) {
     // Explicit: the unknowns follow from the forces at t^k (Sulsky & Kaul 2004, Eq. (2.4.4)); one evaluation
     // updates the stress.
@@ -238,7 +239,7 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
     counters_.residual_evaluations += stats.residual_evaluations;
     counters_.backtracks += stats.backtracks;
     last_newton_ = stats.newton_iterations;
-    last_residual_norms_ = stats.residual_norms;
+    attempts_.back().residual_norms = stats.residual_norms;
     if (!stats.converged) return false;
     // The trial state must be that of the solution, not of the last perturbed evaluation.
     if (x.size() != last_x_.size() || x != last_x_) {

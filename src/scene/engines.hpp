@@ -142,6 +142,8 @@ class Explicit {
     if (!sim_.particles().state.empty()) add_state_fields(sim_.particles().state, fields);
   }
   void summarize(nlohmann::json&) const {}
+  /// newton.csv's rows: none for the explicit step.
+  std::vector<NewtonAttempt> newton_attempts() const { return {}; }
   /// history.csv's solver columns: none for the explicit step.
   std::vector<std::string> counter_names() const { return {}; }
   std::vector<std::int64_t> counters() const { return {}; }
@@ -231,6 +233,8 @@ class Implicit {
                      {"line_search_backtracks", c.backtracks},
                      {"step_retries", c.retries}};
   }
+  /// newton.csv's rows: the tries at the last step (after a failure, at the step that failed).
+  const std::vector<NewtonAttempt>& newton_attempts() const { return sim_.last_step_attempts(); }
   /// history.csv's solver columns: Newton and Krylov iterations since t = 0 (their differences per step draw
   /// Sulsky & Kaul 2004, Fig. 9a).
   std::vector<std::string> counter_names() const { return {"newton_iterations", "krylov_iterations"}; }

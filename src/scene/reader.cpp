@@ -259,8 +259,11 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
                           simulation_keys),
                   sc);
   if (const toml::table* out = top.table("output")) {
-    const Section s(*out, "output", loc, {"every"});
+    const Section s(*out, "output", loc, {"every", "newton_log"});
     sc.output_every = s.number("every", 0);
+    sc.newton_log = s.choice("newton_log", "off", {"off", "on"}) == "on";
+    if (sc.newton_log && !sc.implicit)
+      s.fail("newton_log", "newton.csv logs the Newton iterations of integrator = \"implicit\"; this run is explicit");
     if (sc.output_every < 0) s.fail("every", "expected a non-negative interval [s] (0: first and last state only)");
     if (sc.output_every > 0 && sc.end_time / sc.output_every > limits::max_frames)
       s.fail("every", "end_time / every = " + describe(toml::value<double>(sc.end_time / sc.output_every)) +

@@ -23,6 +23,7 @@
 #include "run_progress.hpp"
 #include "run_checkpoint.hpp"
 #include "run_frame.hpp"
+#include "run_newton_log.hpp"
 #include "engines.hpp"
 #include "mpm/verification/error_norms.hpp"
 
@@ -82,12 +83,14 @@ class SceneRun {
           sim_.remove_outflow();
           if (has_check()) acc_.error.record(sim_.particles(), sim_.time(), ExactFromScene<Dim>{&sc_.exact_displacement});
           write_history_row();
+          if (newton_log_.is_open()) newton_log_.write(sim_.steps(), engine_.newton_attempts());
           if (sc_.output_every > 0 && sim_.time() >= next_output_time() * (1 - 1e-12)) write_frame();
           if (o_.checkpoint_every > 0 && sim_.steps() % o_.checkpoint_every == 0) write_checkpoint();
           progress.update(sim_.steps(), sim_.time());
         }
       } catch (const SimulationFailure& e) {
         failure = e.what();
+        if (newton_log_.is_open()) newton_log_.write(sim_.steps() + 1, engine_.newton_attempts());
         // The implicit engine fails before it touches the particles: checkpoint the last good state to restart from.
         if (Engine::failure_keeps_state) write_checkpoint();
       } catch (const std::bad_alloc&) {
@@ -104,6 +107,7 @@ class SceneRun {
         if (o_.checkpoint_every > 0 || unfinished) write_checkpoint();
       }
       flush_history();
+      if (newton_log_.is_open()) newton_log_.flush();
     } catch (const OutputError& e) {
       // The checkpoint written last (atomically) stays readable; say what failed, if the summary can be written.
       try {
@@ -148,7 +152,7 @@ class SceneRun {
       for (const fs::directory_entry& e : fs::directory_iterator(o_.out_dir)) {
         const std::string name = e.path().filename().string();
         if ((name.rfind("particles_", 0) == 0 && e.path().extension() == ".vtp") || name == "particles.pvd" ||
-            name == "history.csv" || name == "summary.json")
+            name == "history.csv" || name == "newton.csv" || name == "summary.json")
           fs::remove(e.path(), ec);
       }
       series_ = io::PvdSeries(pvd);
@@ -161,6 +165,7 @@ class SceneRun {
       keep_history_until(sim_.steps());
     }
     history_.precision(17);
+    if (sc_.newton_log) newton_log_.open(o_.out_dir / "newton.csv", !o_.restart.empty(), sim_.steps());
   }
 
   void write_history_header() {
@@ -180,13 +185,7 @@ class SceneRun {
   /// After a restart: keep the header and the rows up to the checkpoint's step, then append.
   void keep_history_until(std::int64_t step) {
     const fs::path file = o_.out_dir / "history.csv";
-    std::vector<std::string> kept;
-    std::ifstream is(file);
-    for (std::string line; std::getline(is, line);) {
-      if (!kept.empty() && std::stoll(line.substr(0, line.find(','))) > step) break;
-      kept.push_back(line);
-    }
-    is.close();
+    const std::vector<std::string> kept = rows_until(file, step);
     history_.open(file, std::ios::trunc);
     if (!history_) throw InputError("--out: cannot write " + file.string());
     if (kept.empty()) write_history_header();
@@ -309,6 +308,7 @@ class SceneRun {
   decltype(engine_.sim())& sim_;
   io::PvdSeries series_{""};
   std::ofstream history_;
+  NewtonLog newton_log_;  // newton.csv, with [output] newton_log = "on"
   scene_checkpoint::Accumulators acc_;  // what a checkpoint carries beside the particles
   Real previous_time_ = 0;
   std::vector<Vec<Dim>> v_before_;  // particle velocities before the step, for the work of the loads

@@ -1,11 +1,16 @@
 #pragma once
-// Helpers of the command-line tests: files, scratch folders, and a scene large enough to act on while it runs.
+// Helpers of the command-line tests: running `mpm run`, files, CSV columns, scratch folders, and a scene large
+// enough to act on while it runs.
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace mpm::testing {
 
@@ -15,6 +20,31 @@ inline std::string slurp(const std::filesystem::path& f) {
   std::stringstream ss;
   ss << is.rdbuf();
   return ss.str();
+}
+
+/// `mpm run FILE --quiet ARGS`, its output in `log`; the exit status (-1 when it did not exit).
+inline int run_mpm(const std::filesystem::path& file, const std::string& args, const std::filesystem::path& log) {
+  const std::string cmd =
+      std::string(MPM_BINARY) + " run " + file.string() + " --quiet " + args + " >" + log.string() + " 2>&1";
+  const int raw = std::system(cmd.c_str());
+  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+}
+
+/// A CSV with a header line (history.csv, newton.csv) as columns by name.
+inline std::map<std::string, std::vector<double>> csv_columns(const std::filesystem::path& file) {
+  std::ifstream is(file);
+  std::string line;
+  std::getline(is, line);
+  std::vector<std::string> names;
+  std::stringstream hs(line);
+  for (std::string h; std::getline(hs, h, ',');) names.push_back(h);
+  std::map<std::string, std::vector<double>> out;
+  while (std::getline(is, line)) {
+    std::stringstream ls(line);
+    std::string cell;
+    for (std::size_t k = 0; k < names.size() && std::getline(ls, cell, ','); ++k) out[names[k]].push_back(std::stod(cell));
+  }
+  return out;
 }
 
 /// A fresh temporary folder "PREFIX_NAME_PID", empty.

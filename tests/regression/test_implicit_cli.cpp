@@ -100,6 +100,8 @@ INSTANTIATE_TEST_SUITE_P(
                    "implicit.positions", "belongs to the momentum formulation"},
         BadSetting{"UnknownPositions", "--set implicit.positions=flip", "implicit.positions",
                    "expected one of momentum, projected-velocity"},
+        BadSetting{"NewtonLogOfAnExplicitRun", "--set output.newton_log=on --set simulation.integrator=usl",
+                   "output.newton_log", "this run is explicit"},
         BadSetting{"UnknownResidual", "--set implicit.residual=relative", "implicit.residual",
                    "expected one of scaled, unscaled"},
         BadSetting{"CgWithMomentum", "--set implicit.solver=newton-cg", "implicit.solver", "CG needs the symmetric velocity formulation"},

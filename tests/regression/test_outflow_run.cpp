@@ -18,7 +18,9 @@
 
 namespace {
 namespace fs = std::filesystem;
+using mpm::testing::csv_columns;
 using mpm::testing::slurp;
+const auto run = mpm::testing::run_mpm;
 
 /// An elastic block 0.2 x 0.4 m (80 kg per metre of thickness) thrown down at 1 m/s under gravity, spreading
 /// sideways as it goes, through the outflow face y = 0 of a 0.4 x 0.6 m grid.
@@ -49,30 +51,6 @@ velocity = ["0.5 * (x - 0.2)", -1.0]
 )toml";
 constexpr double mass = 80, g = -9.81;
 
-int run(const fs::path& file, const std::string& args, const fs::path& log) {
-  const std::string cmd =
-      std::string(MPM_BINARY) + " run " + file.string() + " --quiet " + args + " >" + log.string() + " 2>&1";
-  const int raw = std::system(cmd.c_str());
-  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-}
-
-/// history.csv as columns by name.
-std::map<std::string, std::vector<double>> columns(const fs::path& file) {
-  std::ifstream is(file);
-  std::string line;
-  std::getline(is, line);
-  std::vector<std::string> names;
-  std::stringstream hs(line);
-  for (std::string h; std::getline(hs, h, ',');) names.push_back(h);
-  std::map<std::string, std::vector<double>> out;
-  while (std::getline(is, line)) {
-    std::stringstream ls(line);
-    std::string cell;
-    for (std::size_t k = 0; k < names.size() && std::getline(ls, cell, ','); ++k) out[names[k]].push_back(std::stod(cell));
-  }
-  return out;
-}
-
 /// An engine, with the settings the test gives it.
 struct Engine {
   const char* name;
@@ -89,7 +67,7 @@ TEST_P(OutflowRun, HistoryCountsWhatLeftAndTheMomentumBalanceCloses) {
   std::ofstream(dir / "scene.toml") << scene;
   const std::string set = GetParam().settings;
   ASSERT_EQ(run(dir / "scene.toml", set + " --out " + (dir / "one").string(), dir / "log"), 0) << slurp(dir / "log");
-  auto h = columns(dir / "one/history.csv");
+  auto h = csv_columns(dir / "one/history.csv");
   ASSERT_TRUE(h.count("outflow_mass") && h.count("outflow_energy") && h.count("outflow_momentum_y"));
   const std::vector<double>& t = h["time"];
   double expected = h["momentum_y"][0];

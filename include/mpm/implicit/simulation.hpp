@@ -31,6 +31,13 @@ struct ImplicitCounters {
   std::int64_t preconditioner_builds = 0;  ///< frozen-Jacobian assemblies and factorisations
 };
 
+/// One try at a time step: its step size and ||F|| at each Newton iterate, the initial guess first (empty for
+/// theta = 0, the linear CG solve, and a try that failed before its Newton solve began).
+struct NewtonAttempt {
+  double dt = 0;
+  std::vector<double> residual_norms;
+};
+
 template <int Dim, class Kernel>
 class ImplicitSimulation {
  public:
@@ -100,7 +107,9 @@ class ImplicitSimulation {
   /// Newton iterations of the last step (0 for theta = 0).
   int last_newton_iterations() const { return last_newton_; }
   /// ||F|| at each Newton iterate of the last step's solve, the initial guess first (empty for theta = 0 and cg).
-  const std::vector<double>& last_residual_norms() const { return last_residual_norms_; }
+  const std::vector<double>& last_residual_norms() const { return attempts_.back().residual_norms; }
+  /// The tries at the last step, halved ones first; after a SimulationFailure, those of the step that failed.
+  const std::vector<NewtonAttempt>& last_step_attempts() const { return attempts_; }
 
   /// Continue from a saved state (particles and material state set already): the clock, step size and counters.
   void restore(Real time, std::int64_t steps, Real dt, const ImplicitCounters& counters,
@@ -185,7 +194,7 @@ class ImplicitSimulation {
   Real explicit_dt_ = 0, dt_ = 0, time_ = 0;
   std::int64_t steps_ = 0;
   int last_newton_ = 0;
-  std::vector<double> last_residual_norms_;
+  std::vector<NewtonAttempt> attempts_ = std::vector<NewtonAttempt>(1);  // of the last step (one empty before any)
 };
 
 }  // namespace mpm

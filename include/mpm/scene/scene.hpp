@@ -99,6 +99,7 @@ struct Scene {
 
   // [output]
   double output_every = 0;  ///< simulated time between particle outputs; 0: first and last only
+  bool newton_log = false;  ///< newton_log = "on": newton.csv, ||F|| at each Newton iterate (implicit runs)
 
   // [grid]
   std::vector<double> grid_lo, grid_hi;

@@ -1,0 +1,105 @@
+// `mpm run` with [output] newton_log = "on": newton.csv holds ||F|| at every Newton iterate of every try at a
+// step (Sulsky & Kaul 2004, Figs 5 and 9 draw these), consistent with the counts of history.csv, the tries of a
+// step whose solve fails included, and a restart continues it bitwise.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "support.hpp"
+
+namespace {
+namespace fs = std::filesystem;
+using mpm::testing::csv_columns;
+using mpm::testing::run_mpm;
+using mpm::testing::slurp;
+
+const fs::path plastic_bar = fs::path(__FILE__).parent_path().parent_path().parent_path() / "examples/implicit/plastic-bar.toml";
+const std::string logged = " --set output.newton_log=on --set implicit.step_factor=100";
+
+/// The rows of newton.csv at one step.
+struct StepRows {
+  std::map<int, std::vector<double>> norms;  // by attempt, in iteration order
+  std::map<int, double> dt;                  // by attempt
+};
+
+std::map<int, StepRows> by_step(const fs::path& file) {
+  auto c = csv_columns(file);
+  std::map<int, StepRows> out;
+  for (std::size_t r = 0; r < c["step"].size(); ++r) {
+    StepRows& s = out[static_cast<int>(c["step"][r])];
+    const int a = static_cast<int>(c["attempt"][r]);
+    EXPECT_EQ(c["iteration"][r], static_cast<double>(s.norms[a].size())) << "row " << r;
+    s.norms[a].push_back(c["residual_norm"][r]);
+    s.dt[a] = c["dt"][r];
+  }
+  return out;
+}
+
+// Every step of the elastic-plastic bar at 100x: the Newton iterations a step's tries logged (rows less one per
+// try) are history.csv's newton_iterations increments; the last try ends at or below newton_tolerance = 1e-6 and
+// every iterate before it is above (Newton stops at the first below); its dt is the step history.csv took.
+TEST(NewtonLog, RowsAreTheIteratesHistoryCounts) {
+  const fs::path dir = mpm::testing::scratch("mpm_newton_log", "rows");
+  ASSERT_EQ(run_mpm(plastic_bar, logged + " --out " + (dir / "out").string(), dir / "log"), 0) << slurp(dir / "log");
+  const auto rows = by_step(dir / "out/newton.csv");
+  auto h = csv_columns(dir / "out/history.csv");
+  const std::size_t steps = h["step"].size() - 1;
+  ASSERT_EQ(rows.size(), steps);
+  int newton_steps = 0;
+  for (std::size_t s = 1; s <= steps; ++s) {
+    const StepRows& r = rows.at(static_cast<int>(s));
+    double iterations = 0;
+    for (const auto& [attempt, norms] : r.norms) iterations += static_cast<double>(norms.size()) - 1;
+    EXPECT_EQ(iterations, h["newton_iterations"][s] - h["newton_iterations"][s - 1]) << "step " << s;
+    const std::vector<double>& last = r.norms.rbegin()->second;
+    EXPECT_LE(last.back(), 1e-6) << "step " << s;
+    for (std::size_t k = 0; k + 1 < last.size(); ++k) EXPECT_GT(last[k], 1e-6) << "step " << s << " iterate " << k;
+    EXPECT_NEAR(r.dt.rbegin()->second, h["time"][s] - h["time"][s - 1], 1e-12 * h["time"][s]) << "step " << s;
+    newton_steps += last.size() > 1;
+  }
+  EXPECT_GT(newton_steps, 0);
+  fs::remove_all(dir);
+}
+
+// One Newton iteration allowed and an unreachable tolerance: the first step fails at dt, dt/2 and dt/4 (two
+// halvings), and newton.csv logs the three tries of step 1, each with its initial and one Newton iterate.
+TEST(NewtonLog, LogsTheTriesOfAStepThatFails) {
+  const fs::path dir = mpm::testing::scratch("mpm_newton_log", "fails");
+  EXPECT_EQ(run_mpm(plastic_bar,
+                    logged + " --set implicit.max_newton=1 --set implicit.max_retries=2 "
+                             "--set implicit.newton_tolerance=1e-14 --out " + (dir / "out").string(),
+                    dir / "log"),
+            1)
+      << slurp(dir / "log");
+  const auto rows = by_step(dir / "out/newton.csv");
+  ASSERT_EQ(rows.size(), 1u);
+  const StepRows& r = rows.at(1);
+  ASSERT_EQ(r.norms.size(), 3u);
+  for (const auto& [attempt, norms] : r.norms) {
+    EXPECT_EQ(norms.size(), 2u) << "attempt " << attempt;
+    if (attempt > 0) {
+      EXPECT_EQ(r.dt.at(attempt), 0.5 * r.dt.at(attempt - 1));
+    }
+  }
+  fs::remove_all(dir);
+}
+
+// Stopped after 10 steps and restarted from its checkpoint, the run writes the same newton.csv as one run.
+TEST(NewtonLog, RestartContinuesItBitwise) {
+  const fs::path dir = mpm::testing::scratch("mpm_newton_log", "restart");
+  const std::string one = (dir / "one").string(), two = (dir / "two").string();
+  ASSERT_EQ(run_mpm(plastic_bar, logged + " --out " + one, dir / "log"), 0) << slurp(dir / "log");
+  ASSERT_EQ(run_mpm(plastic_bar, logged + " --out " + two + " --stop-after 10", dir / "log"), 0) << slurp(dir / "log");
+  ASSERT_EQ(run_mpm(plastic_bar, logged + " --out " + two + " --restart " + two + "/checkpoint.h5", dir / "log"), 0)
+      << slurp(dir / "log");
+  EXPECT_EQ(slurp(dir / "one/newton.csv"), slurp(dir / "two/newton.csv"));
+  EXPECT_GT(slurp(dir / "one/newton.csv").size(), 1000u);
+  fs::remove_all(dir);
+}
+
+}  // namespace
