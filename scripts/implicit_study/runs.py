@@ -144,6 +144,10 @@ class Run:
     def history(self):
         return read_history(ROOT / self.dir / "history.csv")
 
+    def newton_log(self):
+        """newton.csv (runs with output.newton_log=on) as columns: step, attempt, dt, iteration, residual_norm."""
+        return read_history(ROOT / self.dir / "newton.csv")
+
     def frames(self):
         """[(time, path)] from particles.pvd."""
         return read_pvd(ROOT / self.dir / "particles.pvd")

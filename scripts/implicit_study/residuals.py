@@ -1,0 +1,123 @@
+"""The residual histories of Sulsky & Kaul 2004, Figs 5 and 9b-d, from the runs' newton.csv (output.newton_log=on):
+Fig. 5, ||F|| at each Newton iterate of the elastic-plastic bar's steps that need two or more iterations, for each
+derivative step h; Fig. 9, the first step of the upsetting at 10000x with and without the line search (the bar,
+the paper's Fig. 9 problem, never needs it here)."""
+import matplotlib.pyplot as plt
+import numpy as np
+
+from .figures import save
+from .paths import SCENES
+from .runs import Run
+
+FIG5_H = ["1e-7", "1e-6", "1e-5", "1e-4", "1e-3", "1e-2"]
+LOG = ["output.newton_log=on"]
+
+
+def fig5_runs():
+    scene = SCENES / "plastic-bar.toml"
+    return {h: Run("parameters", f"1x t=100 gamma=1e-12 eps=1e-4 h={h}", scene,
+                   ["simulation.end_time=100", "implicit.linear_tolerance=1e-12", "implicit.newton_tolerance=1e-4",
+                    f"implicit.derivative_step={h}", "implicit.step_factor=1", "implicit.start_factor=1",
+                    "implicit.restart=200", "implicit.max_krylov=2000"] + LOG) for h in FIG5_H}
+
+
+def fig9_runs():
+    scene = SCENES / "upsetting.toml"
+    return {ls: Run("parameters", f"upsetting 10000x first steps, line search {ls}", scene,
+                    ["implicit.step_factor=10000", "implicit.start_factor=10000", f'implicit.line_search="{ls}"',
+                     "simulation.end_time=1e-3"] + LOG) for ls in ("on", "off")}
+
+
+def grouped(run):
+    """{step: {attempt: (dt, [||F_0||, ||F_1||, ...])}} from newton.csv, whose rows come in iteration order."""
+    log = run.newton_log()
+    out = {}
+    for step, attempt, dt, norm in zip(log["step"].astype(int), log["attempt"].astype(int), log["dt"],
+                                       log["residual_norm"]):
+        out.setdefault(step, {}).setdefault(attempt, (float(dt), []))[1].append(norm)
+    return out
+
+
+def converged_norms(run):
+    """{step: ||F|| at each iterate of its last try, the one that converged}."""
+    return {step: t[max(t)][1] for step, t in grouped(run).items()}
+
+
+def quadratic_constant(norms):
+    """The largest ||F_(n+1)|| / ||F_n||^2 over a step's iterates."""
+    return max(norms[k + 1] / norms[k] ** 2 for k in range(len(norms) - 1))
+
+
+def fig5(runs):
+    """Fig. 5: one panel per h, the steps that need two or more Newton iterations in every run, and the quadratic
+    ||F_(n+1)|| = C ||F_n||^2 dotted, C the largest of the panel's steps. Returns the figure and a line per h: steps drawn, largest and median C."""
+    norms = {h: converged_norms(r) for h, r in runs.items() if r.ok}
+    if len(norms) < len(runs):
+        return None, ["- Fig. 5: " + ", ".join(f"h = {h}: {r.status}" for h, r in runs.items() if not r.ok)]
+    common = sorted(set.intersection(*[{s for s, n in v.items() if len(n) >= 3} for v in norms.values()]))
+    fig, axes = plt.subplots(2, 3, figsize=(12, 7), sharey=True)
+    lines = []
+    for ax, h, letter in zip(axes.flat, FIG5_H, "abcdef"):
+        multi = {s: n for s, n in norms[h].items() if len(n) >= 3}
+        for s in common:
+            ax.semilogy(range(len(norms[h][s])), norms[h][s], "-*", markersize=4, linewidth=0.8)
+        cs = [quadratic_constant(n) for n in multi.values()]
+        quad = [max(norms[h][s][0] for s in common)]
+        while quad[-1] > 1e-13 and len(quad) < 4:
+            quad.append(max(cs) * quad[-1] ** 2)
+        ax.semilogy(range(len(quad)), quad, "k:", linewidth=1)
+        ax.set_ylim(1e-14, 10)
+        ax.set_xticks(range(max(len(norms[h][s]) for s in common) + 1))
+        ax.set_title(f"({letter}) h = {h}: C = {max(cs):.3g}")
+        ax.set_xlabel("Newton iteration")
+        lines.append(f"- h = {h}: {len(multi)} steps need two or more iterations; ||F_(n+1)|| <= C ||F_n||^2 with "
+                     f"C at most {max(cs):.3g} (median {np.median(cs):.3g}).")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("||F|| (scaled)")
+    fig.suptitle(f"Elastic-plastic bar to t = 100 at the explicit step, gamma = 1e-12, epsilon = 1e-4 (paper Fig. 5):\n"
+                 f"the {len(common)} steps needing two or more Newton iterations for every h; dotted: ||F_(n+1)|| = "
+                 "C ||F_n||^2, C the panel's largest")
+    fig.tight_layout()
+    return save(fig, "residuals_fig5.png"), lines
+
+
+def fig9(runs):
+    """Fig. 9b-d: ||F|| at each Newton iterate of the upsetting's first step at 10000x, every try, with and without
+    the line search. Returns the figure and a line per run."""
+    if not all(r.has_output for r in runs.values()):
+        return None, ["- Fig. 9: " + ", ".join(f"line search {k}: {r.status}" for k, r in runs.items())]
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.5), sharey=True)
+    lines = []
+    for ax, (ls, r) in zip(axes, runs.items()):
+        step1 = grouped(r)[1]
+        dt0 = step1[0][0]
+        for a, (dt, n) in step1.items():
+            ax.semilogy(range(len(n)), n, "-*", markersize=3, linewidth=0.8, label=f"try {a}: dt = dt_0 / {dt0 / dt:.0f}")
+        ax.axhline(1e-4, color="k", linestyle=":", linewidth=1)
+        ax.set_title(f"line search {ls}")
+        ax.set_xlabel("Newton iteration")
+        ax.legend(fontsize=8)
+        final = step1[max(step1)]
+        if len(step1) == 1:
+            lines.append(f"- Line search {ls}: the first step converges at dt_0 in {len(final[1]) - 1} Newton iterations.")
+        else:
+            stall = [float(np.median(n[-10:])) for a, (dt, n) in step1.items() if a < max(step1)]
+            lines.append(f"- Line search {ls}: the first step takes {len(step1)} tries; the tries at dt_0 to dt_0 / "
+                         f"{dt0 / step1[len(step1) - 2][0]:.0f} stop after {len(step1[0][1]) - 1} Newton iterations "
+                         f"without reaching newton_tolerance = 1e-4, the residual stalling at {min(stall):.2g} to "
+                         f"{max(stall):.2g} over their last 10; "
+                         f"the last, at dt_0 / {dt0 / final[0]:.0f}, converges in {len(final[1]) - 1}.")
+    axes[0].set_ylabel("||F|| (scaled)")
+    fig.suptitle("Upsetting at 10000 x the explicit step, first step: Newton residuals of every try (paper Fig. 9b-d); "
+                 "dotted: newton_tolerance")
+    fig.tight_layout()
+    return save(fig, "residuals_fig9.png"), lines
+
+
+def residual_histories(args):
+    """The runs, the two figures and their lines of text."""
+    f5, f9 = fig5_runs(), fig9_runs()
+    for r in list(f5.values()) + list(f9.values()):
+        r.execute(args, 1)
+    (fig5_path, fig5_lines), (fig9_path, fig9_lines) = fig5(f5), fig9(f9)
+    return fig5_path, fig5_lines, fig9_path, fig9_lines
