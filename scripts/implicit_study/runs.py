@@ -1,5 +1,6 @@
 """One `mpm run` of the study: its command line, launching it (or reusing an earlier run's output) and what it
 reported (summary.json, history.csv and the particle frames)."""
+import hashlib
 import json
 import shutil
 import statistics
@@ -78,9 +79,12 @@ class Run:
             log(f"{self.problem}/{self.name}: skipped ({self.skip_reason})")
             return self
         cmd = self.command(args)
+        scene = hashlib.sha256((ROOT / self.scene).read_bytes()).hexdigest()  # a changed scene is a new run
         record = ROOT / self.dir / "study-run.json"
         if args.reuse and record.exists():
             saved = json.loads(record.read_text())
+            if saved.get("scene_sha256") != scene:
+                saved = {}
             if saved.get("command") == cmd and saved.get("status") == "timeout":
                 self.status, self.failure = "timeout", saved["failure"]
                 log(f"{self.problem}/{self.name}: reused {self.dir} ({self.describe()})")
@@ -104,7 +108,8 @@ class Run:
                         self.failure += f" at t = {h['time'][-1]:.4g}, step {int(h['step'][-1])}"
                 log(f"{self.problem}/{self.name}: TIMED OUT after {time.time() - t0:.0f} s")
                 record.parent.mkdir(parents=True, exist_ok=True)
-                record.write_text(json.dumps({"command": cmd, "status": "timeout", "failure": self.failure}))
+                record.write_text(json.dumps({"command": cmd, "scene_sha256": scene, "status": "timeout",
+                                              "failure": self.failure}))
                 return self
             summary_path = ROOT / self.dir / "summary.json"
             summary = json.loads(summary_path.read_text()) if summary_path.exists() else None
@@ -124,7 +129,8 @@ class Run:
                 break
         self.compute = statistics.median(times)
         (ROOT / self.dir / "study-run.json").write_text(json.dumps(
-            {"command": cmd, "compute": self.compute, "compute_key": self.compute_key, "repeats": len(times)}))
+            {"command": cmd, "scene_sha256": scene, "compute": self.compute, "compute_key": self.compute_key,
+             "repeats": len(times)}))
         log(f"{self.problem}/{self.name}: {self.describe()}")
         return self
 
