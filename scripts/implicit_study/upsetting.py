@@ -39,6 +39,20 @@ def temperature_line(run):
             "temperature.")
 
 
+def engine_text(engine):
+    """Which part of the velocity formulation fails the upsetting, from the explicit engine's runs."""
+    usl, light, musl = engine
+    if usl.ok or not (light.ok and musl.ok):
+        return ("The explicit engine's runs: " + ", ".join(f"{r.name}: {r.status}" for r in engine) + ".")
+    return (f"The cause is the grid velocity that strains and moves the particles at the lightly covered nodes, not "
+            f"the particle velocity update: the explicit engine's USL, the same update, fails as well "
+            f"({esc(usl.failure)}); taking that velocity from the re-projection of Eq. (3.2.7) on the nodes lighter than "
+            f"a quarter particle (`simulation.light_nodes = \"reproject\"`), it completes (final radius "
+            f"{upset_radius_mm(light):.2f} mm, load {upset_load(light)[1][-1]:.0f} kN), and so does MUSL, which takes "
+            f"it so on every node as the momentum formulation does ({upset_radius_mm(musl):.2f} mm, "
+            f"{upset_load(musl)[1][-1]:.0f} kN); all three update the particle velocities by Eq. (2.3.3).")
+
+
 def dt_text(run):
     """The run's target step in s, or its step factor when it has no summary (stopped by --timeout)."""
     dt = run.target_dt
@@ -81,8 +95,15 @@ def upsetting(args):
                 Run("upsetting", "1000x Newton-CG, velocity formulation", scene,
                     ["implicit.step_factor=1000", "implicit.start_factor=1000", "implicit.solver=newton-cg",
                      "implicit.formulation=velocity"])]
+    # Which part of the velocity formulation fails: the explicit engine's USL is its explicit update; with
+    # light_nodes = "reproject" it strains and moves the particles with the re-projected velocity of Eq. (3.2.7)
+    # on nodes lighter than a quarter particle, and MUSL does so on every node, as the momentum formulation does.
+    engine = [Run("upsetting", f"explicit engine, {name}", scene, [f'simulation.integrator="{integrator}"',
+                                                                    f'simulation.light_nodes="{light}"'])
+              for name, integrator, light in (("USL", "usl", "none"), ("USL, light nodes re-projected", "usl", "reproject"),
+                                              ("MUSL", "musl", "reproject"))]
     timed = {"explicit", "1000x", "10000x"}
-    for r in series + improved + meshes[1:] + meshes_pc + velocity:
+    for r in series + improved + meshes[1:] + meshes_pc + velocity + engine:
         r.execute(args, args.repeat if r.name in timed or r in improved else 1)
     ex = series[0]
     # per mesh, the paper's solver, or the preconditioned run where that did not finish
@@ -183,10 +204,8 @@ def upsetting(args):
         d.append(f"- Velocity formulation (Sec. 3.2 and 4: \"the Newton-CG method is unable to complete the upsetting "
                  f"simulation due to the MPM formulation\", and \"the explicit solver also does not work\"): our "
                  f"explicit run with `implicit.formulation=velocity` fails ({esc(vex.failure)}), as the paper says, "
-                 "where the momentum formulation that the examples use completes it. Which difference of the two "
-                 "formulations causes it (the particle velocity update of Eq. (2.3.3) against Eq. (3.2.6), the "
-                 "velocity gradient from the re-projected velocity of Eq. (3.2.7)) we have not isolated. Newton-CG "
-                 "at 1000x with the "
+                 "where the momentum formulation that the examples use completes it. "
+                 + engine_text(engine) + " Newton-CG at 1000x with the "
                  f"velocity formulation completes here ({vcg.steps} steps, {vcg.imp('newton_iterations')} Newton, "
                  f"{vcg.imp('krylov_iterations')} CG iterations, {vcg.imp('line_search_backtracks')} backtracks, "
                  f"{vcg.imp('step_retries')} halved steps, final radius {upset_radius_mm(vcg):.2f} mm), with the line "
