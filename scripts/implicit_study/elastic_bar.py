@@ -80,7 +80,9 @@ def elastic_bar(args):
              "5 iterations per Newton step where the paper's takes 2, and this sets most of the gap in the ratios. "
              "Sec. 6 tests the candidate causes one at a time: at the paper's step our steps and Newton iterations "
              "are the paper's to 10%, and none of the others (the paper's no-slip end, the formulation, the mass "
-             "matrix, h, the restart, the kernel) brings the GMRES count down; its cause is not found. The "
+             "matrix, h, the restart, the kernel) brings the GMRES count down, and since GMRES is the fastest "
+             "Krylov method on a given operator, the paper's linear systems differ from ours in a way its text does "
+             "not give (Sec. 6). The "
              "preconditioned rows show that the linear solves, not Newton, carry the difference: with the Jacobian "
              "factorised, every Newton step takes one GMRES iteration.")
 
