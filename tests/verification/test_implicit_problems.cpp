@@ -134,6 +134,27 @@ TEST(Upsetting, ExplicitVelocityFormulationFailsWhereTheMomentumOneGoesOn) {
   EXPECT_NEAR(momentum.time(), 5e-4, 1e-12);
 }
 
+// Sulsky & Kaul 2004, Sec. 3.2: "our attempts to use Newton-CG to model upsetting ... are unsuccessful". Its
+// algorithm has the line search (Sec. 3.2.3) but no step halving, which is ours. Ours without the halving
+// (max_retries = 0): Newton-CG in the velocity formulation at 1000x fails at step 34 (t = 2.8 ms of 9) with the
+// line search and at the first step without it, as the paper says; with the halving it completes (study,
+// docs/implicit.md Sec. 4), with or without the line search.
+TEST(Upsetting, NewtonCgVelocityFormulationFailsWithoutStepHalving) {
+  for (const char* line_search : {"on", "off"}) {
+    Sim sim = load("upsetting.toml", {"implicit.step_factor=1000", "implicit.start_factor=1000",
+                                      "implicit.solver=\"newton-cg\"", "implicit.formulation=\"velocity\"",
+                                      "implicit.max_retries=0", std::string("implicit.line_search=\"") + line_search + "\""});
+    try {
+      sim.run_until(9e-3);
+      ADD_FAILURE() << "Newton-CG reached the end, line search " << line_search;
+    } catch (const SimulationFailure& e) {
+      std::printf("line search %s: %s\n", line_search, e.what());
+      EXPECT_NE(std::string(e.what()).find("the implicit solve failed"), std::string::npos) << e.what();
+      EXPECT_LT(sim.time(), 3e-3);
+    }
+  }
+}
+
 // A solid cylinder r < 0.3, 0 < z < 0.2 between two symmetry planes (eps_zz = 0) on a 0.1 grid, 4 x 4 particles
 // per cell, E = 1000, nu = 0.3, rho = 10.
 ImplicitSpec<2> cylinder_spec(ParticleSet<2>& p, bool with_ring) {
