@@ -44,10 +44,14 @@ bool completes(VerifyCase c, KernelKind kernel, Integrator integrator, Real cfl)
 TEST(PaperTrends, CdAndUslCpGimpAreStableToCflSevenTenthsAndCrashAbove) {
   // Sec. 6.1.1: USL-cpGIMP "does not crash until CFL > 0.7 or thereabouts"; CD-cpGIMP has "the same accuracy
   // regardless of CFL right up until CFL exceeds the stable limit of roughly 0.7". Measured: both complete at
-  // 0.7 (L_inf 1.67e-3 and 3.01e-4) and fail at 0.8 (cpGIMP half-lengths beyond h/2 at step 33 for CD).
+  // 0.7 (L_inf 1.67e-3 and 3.01e-4) and fail at 0.8 (cpGIMP half-lengths beyond h/2 at step 33 for CD). As in the
+  // paper's test code (Sec. 6.1.1: "an error of one is returned whenever a particular solution crashes"), the
+  // crashed run reports L_inf = 1.
   for (Integrator i : {Integrator::cd, Integrator::usl}) {
     EXPECT_TRUE(completes(VerifyCase::axis_aligned, KernelKind::cpgimp, i, 0.7)) << to_string(i);
-    EXPECT_FALSE(completes(VerifyCase::axis_aligned, KernelKind::cpgimp, i, 0.8)) << to_string(i);
+    const VerifyResult crashed = paper_run(VerifyCase::axis_aligned, KernelKind::cpgimp, i, 56, 0.8);
+    EXPECT_FALSE(crashed.ok) << to_string(i);
+    EXPECT_EQ(crashed.error.linf, 1.0) << to_string(i);
   }
 }
 
