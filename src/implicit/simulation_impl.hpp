@@ -288,6 +288,8 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
     p.F[i] = (Mat<Dim>::Identity() + dt * trial_.grad_v[i]) * p.F[i];
     // The hoop stretch is r / R exactly; the plane-stress thickness stretch accumulates 1 + de_zz.
     particles_.state.stretch3[i] = axisymmetric ? p.x[i][0] / p.X[i][0] : trial_.stretch3[i];
+    // V = V0 det F: Sulsky & Kaul 2004, Eq. (2.3.4), rho^L = rho^k / (1 + tr de), in the exact form det(I + de) of
+    // which 1 + tr de is the first order.
     p.V[i] = p.V0[i] * p.F[i].determinant() * particles_.state.stretch3[i];
     particles_.state.sigma[i] = trial_.sigma[i];
     particles_.state.eps_bar[i] = trial_.eps_bar[i];
