@@ -123,8 +123,8 @@ def disks(args):
                  f"{int((iterating & ~contact).sum())} others, the paper's at fewer. A looser tolerance lowers it: "
                  + ", ".join(f"{f} x 1e-5 takes {r.imp('newton_iterations')} ({r.imp('krylov_iterations')} CG)"
                              for f, r in loose.items() if r.ok)
-                 + ". Not explained: the paper does not say how its residual is normalised, so which of these "
-                 "tolerances is its own cannot be told.")
+                 + ". So the count is set by the tolerance against the size of the residual, and the paper does "
+                 "not say how its residual is normalised: without that, its Newton count cannot be matched.")
     text = f"""## 2. Colliding elastic disks (Sec. 3.1.1, Table 2, Fig. 3)
 
 Scene `examples/implicit/colliding-disks.toml` (plane strain, E = 1000, nu = 0.3, rho = 1000, 20 x 20 cells of
