@@ -70,6 +70,7 @@ struct CaseOptions {
                     "acceleration on the symmetry planes' nodes: zero or velocity-difference (Steffen et al. 2008, "
                     "Eq. 30)");
     cmd->add_option("--amplitude", options.amplitude, "displacement amplitude A");
+    cmd->add_option("--nu", options.poisson, "Poisson's ratio of the axis-aligned case in [0, 0.5) (default 0.3)");
     cmd->add_option("--end-time", options.end_time, "end time (default: one period)");
     cmd->add_option("--threads", threads, "threads (0: all cores)")->check(CLI::NonNegativeNumber);
     cmd->add_flag("--json", json, "print JSON");
@@ -104,6 +105,7 @@ nlohmann::json to_json(VerifyCase c, const VerifyOptions& o, const VerifyResult&
                    {"constrained_acceleration", name_of(o.constrained_acceleration, acceleration_names)},
                    {"dt", r.dt},
                    {"amplitude", o.amplitude},
+                   {"nu", poisson_ratio(c, o)},
                    {"end_time", r.end_time},
                    {"steps", r.steps},
                    {"linf", r.error.linf},

@@ -160,8 +160,14 @@ int dimension(VerifyCase c, const VerifyOptions& o) {
   return c == VerifyCase::axis_aligned && o.dim == 3 ? 3 : 2;
 }
 
+Real poisson_ratio(VerifyCase c, const VerifyOptions& o) {
+  return o.poisson ? *o.poisson : (c == VerifyCase::axis_aligned ? 0.3 : 0.0);
+}
+
 void validate(const VerifyOptions& o) {
   if (o.cells < 2) throw InputError("--cells: expected at least 2 cells per axis");
+  if (o.poisson && !(*o.poisson >= 0 && *o.poisson < 0.5))
+    throw InputError("--nu: expected a Poisson's ratio in [0, 0.5)");
   if (o.ppc < 1) throw InputError("--ppc: expected at least 1 particle per cell per axis");
   if (o.cfl_speed == CflSpeed::particles && !(o.cfl > 0 && o.cfl <= 1))
     throw InputError("--cfl: expected a number in (0, 1]");
@@ -189,6 +195,9 @@ VerifyResult verify(VerifyCase c, const VerifyOptions& o, ParticleTable* final_s
     throw InputError("--dim: the " + std::string(to_string(c)) + " case is " +
                      (c == VerifyCase::axis_aligned ? std::string("2-D or 3-D")
                                                     : std::to_string(dimension(c, o)) + "-D only"));
+  if (c != VerifyCase::axis_aligned && o.poisson)
+    throw InputError("--nu: the " + std::string(to_string(c)) + " solution is written for nu = 0; only the "
+                     "axis-aligned case takes --nu");
   switch (c) {
     case VerifyCase::bar_1d:
       return run_case(Bar1D{o.amplitude, NeoHookean::from_young_poisson(1e7, 0.0, 1000)}, o, final_state);
@@ -198,7 +207,7 @@ VerifyResult verify(VerifyCase c, const VerifyOptions& o, ParticleTable* final_s
     case VerifyCase::axis_aligned:
       break;
   }
-  const NeoHookean steel_like = NeoHookean::from_young_poisson(1e7, 0.3, 1000);
+  const NeoHookean steel_like = NeoHookean::from_young_poisson(1e7, poisson_ratio(c, o), 1000);
   if (o.dim == 3) return run_case(AxisAligned<3>{o.amplitude, steel_like}, o, final_state);
   return run_case(AxisAligned<2>{o.amplitude, steel_like}, o, final_state);
 }

@@ -81,7 +81,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadArgument{"verify ring",
                     "case: unknown case 'ring' (expected axis-aligned, bar-1d or expanding-ring)"},
         BadArgument{"verify axis-aligned --amplitude 0.5", "--amplitude"},
-        BadArgument{"verify bar-1d --amplitude 0.2", "--amplitude: expected A < 0.159"}));
+        BadArgument{"verify bar-1d --amplitude 0.2", "--amplitude: expected A < 0.159"},
+        BadArgument{"verify axis-aligned --nu 0.5", "--nu: expected a Poisson's ratio in [0, 0.5)"},
+        BadArgument{"verify axis-aligned --nu -0.1", "--nu: expected a Poisson's ratio in [0, 0.5)"},
+        BadArgument{"verify expanding-ring --nu 0.2", "--nu: the expanding-ring solution is written for nu = 0"}));
 
 INSTANTIATE_TEST_SUITE_P(
     Converge, CliBadInput,
