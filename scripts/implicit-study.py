@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Regenerate docs/implicit.md and docs/implicit/*.png: the examples of Sulsky & Kaul (2004), "Implicit dynamics
-in the material-point method", Sec. 3 (Tables 1-6, Figs 1, 3, 4, 6-8 and 10-12), run by the real engine.
+in the material-point method", Sec. 3 (Tables 1-6, Figs 1, 3-12), run by the real engine.
 
 Usage (after building): /usr/bin/python3 scripts/implicit-study.py [--quick] [--mpm build/bin/mpm]
                         [--threads N] [--repeat N] [--timeout S] [--reuse]
@@ -8,7 +8,8 @@ Usage (after building): /usr/bin/python3 scripts/implicit-study.py [--quick] [--
                         [--preconditioner NAME]
 Needs Debian's python3-numpy and python3-matplotlib. The runs go to out/implicit-study/.
 --quick skips the slow upsetting runs (1x, 10x and the finest mesh, 96 x 72, with and without the preconditioner)
-and takes a few minutes on 2 cores; the full study runs them all (the finest mesh takes about half an hour).
+and takes a few minutes on 2 cores; the full study runs them all: about an hour and a half from scratch, of which
+the finest mesh without the preconditioner takes about 35 minutes (it stops at 45).
 The study itself is the package scripts/implicit_study/ (one module per problem); this file is its command line.
 """
 import argparse
