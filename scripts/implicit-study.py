@@ -8,7 +8,7 @@ Usage (after building): /usr/bin/python3 scripts/implicit-study.py [--quick] [--
                         [--preconditioner NAME]
 Needs Debian's python3-numpy and python3-matplotlib. The runs go to out/implicit-study/.
 --quick skips the slow upsetting runs (1x, 10x and the finest mesh, 96 x 72, with and without the preconditioner)
-and takes a few minutes on 2 cores; the full study runs them all: about an hour and a half from scratch, of which
+and takes a few minutes on 2 cores; the full study runs them all: about an hour from scratch, of which
 the finest mesh without the preconditioner takes about 35 minutes (it stops at 45).
 The study itself is the package scripts/implicit_study/ (one module per problem); this file is its command line.
 """
