@@ -269,7 +269,8 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
   trial_.x.resize(p.size());
   if (!momentum) trial_.v.resize(p.size());
   gather_over_active_nodes(
-      [&](const GridNode<Dim>& node, std::size_t n) { return with_momentum ? momentum_velocity_[n] : node.v_new; }, v_move_);
+      [&](const GridNode<Dim>& node, std::size_t n) { return with_momentum ? momentum_velocity_[n] : node.v_new; },
+      v_move_);
   if (!momentum) gather_over_active_nodes([](const GridNode<Dim>& node, std::size_t) { return node.v_new - node.v; }, dv_);
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
     trial_.x[i] = grid_.geometry.wrap(p.x[i] + dt * v_move_[i]);  // Sulsky & Kaul 2004, Eq. (2.3.2), or Eq. (3.2.5)

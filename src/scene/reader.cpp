@@ -198,9 +198,9 @@ void read_implicit(const Section& s, Scene& sc) {
                    "use the lumped mass");
   im.move_with_projected_velocity =
       s.choice("positions", "momentum", {"momentum", "projected-velocity"}) == "projected-velocity";
-  if (im.move_with_projected_velocity && im.formulation != Formulation::momentum)
-    s.fail("positions", "\"projected-velocity\" belongs to the momentum formulation (formulation = \"momentum\"); "
-                        "the velocity formulation moves the particles with its unknown");
+  if (s.has("positions") && im.formulation != Formulation::momentum)
+    s.fail("positions", "belongs to the momentum formulation (formulation = \"momentum\"); the velocity formulation "
+                        "moves the particles with its unknown");
   try {
     numerics::validate(n, "");
   } catch (const InputError& e) {  // "KEY: what": report it at the key as written in the file
@@ -258,8 +258,9 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
   read_simulation(Section(*sim, "simulation", loc,
                           simulation_keys),
                   sc);
+  const std::vector<std::string> output_keys = {"every", "newton_log"};
   if (const toml::table* out = top.table("output")) {
-    const Section s(*out, "output", loc, {"every", "newton_log"});
+    const Section s(*out, "output", loc, output_keys);
     sc.output_every = s.number("every", 0);
     sc.newton_log = s.choice("newton_log", "off", {"off", "on"}) == "on";
     if (sc.newton_log && !sc.implicit)
@@ -282,10 +283,15 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
     read_implicit(Section(*im, "implicit", loc,
                           {"theta", "formulation", "solver", "newton_tolerance", "linear_tolerance", "derivative_step",
                            "restart", "max_newton", "max_krylov", "line_search", "max_backtracks", "forcing",
-                           "preconditioner", "refresh_after", "residual", "mass", "positions", "step_factor", "start_factor", "growth",
-                           "max_retries"}),
+                           "preconditioner", "refresh_after", "residual", "mass", "positions", "step_factor",
+                           "start_factor", "growth", "max_retries"}),
                   sc);
   }
+  const SceneImplicit& step = sc.implicit_step;
+  if (sc.newton_log && (step.solver == ImplicitSolver::linear_cg || (step.theta == 0 && !step.consistent_mass)))
+    Section(*top.table("output"), "output", loc, output_keys)
+        .fail("newton_log", "this implicit step takes no Newton iterations to log (solver = \"cg\" solves one linear "
+                            "system; theta = 0 is explicit)");
   const std::vector<const toml::table*> materials = top.tables("materials");
   if (materials.empty()) top.fail("materials", "missing: at least one [[materials]] table is needed");
   for (std::size_t k = 0; k < materials.size(); ++k)

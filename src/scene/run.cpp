@@ -90,9 +90,9 @@ class SceneRun {
         }
       } catch (const SimulationFailure& e) {
         failure = e.what();
-        if (newton_log_.is_open()) newton_log_.write(sim_.steps() + 1, engine_.newton_attempts());
         // The implicit engine fails before it touches the particles: checkpoint the last good state to restart from.
         if (Engine::failure_keeps_state) write_checkpoint();
+        if (newton_log_.is_open()) newton_log_.write(sim_.steps() + 1, engine_.newton_attempts());
       } catch (const std::bad_alloc&) {
         failure = "out of memory at step " + std::to_string(sim_.steps() + 1) + " (estimated need " +
                   std::to_string(budget_.memory_bytes / 1e6) + " MB)";
@@ -165,7 +165,11 @@ class SceneRun {
       keep_history_until(sim_.steps());
     }
     history_.precision(17);
-    if (sc_.newton_log) newton_log_.open(o_.out_dir / "newton.csv", !o_.restart.empty(), sim_.steps());
+    if (sc_.newton_log) {
+      newton_log_.open(o_.out_dir / "newton.csv", !o_.restart.empty(), sim_.steps());
+    } else if (!o_.restart.empty() && fs::exists(o_.out_dir / "newton.csv")) {
+      NewtonLog(o_.out_dir / "newton.csv").trim(sim_.steps());  // an earlier run's log ends at the checkpoint
+    }
   }
 
   void write_history_header() {
@@ -286,7 +290,10 @@ class SceneRun {
     io::write_file_atomically(o_.out_dir / "summary.json", j.dump(2) + '\n');
   }
 
+  /// The per-step files are flushed first, so that a restart from this checkpoint finds every row before it.
   void write_checkpoint() {
+    flush_history();
+    if (newton_log_.is_open()) newton_log_.flush();
     io::write_checkpoint(o_.out_dir / "checkpoint.h5", scene_checkpoint::save<Dim>(sc_, engine_, acc_));
   }
 

@@ -42,7 +42,8 @@ inline std::map<std::string, std::vector<double>> csv_columns(const std::filesys
   while (std::getline(is, line)) {
     std::stringstream ls(line);
     std::string cell;
-    for (std::size_t k = 0; k < names.size() && std::getline(ls, cell, ','); ++k) out[names[k]].push_back(std::stod(cell));
+    for (std::size_t k = 0; k < names.size() && std::getline(ls, cell, ','); ++k)
+      out[names[k]].push_back(std::stod(cell));
   }
   return out;
 }

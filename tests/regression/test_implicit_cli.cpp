@@ -98,6 +98,13 @@ INSTANTIATE_TEST_SUITE_P(
         BadSetting{"ProjectedPositionsWithVelocity",
                    "--set implicit.positions=projected-velocity --set implicit.formulation=velocity",
                    "implicit.positions", "belongs to the momentum formulation"},
+        BadSetting{"NewtonLogOfALinearSolve",
+                   "--set output.newton_log=on --set implicit.solver=cg --set implicit.formulation=velocity",
+                   "output.newton_log", "takes no Newton iterations to log"},
+        BadSetting{"NewtonLogOfAnExplicitStep",
+                   "--set output.newton_log=on --set implicit.theta=0 --set implicit.step_factor=1 "
+                   "--set implicit.start_factor=1",
+                   "output.newton_log", "takes no Newton iterations to log"},
         BadSetting{"UnknownPositions", "--set implicit.positions=flip", "implicit.positions",
                    "expected one of momentum, projected-velocity"},
         BadSetting{"NewtonLogOfAnExplicitRun", "--set output.newton_log=on --set simulation.integrator=usl",

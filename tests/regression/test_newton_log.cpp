@@ -18,7 +18,8 @@ using mpm::testing::csv_columns;
 using mpm::testing::run_mpm;
 using mpm::testing::slurp;
 
-const fs::path plastic_bar = fs::path(__FILE__).parent_path().parent_path().parent_path() / "examples/implicit/plastic-bar.toml";
+const fs::path plastic_bar =
+    fs::path(__FILE__).parent_path().parent_path().parent_path() / "examples/implicit/plastic-bar.toml";
 const std::string logged = " --set output.newton_log=on --set implicit.step_factor=100";
 
 /// The rows of newton.csv at one step.
@@ -99,6 +100,30 @@ TEST(NewtonLog, RestartContinuesItBitwise) {
       << slurp(dir / "log");
   EXPECT_EQ(slurp(dir / "one/newton.csv"), slurp(dir / "two/newton.csv"));
   EXPECT_GT(slurp(dir / "one/newton.csv").size(), 1000u);
+  fs::remove_all(dir);
+}
+
+// The bar at the explicit step with the linear systems solved to 1e-12 (Fig. 5's run) needs a second Newton
+// iteration first at t = 26.1. With one Newton iteration allowed and no halving the run stops there, its rows
+// logged past the checkpoint of the last good step. Restarted from that checkpoint with the default settings, the
+// file is cut back to the checkpoint and continued, and ends bitwise equal to the file of one run with them.
+TEST(NewtonLog, RestartAfterAFailedStepCutsItBackToTheCheckpoint) {
+  const fs::path dir = mpm::testing::scratch("mpm_newton_log", "failed");
+  const std::string one = (dir / "one").string(), two = (dir / "two").string();
+  const std::string fig5 =
+      " --set output.newton_log=on --set simulation.end_time=27 --set implicit.linear_tolerance=1e-12 "
+      "--set implicit.newton_tolerance=1e-4";
+  ASSERT_EQ(run_mpm(plastic_bar, fig5 + " --out " + one, dir / "log"), 0) << slurp(dir / "log");
+  ASSERT_EQ(run_mpm(plastic_bar, fig5 + " --set implicit.max_newton=1 --set implicit.max_retries=0 --out " + two,
+                    dir / "log"),
+            1)
+      << slurp(dir / "log");
+  const auto failed = by_step(dir / "two/newton.csv");
+  ASSERT_FALSE(failed.empty());
+  EXPECT_EQ(failed.rbegin()->second.norms.at(0).size(), 2u);  // the failed step: the initial guess and one iterate
+  ASSERT_EQ(run_mpm(plastic_bar, fig5 + " --out " + two + " --restart " + two + "/checkpoint.h5", dir / "log"), 0)
+      << slurp(dir / "log");
+  EXPECT_EQ(slurp(dir / "one/newton.csv"), slurp(dir / "two/newton.csv"));
   fs::remove_all(dir);
 }
 

@@ -26,7 +26,7 @@ struct Budget {
   double first_dt = 0;           ///< the first step [s]; for a CFL step, from the wave speed at rest
   double steps = 0;              ///< end_time / first_dt (at least one)
   double frames = 0;             ///< particle outputs (particles_NNNN.vtp)
-  double output_bytes = 0;       ///< frames, history.csv, newton.csv, summary and one checkpoint with its temporary copy [B]
+  double output_bytes = 0;       ///< frames, history.csv, newton.csv, summary, one checkpoint and its copy [B]
 };
 
 /// Where a run may write and how much memory it may use.
