@@ -2,12 +2,9 @@
 
 #include <sys/resource.h>
 
-#include <cerrno>
 #include <chrono>
-#include <cstring>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -106,7 +103,7 @@ class SceneRun {
         if (!unfinished && (acc_.frames == 0 || acc_.last_frame_time < sim_.time())) write_frame();
         if (o_.checkpoint_every > 0 || unfinished) write_checkpoint();
       }
-      flush_history();
+      history_.flush();
       if (newton_log_.is_open()) newton_log_.flush();
     } catch (const OutputError& e) {
       // The checkpoint written last (atomically) stays readable; say what failed, if the summary can be written.
@@ -156,71 +153,48 @@ class SceneRun {
           fs::remove(e.path(), ec);
       }
       series_ = io::PvdSeries(pvd);
-      history_.open(o_.out_dir / "history.csv");
-      if (!history_) throw InputError("--out: cannot write " + (o_.out_dir / "history.csv").string());
-      write_history_header();
     } else {
       series_ = fs::exists(pvd) ? io::PvdSeries::resume(pvd, sim_.time()) : io::PvdSeries(pvd);
       acc_.frames = static_cast<std::int64_t>(series_.entries().size());
-      keep_history_until(sim_.steps());
     }
-    history_.precision(17);
-    if (sc_.newton_log) {
-      newton_log_.open(o_.out_dir / "newton.csv", !o_.restart.empty(), sim_.steps());
-    } else if (!o_.restart.empty() && fs::exists(o_.out_dir / "newton.csv")) {
-      NewtonLog(o_.out_dir / "newton.csv").trim(sim_.steps());  // an earlier run's log ends at the checkpoint
-    }
+    // After a restart, history.csv and newton.csv keep the rows up to the checkpoint's step and go on from there.
+    const bool restart = !o_.restart.empty();
+    history_.open(o_.out_dir / "history.csv", history_header(), restart, sim_.steps());
+    if (sc_.newton_log)
+      newton_log_.open(o_.out_dir / "newton.csv", restart, sim_.steps());
+    else if (restart && fs::exists(o_.out_dir / "newton.csv"))
+      NewtonLog::trim(o_.out_dir / "newton.csv", sim_.steps());  // an earlier run's log ends at the checkpoint
   }
 
-  void write_history_header() {
+  std::string history_header() const {
     static constexpr const char* axis[] = {"x", "y", "z"};
-    history_ << "step,time,kinetic_energy,strain_energy,total_energy,external_work";
-    for (int d = 0; d < Dim; ++d) history_ << ",momentum_" << axis[d];
+    std::string h = "step,time,kinetic_energy,strain_energy,total_energy,external_work";
+    for (int d = 0; d < Dim; ++d) h += std::string(",momentum_") + axis[d];
     for (const std::string& name : engine_.reaction_names())
-      for (int d = 0; d < Dim; ++d) history_ << ",reaction_" << name << "_" << axis[d];
-    for (const std::string& name : engine_.counter_names()) history_ << ',' << name;
+      for (int d = 0; d < Dim; ++d) h += ",reaction_" + name + "_" + axis[d];
+    for (const std::string& name : engine_.counter_names()) h += ',' + name;
     if (has_outflow()) {
-      history_ << ",outflow_mass,outflow_energy";
-      for (int d = 0; d < Dim; ++d) history_ << ",outflow_momentum_" << axis[d];
+      h += ",outflow_mass,outflow_energy";
+      for (int d = 0; d < Dim; ++d) h += std::string(",outflow_momentum_") + axis[d];
     }
-    history_ << '\n';
-  }
-
-  /// After a restart: keep the header and the rows up to the checkpoint's step, then append.
-  void keep_history_until(std::int64_t step) {
-    const fs::path file = o_.out_dir / "history.csv";
-    const std::vector<std::string> kept = rows_until(file, step);
-    history_.open(file, std::ios::trunc);
-    if (!history_) throw InputError("--out: cannot write " + file.string());
-    if (kept.empty()) write_history_header();
-    for (const std::string& line : kept) history_ << line << '\n';
+    return h;
   }
 
   void write_history_row() {
     const Totals<Dim> t = totals();
-    history_ << sim_.steps() << ',' << sim_.time() << ',' << t.kinetic << ',' << t.strain << ','
+    std::ostream& history = history_.row();
+    history << sim_.steps() << ',' << sim_.time() << ',' << t.kinetic << ',' << t.strain << ','
              << t.kinetic + t.strain << ',' << acc_.external_work;
-    for (int d = 0; d < Dim; ++d) history_ << ',' << t.momentum[d];
+    for (int d = 0; d < Dim; ++d) history << ',' << t.momentum[d];
     for (const Vec<Dim>& r : engine_.reactions())
-      for (int d = 0; d < Dim; ++d) history_ << ',' << r[d];
-    for (const std::int64_t n : engine_.counters()) history_ << ',' << n;
+      for (int d = 0; d < Dim; ++d) history << ',' << r[d];
+    for (const std::int64_t n : engine_.counters()) history << ',' << n;
     if (has_outflow()) {
       const Outflow<Dim>& out = sim_.outflow();
-      history_ << ',' << out.mass << ',' << out.kinetic_energy + out.strain_energy;
-      for (int d = 0; d < Dim; ++d) history_ << ',' << out.momentum[d];
+      history << ',' << out.mass << ',' << out.kinetic_energy + out.strain_energy;
+      for (int d = 0; d < Dim; ++d) history << ',' << out.momentum[d];
     }
-    history_ << '\n';
-    if (!history_) history_failed();
-  }
-
-  void flush_history() {
-    history_.flush();
-    if (!history_) history_failed();
-  }
-
-  [[noreturn]] void history_failed() const {
-    throw OutputError("cannot write " + (o_.out_dir / "history.csv").string() + ": " +
-                      (errno ? std::strerror(errno) : "write failed"));
+    history_.end_row();
   }
 
   /// Work of gravity, body forces and tractions over the step (force at t^n times the mean of the old and new
@@ -292,7 +266,7 @@ class SceneRun {
 
   /// The per-step files are flushed first, so that a restart from this checkpoint finds every row before it.
   void write_checkpoint() {
-    flush_history();
+    history_.flush();
     if (newton_log_.is_open()) newton_log_.flush();
     io::write_checkpoint(o_.out_dir / "checkpoint.h5", scene_checkpoint::save<Dim>(sc_, engine_, acc_));
   }
@@ -314,7 +288,7 @@ class SceneRun {
   Engine engine_;
   decltype(engine_.sim())& sim_;
   io::PvdSeries series_{""};
-  std::ofstream history_;
+  CsvFile history_;
   NewtonLog newton_log_;  // newton.csv, with [output] newton_log = "on"
   scene_checkpoint::Accumulators acc_;  // what a checkpoint carries beside the particles
   Real previous_time_ = 0;

@@ -1,11 +1,15 @@
 #pragma once
-// The per-step CSV files of a scene run (history.csv, newton.csv) after a restart: what came before the
-// checkpoint stays, what a stopped run wrote after it goes.
+// The per-step CSV files of a scene run (history.csv, newton.csv): written row by row at full precision; after a
+// restart, what came before the checkpoint stays and what a stopped run wrote after it goes.
+#include <cerrno>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
+
+#include "mpm/core/errors.hpp"
 
 namespace mpm {
 
@@ -20,5 +24,45 @@ inline std::vector<std::string> rows_until(const std::filesystem::path& file, st
   }
   return kept;
 }
+
+class CsvFile {
+ public:
+  /// A fresh file holding `header`, or after a restart the lines up to the checkpoint's `step` (the header alone
+  /// when the earlier file is gone).
+  void open(const std::filesystem::path& file, const std::string& header, bool restart, std::int64_t step) {
+    file_ = file;
+    const std::vector<std::string> kept = restart ? rows_until(file, step) : std::vector<std::string>{};
+    os_.open(file, std::ios::trunc);
+    if (!os_) throw InputError("--out: cannot write " + file.string());
+    os_.precision(17);
+    if (kept.empty()) os_ << header << '\n';
+    for (const std::string& line : kept) os_ << line << '\n';
+  }
+  bool is_open() const { return os_.is_open(); }
+
+  /// The stream to write a row's cells to; end_row() ends it.
+  std::ostream& row() { return os_; }
+  void end_row() {
+    os_ << '\n';
+    if (!os_) failed();
+  }
+
+  void flush() {
+    os_.flush();
+    if (!os_) failed();
+  }
+  void close() {
+    flush();
+    os_.close();
+  }
+
+ private:
+  [[noreturn]] void failed() const {
+    throw OutputError("cannot write " + file_.string() + ": " + (errno ? std::strerror(errno) : "write failed"));
+  }
+
+  std::filesystem::path file_;
+  std::ofstream os_;
+};
 
 }  // namespace mpm
