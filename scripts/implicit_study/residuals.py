@@ -121,20 +121,23 @@ def fig9(runs):
     lines = []
     for ax, (ls, r) in zip(axes, runs.items()):
         step1 = grouped(r)[1]
-        dt0 = step1[0][0]
+        tries = sorted(step1)  # a try that failed before its Newton solve began logs no rows
+        dt0 = step1[tries[0]][0] * 2 ** tries[0]  # each try halves the step of the one before
         for a, (dt, n) in step1.items():
             ax.semilogy(range(len(n)), n, "-*", markersize=3, linewidth=0.8, label=f"try {a}: dt = dt_0 / {dt0 / dt:.0f}")
         ax.axhline(1e-4, color="k", linestyle=":", linewidth=1)
         ax.set_title(f"line search {ls}")
         ax.set_xlabel("Newton iteration")
         ax.legend(fontsize=8)
-        final = step1[max(step1)]
-        if len(step1) == 1:
+        final = step1[tries[-1]]
+        if tries == [0]:
             lines.append(f"- Line search {ls}: the first step converges at dt_0 in {len(final[1]) - 1} Newton iterations.")
         else:
-            stall = [float(np.median(n[-10:])) for a, (dt, n) in step1.items() if a < max(step1)]
-            lines.append(f"- Line search {ls}: the first step takes {len(step1)} tries; the tries at dt_0 to dt_0 / "
-                         f"{dt0 / step1[len(step1) - 2][0]:.0f} stop after {len(step1[0][1]) - 1} Newton iterations "
+            earlier = [step1[a] for a in tries[:-1]]
+            stall = [float(np.median(n[-10:])) for _, n in earlier]
+            iterations = "/".join(sorted({str(len(n) - 1) for _, n in earlier}))
+            lines.append(f"- Line search {ls}: the first step takes {tries[-1] + 1} tries; the tries at dt_0 to dt_0 / "
+                         f"{dt0 / earlier[-1][0]:.0f} stop after {iterations} Newton iterations "
                          f"without reaching newton_tolerance = 1e-4, the residual stalling at {min(stall):.2g} to "
                          f"{max(stall):.2g} over their last 10; "
                          f"the last, at dt_0 / {dt0 / final[0]:.0f}, converges in {len(final[1]) - 1}.")
