@@ -110,6 +110,10 @@ void write_vtp(const std::filesystem::path& file, const std::vector<double>& poi
   for (const PointField& f : fields) {
     if (f.name.empty()) throw InputError(file.string() + ": a point field has no name");
     if (!names.insert(f.name).second) throw InputError(file.string() + ": two point fields named " + f.name);
+    if (f.integer)
+      for (double v : f.values)
+        if (!(std::abs(v) < 0x1p53 && std::trunc(v) == v))
+          throw InputError(file.string() + ": integer point field " + f.name + " holds " + std::to_string(v));
     if (f.components < 1 || f.values.size() != static_cast<std::size_t>(f.components) * n)
       throw InputError(file.string() + ": point field " + f.name + " has " + std::to_string(f.values.size()) +
                        " values for " + std::to_string(n) + " points of " + std::to_string(f.components) +
@@ -134,8 +138,13 @@ void write_vtp(const std::filesystem::path& file, const std::vector<double>& poi
   for (const PointField& f : fields) data_bytes += f.values.size() * 8;
   data.reserve(data_bytes);  // appends never reallocate: the peak memory is the file's size once more
   for (const PointField& f : fields) {
-    header += data_array("Float64", f.name, f.components, data.size());
-    append_block(data, f.values.data(), f.values.size());
+    header += data_array(f.integer ? "Int64" : "Float64", f.name, f.components, data.size());
+    if (f.integer) {
+      const std::vector<std::int64_t> whole(f.values.begin(), f.values.end());
+      append_block(data, whole.data(), whole.size());
+    } else {
+      append_block(data, f.values.data(), f.values.size());
+    }
   }
   header += "</PointData>\n<Points>\n" + data_array("Float64", "", 3, data.size());
   append_block(data, points.data(), points.size());

@@ -102,17 +102,17 @@ MemoryModel engine_memory(const Scene& sc) {
 }
 
 /// Bytes per particle of one particles_NNNN.vtp: the fields scene_run writes (velocity, displacement, stress,
-/// F, J, volume, mass, material; error with [check]; plastic strain, temperature rise and internal energy in
+/// F, J, volume, mass, material, id; error with [check]; plastic strain, temperature rise and internal energy in
 /// implicit runs), the points, and two 8-byte integers of vertex cells.
 double frame_bytes_per_particle(const Scene& sc) {
-  const int components = 3 + 3 + 6 + 9 + 4 + (sc.exact_displacement.empty() ? 0 : 1) + (sc.implicit ? 3 : 0);
+  const int components = 3 + 3 + 6 + 9 + 5 + (sc.exact_displacement.empty() ? 0 : 1) + (sc.implicit ? 3 : 0);
   return 8.0 * (components + 3 + 2);
 }
 
-/// Bytes per particle of checkpoint.h5: the particle arrays (x, X, v, l0, l, F, m, V0, material) and in implicit
+/// Bytes per particle of checkpoint.h5: the particle arrays (x, X, v, l0, l, F, m, V0, material, id) and in implicit
 /// runs the material state (stress, plastic strain, temperature, energy, stretch, volume).
 double checkpoint_bytes_per_particle(const Scene& sc) {
-  const int values = 5 * sc.dim + sc.dim * sc.dim + 3 + (sc.implicit ? 11 : 0);
+  const int values = 5 * sc.dim + sc.dim * sc.dim + 4 + (sc.implicit ? 11 : 0);
   return 8.0 * values;
 }
 

@@ -61,6 +61,7 @@ io::CheckpointData save(const Scene& sc, const Engine& engine, const Accumulator
   c.reals = {{"x", flat(p.x)}, {"X", flat(p.X)}, {"v", flat(p.v)}, {"F", flat(p.F)}, {"m", p.m}, {"V0", p.V0},
              {"l0", flat(p.l0)}, {"l", flat(p.l)}};
   c.integers["material"] = std::vector<std::int64_t>(p.material.begin(), p.material.end());
+  c.integers["id"] = p.id;
   save_outflow(engine.sim().outflow(), c);
   engine.save(c);
   return c;
@@ -94,6 +95,14 @@ void restore(const io::CheckpointData& c, Engine& engine, Accumulators& a, const
   p.V0 = array("V0");
   const std::vector<std::int64_t>& mat = scalar(c.integers, "material");
   for (std::size_t i = 0; i < p.size(); ++i) p.material[i] = static_cast<std::uint16_t>(mat.at(i));
+  // A checkpoint written before particles had ids holds the first particles seeded when none had left.
+  const auto id = c.integers.find("id");
+  if (id != c.integers.end()) {
+    if (id->second.size() != p.size()) throw InputError(where + ": array 'id' has the wrong size");
+    p.id = id->second;
+  } else if (out.particles > 0) {
+    throw InputError(where + ": a checkpoint without particle ids, taken after particles left; rerun from t = 0");
+  }
   engine.load(c, where);
   a.external_work = scalar(c.real_scalars, "external_work");
   a.last_frame_time = scalar(c.real_scalars, "last_frame_time");

@@ -21,7 +21,7 @@ struct ExactFromScene {
 };
 
 /// Points (3 coordinates each) and fields of the engine's particles at time t: velocity, displacement, Cauchy
-/// stress (xx yy zz xy xz yz), F (3 x 3), J, volume, mass, material, the [check] error |u - u_exact| when `exact`
+/// stress (xx yy zz xy xz yz), F (3 x 3), J, volume, mass, material, id (Int64), the [check] error |u - u_exact| when `exact`
 /// is given, and the engine's own fields.
 template <int Dim, class Engine>
 void frame_fields(const Engine& engine, const std::vector<ExpressionPtr>& exact, Real t, std::vector<double>& points,
@@ -34,8 +34,8 @@ void frame_fields(const Engine& engine, const std::vector<ExpressionPtr>& exact,
   io::PointField stress{"stress", 6, std::vector<double>(6 * n, 0.0)};
   io::PointField deformation{"F", 9, std::vector<double>(9 * n, 0.0)};
   io::PointField J{"J", 1, {}}, volume{"volume", 1, {}}, mass{"mass", 1, {}}, material{"material", 1, {}};
-  io::PointField error{"error", 1, {}};
-  for (io::PointField* f : {&J, &volume, &mass, &material, &error}) f->values.reserve(n);
+  io::PointField error{"error", 1, {}}, id{"id", 1, {}, true};
+  for (io::PointField* f : {&J, &volume, &mass, &material, &id, &error}) f->values.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Real Ji = p.F[i].determinant();
     for (int d = 0; d < Dim; ++d) {
@@ -51,11 +51,12 @@ void frame_fields(const Engine& engine, const std::vector<ExpressionPtr>& exact,
     volume.values.push_back(p.V[i]);
     mass.values.push_back(p.m[i]);
     material.values.push_back(p.material[i]);
+    id.values.push_back(static_cast<double>(p.id[i]));
     if (!exact.empty())
       error.values.push_back(((p.x[i] - p.X[i]) - ExactFromScene<Dim>{&exact}.displacement(p.X[i], t)).norm());
   }
   fields.clear();
-  for (io::PointField* f : {&velocity, &displacement, &stress, &deformation, &J, &volume, &mass, &material})
+  for (io::PointField* f : {&velocity, &displacement, &stress, &deformation, &J, &volume, &mass, &material, &id})
     fields.push_back(std::move(*f));
   if (!exact.empty()) fields.push_back(std::move(error));
   engine.add_fields(fields);

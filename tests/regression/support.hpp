@@ -4,7 +4,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -44,6 +46,34 @@ inline std::map<std::string, std::vector<double>> csv_columns(const std::filesys
     std::string cell;
     for (std::size_t k = 0; k < names.size() && std::getline(ls, cell, ','); ++k)
       out[names[k]].push_back(std::stod(cell));
+  }
+  return out;
+}
+
+/// The values of point array `name` of a .vtp the engine wrote (raw appended data, UInt64 block counts), as
+/// doubles, or with an empty name the points' coordinates; empty when the file or the array is missing.
+inline std::vector<double> vtp_array(const std::filesystem::path& file, const std::string& name) {
+  const std::string text = slurp(file);
+  const std::size_t tag = text.find(name.empty() ? std::string("<Points>") : "Name=\"" + name + "\"");
+  const std::size_t data = text.find("<AppendedData encoding=\"raw\">\n_");
+  if (tag == std::string::npos || data == std::string::npos) return {};
+  const std::size_t open = name.empty() ? text.find("<DataArray", tag) : text.rfind("<DataArray", tag);
+  const std::string int64 = "<DataArray type=\"Int64\"";
+  const bool integer = text.compare(open, int64.size(), int64) == 0;
+  const std::size_t at = text.find("offset=\"", open) + 8;
+  const std::size_t block = data + 31 + std::stoull(text.substr(at, text.find('"', at) - at));
+  std::uint64_t bytes = 0;
+  std::memcpy(&bytes, text.data() + block, 8);
+  std::vector<double> out(bytes / 8);
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    const char* v = text.data() + block + 8 + 8 * k;
+    if (integer) {
+      std::int64_t i = 0;
+      std::memcpy(&i, v, 8);
+      out[k] = static_cast<double>(i);
+    } else {
+      std::memcpy(&out[k], v, 8);
+    }
   }
   return out;
 }

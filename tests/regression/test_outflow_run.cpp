@@ -82,6 +82,28 @@ TEST_P(OutflowRun, HistoryCountsWhatLeftAndTheMomentumBalanceCloses) {
   EXPECT_EQ(s["particles"].get<int>() + s["outflow"]["particles"].get<int>(), 128);
   EXPECT_EQ(s["outflow"]["mass"].get<double>(), h["outflow_mass"].back());
   EXPECT_GT(s["outflow"]["strain_energy"].get<double>(), 0);
+  // The particles that stay keep the ids they were seeded with (0 to 127, in order): the last frame lists the
+  // remaining ids ascending, and with them the seeded reference positions (x - displacement).
+  const std::vector<double> id = mpm::testing::vtp_array(dir / "one/particles_0004.vtp", "id");
+  ASSERT_EQ(id.size(), s["particles"].get<std::size_t>());
+  ASSERT_EQ(id.size(), mpm::testing::vtp_array(dir / "one/particles_0000.vtp", "id").size() -
+                           s["outflow"]["particles"].get<std::size_t>());
+  for (std::size_t k = 0; k < id.size(); ++k) {
+    EXPECT_EQ(id[k], std::trunc(id[k]));
+    if (k > 0) {
+      EXPECT_LT(id[k - 1], id[k]);
+    }
+  }
+  const std::vector<double> id0 = mpm::testing::vtp_array(dir / "one/particles_0000.vtp", "id");
+  for (std::size_t k = 0; k < id0.size(); ++k) EXPECT_EQ(id0[k], static_cast<double>(k));
+  // Seeded 8 x 16 at 0.025 m spacing from (0.1125, 0.0625), row by row: the id gives the reference position.
+  const std::vector<double> x = mpm::testing::vtp_array(dir / "one/particles_0004.vtp", "displacement"),
+                            pts = mpm::testing::vtp_array(dir / "one/particles_0004.vtp", "");
+  for (std::size_t k = 0; k < id.size(); ++k) {
+    const int i = static_cast<int>(id[k]);
+    EXPECT_NEAR(pts[3 * k] - x[3 * k], 0.1125 + 0.025 * (i % 8), 1e-12);
+    EXPECT_NEAR(pts[3 * k + 1] - x[3 * k + 1], 0.0625 + 0.025 * (i / 8), 1e-12);
+  }
 
   // Stopped after a quarter of the particles have left, and restarted: the same bytes as one run.
   const std::string two = (dir / "two").string();

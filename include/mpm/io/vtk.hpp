@@ -13,10 +13,12 @@ struct PointField {
   std::string name;           ///< array name shown in ParaView (e.g. "velocity", "stress", "J")
   int components = 1;         ///< values per point: 1 scalar, 3 vector, 6 symmetric tensor (xx yy zz xy xz yz)
   std::vector<double> values;  ///< components * (number of points) values, point by point
+  bool integer = false;        ///< written as Int64 (the values are whole numbers of magnitude below 2^53)
 };
 
 /// Write a VTK XML PolyData file (.vtp) with one vertex per point. `points` holds 3 coordinates per point
-/// (1-D and 2-D callers pad with zeros); each field becomes a Float64 <PointData> array. The data are raw
+/// (1-D and 2-D callers pad with zeros); each field becomes a Float64 (or, when `integer`, Int64)
+/// <PointData> array. The data are raw
 /// little-endian binary in one <AppendedData encoding="raw"> block, each array preceded by its byte count as a
 /// UInt64. The file is written to FILE.tmp and renamed over FILE, so readers never see a partial file.
 /// Throws InputError on inconsistent sizes, OutputError when the file cannot be written (naming the path).

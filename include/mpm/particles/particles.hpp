@@ -23,13 +23,16 @@ struct ParticleSet {
   std::vector<Vec<Dim>> l;              ///< current GIMP half-lengths l_p [m]
   std::vector<SymTensor<Dim>> sigma;    ///< Cauchy stress [Pa]
   std::vector<std::uint16_t> material;  ///< index into the material table
+  /// Stable identity: the particle's index in the set as seeded, kept through removals, restarts and (in a
+  /// distributed run) moves between ranks. The arrays are kept in ascending id order.
+  std::vector<std::int64_t> id;
   /// State of the rate-form materials (sized by the engine when a rate-form material is present; sigma above is
   /// then its in-plane part).
   MaterialState state;
 
   std::size_t size() const { return x.size(); }
 
-  /// Append an undeformed, stress-free particle.
+  /// Append an undeformed, stress-free particle; its id is its index in the set.
   void add(const Vec<Dim>& position, const Vec<Dim>& velocity, Real mass, Real volume,
            const Vec<Dim>& half_length, std::uint16_t material_id) {
     x.push_back(position);
@@ -43,6 +46,7 @@ struct ParticleSet {
     l.push_back(half_length);
     sigma.push_back(SymTensor<Dim>{});
     material.push_back(material_id);
+    id.push_back(static_cast<std::int64_t>(id.size()));
   }
 
   /// Room for n particles in every array, so that seeding grows no array past what it needs.
@@ -52,12 +56,13 @@ struct ParticleSet {
     for (auto* a : {&m, &V0, &V}) a->reserve(n);
     sigma.reserve(n);
     material.reserve(n);
+    id.reserve(n);
   }
 
   /// Bytes of one particle's fields, without the rate-form state.
   static constexpr std::size_t bytes_per_particle() {
     return 4 * sizeof(Vec<Dim>) + sizeof(Vec<Dim>) + sizeof(Mat<Dim>) + 3 * sizeof(Real) +
-           sizeof(SymTensor<Dim>) + sizeof(std::uint16_t);
+           sizeof(SymTensor<Dim>) + sizeof(std::uint16_t) + sizeof(std::int64_t);
   }
 };
 
