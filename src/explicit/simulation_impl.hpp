@@ -54,7 +54,8 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
       rigid_(spec.rigid_bodies, grid_.geometry),
       sizes_(spec.kernel == KernelKind::cpgimp ? SizeUpdate::deformed : SizeUpdate::fixed),
       neo_hookean_(neo_hookean_only(spec.materials)),
-      axisymmetric_(Dim == 2 && spec.geometry == Geometry::axisymmetric) {
+      axisymmetric_(Dim == 2 && spec.geometry == Geometry::axisymmetric),
+      order_(grid_.geometry, Kernel::width) {
   const GridGeometry<Dim>& g = grid_.geometry;
   ParticleSet<Dim>& p = particles_;
   if (p.size() == 0) throw InputError("particles: the simulation has no particles");
@@ -265,10 +266,10 @@ void Simulation<Dim, Kernel>::constrain_update(Real t_new, Real dt) {
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::build_stencils() {
   if (!stencils_current_)
-    strips_changed_ = mpm::build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, strip_) || strips_changed_;
-  // The scatter order depends only on the strips, so it is rebuilt only when a particle changed strip.
-  if (strips_changed_) order_.build(strip_, ScatterOrder::strip_count<Dim, Kernel::width>(grid_.geometry));
-  stencils_current_ = strips_changed_ = false;
+    tiles_changed_ = mpm::build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, tile_) || tiles_changed_;
+  // The scatter order depends only on the tiles, so it is rebuilt only when a particle changed tile.
+  if (tiles_changed_) order_.build(tile_);
+  stencils_current_ = tiles_changed_ = false;
   evaluate_body_force();
   if (!rigid_.empty()) {
     std::ostringstream when;
@@ -294,7 +295,7 @@ template <int Dim, class Kernel>
 template <Gather what>
 void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
   halo_.copy_to_ghosts(grid_);
-  StencilTargets<Dim, Kernel> next{stencils_, strip_};
+  StencilTargets<Dim, Kernel> next{stencils_, tile_};
   StencilTargets<Dim, Kernel>* targets = what.position ? &next : nullptr;
   ParticleFault fault;
   if (!neo_hookean_.empty()) {
@@ -310,7 +311,7 @@ void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
   check(fault, dt);
   if constexpr (what.position) {
     stencils_current_ = true;
-    strips_changed_ = strips_changed_ || next.strip_changed.load();
+    tiles_changed_ = tiles_changed_ || next.tile_changed.load();
   }
 }
 
@@ -352,7 +353,7 @@ template <int Dim, class Kernel>
 double Simulation<Dim, Kernel>::bytes_per_particle() const {
   const double n = static_cast<double>(particles_.size());
   return static_cast<double>(particles_.bytes_per_particle()) + sizeof(StencilT) +
-         static_cast<double>(order_.bytes() + strip_.capacity() * sizeof(std::int32_t) +
+         static_cast<double>(order_.bytes() + tile_.capacity() * sizeof(std::int32_t) +
                              body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes() +
                              (particles_.state.empty() ? 0 : particles_.size() * MaterialState::bytes_per_particle()) +
                              grad_v_.capacity() * sizeof(Mat<Dim>) + hoop_rate_.capacity() * sizeof(Real)) /

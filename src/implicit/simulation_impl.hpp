@@ -49,6 +49,7 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
       halo_(grid_.geometry),
       constraints_(spec.boundary, grid_.geometry),
       layout_(grid_.geometry),
+      order_(grid_.geometry, Kernel::width),
       rigid_(spec.rigid_bodies, grid_.geometry) {
   ParticleSet<Dim>& p = particles_;
   const GridGeometry<Dim>& g = grid_.geometry;

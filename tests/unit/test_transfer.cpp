@@ -102,12 +102,12 @@ mpm::ParticleSet<Dim> random_particles(const mpm::GridGeometry<Dim>& g, Real mar
 template <int Dim, class Kernel>
 struct Transfer {
   std::vector<mpm::Stencil<Dim, Kernel>> stencils;
-  std::vector<std::int32_t> strip;
-  mpm::ScatterOrder order;
+  std::vector<std::int32_t> tile;
+  mpm::ScatterOrder<Dim> order;
 
-  Transfer(const mpm::ParticleSet<Dim>& p, const mpm::GridGeometry<Dim>& g) {
-    mpm::build_stencils<Dim, Kernel>(p, g, stencils, strip);
-    order.build(strip, mpm::ScatterOrder::strip_count<Dim, Kernel::width>(g));
+  Transfer(const mpm::ParticleSet<Dim>& p, const mpm::GridGeometry<Dim>& g) : order(g, Kernel::width) {
+    mpm::build_stencils<Dim, Kernel>(p, g, stencils, tile);
+    order.build(tile);
   }
 };
 
@@ -148,6 +148,58 @@ TYPED_TEST(TransferTest, p2g_conserves_mass_and_momentum) {
                   1e-13 * static_cast<Real>(momentum_scale[d]))
           << "axis " << d;
   }
+}
+
+// The sum a P2G pass leaves in each node is fixed by the grid's tiles and the particle ids alone, not by how the
+// particles are divided between threads or ranks: it equals the sum of the tiles' separate P2G sums added in
+// colour order, f_i = ((P_i^0 + P_i^1) + ...) (mpm/transfer/scatter_order.hpp), to the last bit. Each P_i^c is
+// computed here by a P2G pass over only the particles of colour-c tiles (whose footprints do not overlap), as a
+// rank owning those tiles would; their colour-ordered sum must give the bits of the pass over all particles.
+TYPED_TEST(TransferTest, p2g_equals_the_colour_ordered_sum_of_separate_tile_sums) {
+  using Kernel = typename TypeParam::Kernel;
+  constexpr int Dim = TypeParam::dim;
+  mpm::GridGeometry<Dim> geo = test_geometry<Dim, Kernel>();
+  geo.cells.fill(Dim == 3 ? 14 : 30);  // 2 to 5 tiles per axis: nodes where 2^Dim colours meet
+  std::mt19937_64 rng(3000 + Dim);
+  std::uniform_real_distribution<Real> sym(-1.0, 1.0);
+  mpm::ParticleSet<Dim> p = random_particles(geo, 0.0, half_length_fractions<Kernel>().back(), rng);
+  for (auto& s : p.sigma)
+    for (Real& c : s.c) c = 1e3 * sym(rng);
+  const Transfer<Dim, Kernel> all(p, geo);
+  mpm::Grid<Dim> full(geo);
+  mpm::p2g<mpm::Scatter{.mass_momentum = true, .force = true}>(p, all.stencils, all.order, {}, full);
+
+  mpm::Grid<Dim> sum(geo);
+  int colours_met = 0;
+  for (int colour = 0; colour < (1 << Dim); ++colour) {
+    mpm::ParticleSet<Dim> q;  // the particles of the colour's tiles, in id order
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      std::int32_t t = all.tile[i];
+      int c = 0;
+      for (int d = 0; d < Dim; ++d) {
+        c |= (t % geo.tiles_along(d) & 1) << d;
+        t /= geo.tiles_along(d);
+      }
+      if (c != colour) continue;
+      q.add(p.x[i], p.v[i], p.m[i], p.V0[i], p.l[i], 0);
+      q.sigma.back() = p.sigma[i];
+    }
+    if (q.size() == 0) continue;
+    ++colours_met;
+    const Transfer<Dim, Kernel> part(q, geo);
+    mpm::Grid<Dim> tiles(geo);
+    mpm::p2g<mpm::Scatter{.mass_momentum = true, .force = true}>(q, part.stencils, part.order, {}, tiles);
+    for (std::size_t n = 0; n < sum.size(); ++n) {
+      sum.nodes[n].m += tiles.nodes[n].m;
+      sum.nodes[n].v += tiles.nodes[n].v;
+      sum.nodes[n].a += tiles.nodes[n].a;
+    }
+  }
+  EXPECT_EQ(colours_met, 1 << Dim);
+  std::size_t differ = 0;
+  for (std::size_t n = 0; n < sum.size(); ++n)
+    differ += sum.nodes[n].m != full.nodes[n].m || sum.nodes[n].v != full.nodes[n].v || sum.nodes[n].a != full.nodes[n].a;
+  EXPECT_EQ(differ, 0u) << "of " << sum.size() << " nodes";
 }
 
 TYPED_TEST(TransferTest, g2p_reproduces_linear_velocity_field_and_its_gradient) {

@@ -136,9 +136,11 @@ TEST(Upsetting, ExplicitVelocityFormulationFailsWhereTheMomentumOneGoesOn) {
 
 // Sulsky & Kaul 2004, Sec. 3.2: "our attempts to use Newton-CG to model upsetting ... are unsuccessful". Its
 // algorithm has the line search (Sec. 3.2.3) but no step halving, which is ours. Ours without the halving
-// (max_retries = 0): Newton-CG in the velocity formulation at 1000x fails at step 34 (t = 2.8 ms of 9) with the
-// line search and at the first step without it, as the paper says; with the halving it completes (study,
-// docs/implicit.md Sec. 4), with or without the line search.
+// (max_retries = 0): Newton-CG in the velocity formulation at 1000x fails with the line search before the end
+// and without it at the first step, as the paper says; with the halving it completes (study, docs/implicit.md
+// Sec. 4), with or without the line search. Where the run with the line search fails is decided by the last bits
+// of the node sums: at step 34 (t = 2.8 ms of 9) when they were added strip by strip, at step 64 (t = 5.4 ms)
+// with the tile-ordered sums.
 TEST(Upsetting, NewtonCgVelocityFormulationFailsWithoutStepHalving) {
   for (const char* line_search : {"on", "off"}) {
     Sim sim = load("upsetting.toml", {"implicit.step_factor=1000", "implicit.start_factor=1000",
@@ -151,7 +153,7 @@ TEST(Upsetting, NewtonCgVelocityFormulationFailsWithoutStepHalving) {
       std::printf("line search %s: %s\n", line_search, e.what());
       EXPECT_NE(std::string(e.what()).find("the implicit solve failed"), std::string::npos) << e.what();
       if (std::string(line_search) == "on") {
-        EXPECT_NEAR(static_cast<double>(sim.steps()), 33, 3);  // fails at step 34
+        EXPECT_GT(sim.steps(), 10);  // the line search carries it past the first steps
       } else {
         EXPECT_EQ(sim.steps(), 0);  // fails at the first step
       }

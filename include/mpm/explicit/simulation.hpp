@@ -79,13 +79,13 @@ class Simulation {
   /// The bytes a simulation will hold, from the arrays the constructor sizes (a body force adds one
   /// acceleration per particle; a rate-form material its state and the rates the stress update reads).
   static MemoryModel memory_model(bool body_force, bool rate_form) {
-    // Particles, their stencils, strips and scatter order; one node record per node.
+    // Particles, their stencils, tiles and scatter order; per node its record and its scratch record.
     const std::size_t particle =
         ParticleSet<Dim>::bytes_per_particle() + sizeof(Stencil<Dim, Kernel>) + 2 * sizeof(std::int32_t) +
         (body_force ? sizeof(Vec<Dim>) : 0) +
         (rate_form ? MaterialState::bytes_per_particle() + sizeof(Mat<Dim>) + sizeof(Real) : 0);
     // A node's mirror copies (1 B) when light nodes are re-projected.
-    return {static_cast<double>(particle), static_cast<double>(sizeof(GridNode<Dim>) + sizeof(std::uint8_t))};
+    return {static_cast<double>(particle), static_cast<double>(2 * sizeof(GridNode<Dim>) + sizeof(std::uint8_t))};
   }
 
  private:
@@ -133,11 +133,11 @@ class Simulation {
   LightMass<Dim> light_node_mass_;
   std::vector<std::uint8_t> mirror_copies_;  ///< per node, with light nodes: KinematicConstraints::count_mirror_copies
   std::vector<StencilT> stencils_;
-  std::vector<std::int32_t> strip_;
+  std::vector<std::int32_t> tile_;
   /// The stencils match the particles' positions (the last moving G2P pass computed them), and whether a
-  /// particle changed strip since the scatter order was built.
-  bool stencils_current_ = false, strips_changed_ = false;
-  ScatterOrder order_;
+  /// particle changed tile since the scatter order was built.
+  bool stencils_current_ = false, tiles_changed_ = false;
+  ScatterOrder<Dim> order_;
   std::vector<Vec<Dim>> body_accel_;
   Outflow<Dim> outflow_;
   Real time_ = 0;

@@ -28,7 +28,18 @@ struct GridGeometry {
   /// after the step (Steffen et al. 2008, Sec. 3.4: material leaves through a free boundary).
   std::array<bool, 2 * Dim> outflow{};
 
+  /// Tiles: cubes of tile_width node layers per axis, the first starting at the first ghost layer (storage
+  /// index 0). A P2G pass sums each tile's particles apart and adds the tiles' sums into the nodes in an order
+  /// fixed by the tiles (ScatterOrder), so a box of whole tiles computes the same sums.
+  static constexpr int tile_shift = 3, tile_width = 1 << tile_shift;
+
   int nodes_along(int d) const { return cells[d] + 1 + 2 * ghost; }
+  int tiles_along(int d) const { return (nodes_along(d) + tile_width - 1) >> tile_shift; }
+  std::size_t tile_count() const {
+    std::size_t n = 1;
+    for (int d = 0; d < Dim; ++d) n *= static_cast<std::size_t>(tiles_along(d));
+    return n;
+  }
   std::size_t node_count() const {
     std::size_t n = 1;
     for (int d = 0; d < Dim; ++d) n *= static_cast<std::size_t>(nodes_along(d));

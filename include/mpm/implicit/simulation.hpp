@@ -167,8 +167,8 @@ class ImplicitSimulation {
   Real min_node_mass_ = 0;
   Real modulus_ = 0;  // the largest Young's modulus: residual scale Y h^Dim dt (Sec. 3.2.2)
   std::vector<StencilT> stencils_;
-  std::vector<std::int32_t> strip_;
-  ScatterOrder order_;
+  std::vector<std::int32_t> tile_;
+  ScatterOrder<Dim> order_;
   RigidBodies<Dim> rigid_;
   // Nodes: internal force at t^k, external force, and the trial internal force of the last evaluation.
   std::vector<Vec<Dim>> f_k_, f_ext_, f_trial_;

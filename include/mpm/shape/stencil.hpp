@@ -14,14 +14,13 @@
 #include "mpm/grid/grid.hpp"
 #include "mpm/particles/lanes.hpp"
 #include "mpm/particles/particles.hpp"
-#include "mpm/transfer/scatter_order.hpp"
 
 namespace mpm {
 
 template <int Dim, class Kernel>
 struct Stencil {
   std::int32_t node;                            ///< flat index of the base node
-  std::int32_t layer;                           ///< storage index of the base node along the slowest axis
+  std::int32_t tile;                            ///< flat index of the tile holding the base node
   std::array<typename Kernel::Axis, Dim> axis;  ///< per-axis data the kernel evaluates weights from
 };
 
@@ -32,18 +31,18 @@ struct StencilLanes {
   using AxisLanes = typename Kernel::template AxisOf<RealLanes>;
   static constexpr int axis_reals = reals_in<typename Kernel::Axis>;
   using StencilT = Stencil<Dim, Kernel>;
-  static_assert(sizeof(StencilT) == (1 + Dim * axis_reals) * sizeof(Real) && offsetof(StencilT, layer) == 4 &&
+  static_assert(sizeof(StencilT) == (1 + Dim * axis_reals) * sizeof(Real) && offsetof(StencilT, tile) == 4 &&
                     sizeof(AxisLanes) == axis_reals * sizeof(RealLanes),
                 "a stencil is two 32-bit indices and Dim axes of Reals; AxisOf holds only its T members");
 
-  IntLanes node, layer;
+  IntLanes node, tile;
   AxisLanes axis[Dim];
 
   StencilLanes() = default;
   explicit StencilLanes(const RecordLanes<Stencil<Dim, Kernel>>& r) {
     const IntLanes indices = reinterpret_cast<IntLanes>(r[0]);
     node = (indices << 32) >> 32;  // sign-extended low half
-    layer = indices >> 32;
+    tile = indices >> 32;
     for (int d = 0; d < Dim; ++d) {
       std::array<RealLanes, axis_reals> members;
       for (int j = 0; j < axis_reals; ++j) members[j] = r[1 + d * axis_reals + j];
@@ -52,7 +51,7 @@ struct StencilLanes {
   }
   RecordLanes<Stencil<Dim, Kernel>> record() const {
     RecordLanes<Stencil<Dim, Kernel>> r;
-    r[0] = reinterpret_cast<RealLanes>((layer << 32) | (node & 0xffffffff));
+    r[0] = reinterpret_cast<RealLanes>((tile << 32) | (node & 0xffffffff));
     for (int d = 0; d < Dim; ++d) {
       const auto members = std::bit_cast<std::array<RealLanes, axis_reals>>(axis[d]);
       for (int j = 0; j < axis_reals; ++j) r[1 + d * axis_reals + j] = members[j];
@@ -61,13 +60,18 @@ struct StencilLanes {
   }
 };
 
-/// Flat strides and inverse cell width of a grid, cached for the tensor-product loops.
+/// Flat strides of nodes and tiles and inverse cell width of a grid, cached for the tensor-product loops.
 template <int Dim>
 struct NodeLayout {
-  std::array<std::int32_t, Dim> stride;
+  std::array<std::int32_t, Dim> stride, tile_stride;
   Real inv_h;
   explicit NodeLayout(const GridGeometry<Dim>& g) : inv_h(1 / g.h) {
-    for (int d = 0; d < Dim; ++d) stride[d] = static_cast<std::int32_t>(g.stride(d));
+    std::int32_t tiles = 1;
+    for (int d = 0; d < Dim; ++d) {
+      stride[d] = static_cast<std::int32_t>(g.stride(d));
+      tile_stride[d] = tiles;
+      tiles *= g.tiles_along(d);
+    }
   }
 };
 
@@ -76,13 +80,14 @@ template <int Dim, class Kernel>
 inline Stencil<Dim, Kernel> make_stencil(const GridGeometry<Dim>& g, const NodeLayout<Dim>& nl,
                                          const Vec<Dim>& x, const Vec<Dim>& l) {
   Stencil<Dim, Kernel> s;
-  std::int32_t node = 0;
+  std::int32_t node = 0, tile = 0;
   for (int d = 0; d < Dim; ++d) {
     const int base = Kernel::locate((x[d] - g.lo[d]) * nl.inv_h, l[d] * nl.inv_h, s.axis[d]);
     node += (base + g.ghost) * nl.stride[d];
-    if (d == Dim - 1) s.layer = base + g.ghost;
+    tile += ((base + g.ghost) >> GridGeometry<Dim>::tile_shift) * nl.tile_stride[d];
   }
   s.node = node;
+  s.tile = tile;
   return s;
 }
 
@@ -95,51 +100,52 @@ template <int Dim, class Kernel>
                                                                      const RecordLanes<Vec<Dim>>& l) {
   StencilLanes<Dim, Kernel> s;
   s.node = IntLanes{};
+  s.tile = IntLanes{};
   for (int d = 0; d < Dim; ++d) {
     const IntLanes base = Kernel::locate((x[d] - g.lo[d]) * nl.inv_h, l[d] * nl.inv_h, s.axis[d]);
     s.node += (base + g.ghost) * nl.stride[d];
-    if (d == Dim - 1) s.layer = base + g.ghost;
+    s.tile += ((base + g.ghost) >> GridGeometry<Dim>::tile_shift) * nl.tile_stride[d];
   }
   return s;
 }
 
-/// Where stencils go: one per particle, with the scatter strip of each (ScatterOrder::strip_of its base node
-/// along the slowest axis), and whether any particle changed strip. Both arrays hold one entry per particle.
+/// Where stencils go: one per particle, with the tile of each (its base node's, for ScatterOrder), and whether
+/// any particle changed tile. Both arrays hold one entry per particle.
 template <int Dim, class Kernel>
 struct StencilTargets {
   std::vector<Stencil<Dim, Kernel>>& stencils;
-  std::vector<std::int32_t>& strip;
-  std::atomic<bool> strip_changed{false};
+  std::vector<std::int32_t>& tile;
+  std::atomic<bool> tile_changed{false};
 
-  /// Store the stencils of a block of particles and their strips.
+  /// Store the stencils of a block of particles and their tiles.
   [[gnu::always_inline]] void store(const LaneBlock& block, const StencilLanes<Dim, Kernel>& s) {
     block.store(stencils, s.record());
-    const auto layer = std::bit_cast<std::array<std::int64_t, LaneBlock::width>>(s.layer);
+    const auto tiles = std::bit_cast<std::array<std::int64_t, LaneBlock::width>>(s.tile);
     bool moved = false;
     for (int k = 0; k < block.active; ++k) {
-      const std::int32_t strip_k = ScatterOrder::strip_of<Kernel::width>(static_cast<std::int32_t>(layer[k]));
-      moved = moved || strip_k != strip[block.first + k];
-      strip[block.first + k] = strip_k;
+      const auto tile_k = static_cast<std::int32_t>(tiles[k]);
+      moved = moved || tile_k != tile[block.first + k];
+      tile[block.first + k] = tile_k;
     }
-    if (moved) strip_changed.store(true, std::memory_order_relaxed);
+    if (moved) tile_changed.store(true, std::memory_order_relaxed);
   }
 };
 
-/// Stencils of all particles at their current positions and half-lengths, and the scatter strip of each,
-/// computed in LaneBlocks. Returns whether any strip changed.
+/// Stencils of all particles at their current positions and half-lengths, and the tile of each, computed in
+/// LaneBlocks. Returns whether any tile changed.
 template <int Dim, class Kernel>
 bool build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g,
-                    std::vector<Stencil<Dim, Kernel>>& out, std::vector<std::int32_t>& strip) {
-  const bool resized = strip.size() != p.size();
+                    std::vector<Stencil<Dim, Kernel>>& out, std::vector<std::int32_t>& tile) {
+  const bool resized = tile.size() != p.size();
   out.resize(p.size());
-  strip.resize(p.size(), -1);
+  tile.resize(p.size(), -1);
   const NodeLayout<Dim> nl(g);
-  StencilTargets<Dim, Kernel> targets{out, strip, resized};
+  StencilTargets<Dim, Kernel> targets{out, tile, resized};
   parallel_for(LaneBlock::count(p.size()), [&](std::ptrdiff_t b) {
     const LaneBlock block(b, static_cast<std::ptrdiff_t>(p.size()));
     targets.store(block, locate_block<Dim, Kernel>(g, nl, block.load(p.x), block.load(p.l)));
   }, 1024 / LaneBlock::width);
-  return targets.strip_changed.load();
+  return targets.tile_changed.load();
 }
 
 /// Visit every node of the tensor-product stencil: fn(flat node index, weight S_ip, gradient grad S_ip

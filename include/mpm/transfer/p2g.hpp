@@ -93,19 +93,18 @@ struct HoopForce {
   }
 };
 
-/// P2G: add the contributions of every particle to the records of the nodes of its stencil. Particles go in
-/// scatter order, `lanes` at a time: their contributions are computed in lanes and added to the node records
-/// particle by particle, so each node receives them in the same order as one particle at a time, whatever the
-/// thread count. The fields the contributions add to are not cleared first.
-template <int Dim, class Kernel, class... Contributions>
-void p2g_add(const std::vector<Stencil<Dim, Kernel>>& stencils, const ScatterOrder& order, Grid<Dim>& grid,
-             const Contributions&... contributions) {
+/// P2G onto node records that hold zero (`onto_zero`) or any values: the contributions of every particle added
+/// to the records of the nodes of its stencil, in ScatterOrder. Particles go `lanes` at a time: their
+/// contributions are computed in lanes and added to the node records particle by particle, so each tile's sum
+/// receives them in the same order as one particle at a time, whatever the thread count.
+template <bool onto_zero, int Dim, class Kernel, class... Contributions>
+void p2g_scatter(const std::vector<Stencil<Dim, Kernel>>& stencils, const ScatterOrder<Dim>& order, Grid<Dim>& grid,
+                 const Contributions&... contributions) {
   constexpr int R = reals_in<GridNode<Dim>>;
   constexpr std::size_t stencil_nodes = LaneStencil<Dim, Kernel>::node_count;
   static_assert(sizeof(GridNode<Dim>) == R * sizeof(Real), "a node is a record of Reals");
   const NodeLayout<Dim> layout(grid.geometry);
-  Real* nodes = &grid.nodes[0].m;
-  order.template for_each_block<LaneBlock::width>([&](const std::int32_t* particles, int count) {
+  order.template scatter<LaneBlock::width>(grid, onto_zero, [&](Real* nodes, const std::int32_t* particles, int count) {
     const LaneBlock block(particles, count);
     const LaneStencil<Dim, Kernel> s(stencils, block, layout.inv_h);
     const auto add = std::make_tuple(contributions(block)...);
@@ -125,6 +124,13 @@ void p2g_add(const std::vector<Stencil<Dim, Kernel>>& stencils, const ScatterOrd
   });
 }
 
+/// P2G added to the fields as they are (they are not cleared first).
+template <int Dim, class Kernel, class... Contributions>
+void p2g_add(const std::vector<Stencil<Dim, Kernel>>& stencils, const ScatterOrder<Dim>& order, Grid<Dim>& grid,
+             const Contributions&... contributions) {
+  p2g_scatter<false>(stencils, order, grid, contributions...);
+}
+
 /// What a P2G pass of the explicit step scatters.
 struct Scatter {
   bool mass_momentum;
@@ -136,7 +142,7 @@ struct Scatter {
 /// force (Wallstedt & Guilkey 2008, Eq. (14), Eq. (15)).
 template <Scatter what, int Dim, class Kernel>
 void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils,
-         const ScatterOrder& order, const std::vector<Vec<Dim>>& body_accel, Grid<Dim>& grid) {
+         const ScatterOrder<Dim>& order, const std::vector<Vec<Dim>>& body_accel, Grid<Dim>& grid) {
   parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) {
     GridNode<Dim>& node = grid.nodes[n];
     if constexpr (what.mass_momentum && what.force) {  // v_new is recomputed from these, so clear all at once
@@ -154,15 +160,15 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
   const bool body = what.force && !body_accel.empty();
   if constexpr (what.mass_momentum && what.force) {
     if (body)
-      p2g_add(stencils, order, grid, momentum, internal, BodyForce<Dim>{p.m, body_accel});
+      p2g_scatter<true>(stencils, order, grid, momentum, internal, BodyForce<Dim>{p.m, body_accel});
     else
-      p2g_add(stencils, order, grid, momentum, internal);
+      p2g_scatter<true>(stencils, order, grid, momentum, internal);
   } else if constexpr (what.mass_momentum) {
-    p2g_add(stencils, order, grid, momentum);
+    p2g_scatter<true>(stencils, order, grid, momentum);
   } else if (body) {
-    p2g_add(stencils, order, grid, internal, BodyForce<Dim>{p.m, body_accel});
+    p2g_scatter<true>(stencils, order, grid, internal, BodyForce<Dim>{p.m, body_accel});
   } else {
-    p2g_add(stencils, order, grid, internal);
+    p2g_scatter<true>(stencils, order, grid, internal);
   }
 }
 

@@ -1,10 +1,19 @@
 #pragma once
-/// A deterministic, race-free order for particle-to-grid scatter. Particles are counting-sorted (stably)
-/// into strips of `width` node layers along the slowest grid axis; strips of equal parity touch disjoint
-/// nodes, so even strips run in parallel, then odd ones. Each node then receives its contributions in the
-/// same order whatever the thread count.
+/// A deterministic, race-free order for particle-to-grid scatter that does not depend on how the grid is divided
+/// between threads or ranks. The grid's tiles (GridGeometry::tile_width node layers per axis) are coloured by the
+/// parities of their global tile coordinates, 2^Dim colours. A P2G pass sums the particles of each tile, in id
+/// order, into the tile's footprint (its nodes and the width - 1 layers above it, where its particles' stencils
+/// reach); tiles of one colour have disjoint footprints, so they run in parallel. The colours' sums are added
+/// into the nodes in colour order. A node lies in the footprint of at most one tile of each colour, so its value
+/// is
+///     f_i = (((f_i^0 + P_i^{c_0}) + P_i^{c_1}) + ...),   P_i^c = the sum over the one tile of colour c,
+/// a function of the grid and the particle ids alone: a rank that owns a set of whole tiles computes the same
+/// P_i^c, and the halo adds them in the same colour order (docs/scaling.md).
 #include <algorithm>
+#include <array>
+#include <climits>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "mpm/core/parallel.hpp"
@@ -12,82 +21,139 @@
 
 namespace mpm {
 
+template <int Dim>
 class ScatterOrder {
  public:
-  /// Strip of a stencil whose base node has storage index `base` (ghosts included) along the slowest axis.
-  template <int N>
-  static std::int32_t strip_of(std::int32_t base) {
-    return base / N;
-  }
-  template <int Dim, int N>
-  static int strip_count(const GridGeometry<Dim>& g) {
-    return (g.nodes_along(Dim - 1) + N - 1) / N;
+  static constexpr int colours = 1 << Dim;
+
+  ScatterOrder() = default;
+  /// The tiles of grid g, for a kernel whose stencils are `width` nodes wide.
+  ScatterOrder(const GridGeometry<Dim>& g, int width) : geometry_(g), footprint_(GridGeometry<Dim>::tile_width + width - 1) {
+    static_assert(GridGeometry<Dim>::tile_width >= 4, "footprints of tiles of one colour must not overlap");
   }
 
-  /// Stable counting sort of particles by strip. The result is unique, so computing it in parallel chunks
-  /// gives the same order for any thread count.
-  void build(const std::vector<std::int32_t>& strip, int strips) {
-    const auto n = static_cast<std::ptrdiff_t>(strip.size());
+  /// Stable counting sort of particles by tile (`tile[p]`: flat tile index of particle p's stencil base node,
+  /// StencilTargets). Particles are stored in ascending id order, so each tile lists its particles by id. The
+  /// result is unique, so computing it in parallel chunks gives the same order for any thread count.
+  void build(const std::vector<std::int32_t>& tile) {
+    const int tiles = static_cast<int>(geometry_.tile_count());
+    const auto n = static_cast<std::ptrdiff_t>(tile.size());
     const std::ptrdiff_t chunks =
         std::max<std::ptrdiff_t>(1, std::min<std::ptrdiff_t>(4 * num_threads(), n / 1024));
     const std::ptrdiff_t chunk = (n + chunks - 1) / chunks;
-    count_.assign(static_cast<std::size_t>(chunks * strips), 0);
+    count_.assign(static_cast<std::size_t>(chunks * tiles), 0);
     parallel_for(
         chunks,
         [&](std::ptrdiff_t c) {
-          std::int32_t* cnt = &count_[c * strips];
-          for (std::ptrdiff_t p = c * chunk; p < std::min(n, (c + 1) * chunk); ++p) ++cnt[strip[p]];
+          std::int32_t* cnt = &count_[c * tiles];
+          for (std::ptrdiff_t p = c * chunk; p < std::min(n, (c + 1) * chunk); ++p) ++cnt[tile[p]];
         },
         2);
-    // Exclusive prefix over (strip, chunk): chunk c's particles of strip s start at count_[c*strips + s].
-    strip_begin_.assign(strips + 1, 0);
+    // Exclusive prefix over (tile, chunk): chunk c's particles of tile t start at count_[c*tiles + t].
+    tile_begin_.assign(tiles + 1, 0);
     std::int32_t total = 0;
-    for (int s = 0; s < strips; ++s) {
-      strip_begin_[s] = total;
+    for (int t = 0; t < tiles; ++t) {
+      tile_begin_[t] = total;
       for (std::ptrdiff_t c = 0; c < chunks; ++c) {
-        const std::int32_t k = count_[c * strips + s];
-        count_[c * strips + s] = total;
+        const std::int32_t k = count_[c * tiles + t];
+        count_[c * tiles + t] = total;
         total += k;
       }
     }
-    strip_begin_[strips] = total;
+    tile_begin_[tiles] = total;
     particles_ = n;
-    order_.resize(strip.size());
+    order_.resize(tile.size());
     parallel_for(
         chunks,
         [&](std::ptrdiff_t c) {
-          std::int32_t* cursor = &count_[c * strips];
+          std::int32_t* cursor = &count_[c * tiles];
           for (std::ptrdiff_t p = c * chunk; p < std::min(n, (c + 1) * chunk); ++p)
-            order_[cursor[strip[p]]++] = static_cast<std::int32_t>(p);
+            order_[cursor[tile[p]]++] = static_cast<std::int32_t>(p);
         },
         2);
+    // The tiles that hold particles, by colour, in flat-index order.
+    for (auto& list : colour_) list.clear();
+    for (int t = 0; t < tiles; ++t)
+      if (tile_begin_[t + 1] > tile_begin_[t]) colour_[colour_of(t)].push_back(t);
   }
 
-  /// Call fn(p) for every particle: even strips in parallel, then odd strips in parallel.
-  template <class Fn>
-  void for_each(Fn&& fn) const {
-    for_each_block<1>([&](const std::int32_t* particle, int) { fn(*particle); });
+  /// One P2G pass: call add(nodes, particles, count) for the particles in runs of at most `lanes` of one tile,
+  /// each run adding its contributions to the node records at `nodes` (laid out as grid.nodes). Runs of a colour
+  /// go in parallel. The first colour adds straight into the grid when `onto_zero` says the records it adds
+  /// to hold zero (0 + P = P exactly); the others add into a scratch copy, whose footprints are then added
+  /// into the grid and cleared.
+  template <int lanes, class Add>
+  void scatter(Grid<Dim>& grid, bool onto_zero, Add&& add) const {
+    bool direct = onto_zero;
+    for (const std::vector<std::int32_t>& tiles : colour_) {
+      if (tiles.empty()) continue;
+      if (!direct && scratch_.size() != grid.size()) {
+        scratch_.resize(grid.size());
+        std::memset(static_cast<void*>(scratch_.data()), 0, scratch_.size() * sizeof(GridNode<Dim>));
+      }
+      Real* target = direct ? &grid.nodes[0].m : &scratch_[0].m;
+      const auto count = static_cast<std::ptrdiff_t>(tiles.size());
+      const std::ptrdiff_t min_parallel = particles_ >= 1024 ? 2 : PTRDIFF_MAX;
+      parallel_for(
+          count,
+          [&](std::ptrdiff_t k) {
+            const std::int32_t t = tiles[k];
+            for (std::int32_t i = tile_begin_[t]; i < tile_begin_[t + 1]; i += lanes)
+              add(target, &order_[i], std::min(lanes, tile_begin_[t + 1] - i));
+          },
+          min_parallel);
+      if (!direct) parallel_for(count, [&](std::ptrdiff_t k) { fold(tiles[k], grid); }, min_parallel);
+      direct = false;
+    }
   }
 
-  /// Call fn(particles, count) for the particles in scatter order, in runs of at most `lanes` of one strip:
-  /// even strips in parallel, then odd strips in parallel.
-  template <int lanes, class Fn>
-  void for_each_block(Fn&& fn) const {
-    const int strips = static_cast<int>(strip_begin_.size()) - 1;
-    for (int parity = 0; parity < 2; ++parity)
-      parallel_for((strips - parity + 1) / 2,
-                   [&](std::ptrdiff_t k) {
-                     const int s = static_cast<int>(2 * k + parity);
-                     for (std::int32_t i = strip_begin_[s]; i < strip_begin_[s + 1]; i += lanes)
-                       fn(&order_[i], std::min(lanes, strip_begin_[s + 1] - i));
-                   },
-                   particles_ >= 1024 ? 2 : strips);
+  std::size_t bytes() const {
+    return order_.capacity() * sizeof(std::int32_t) + scratch_.capacity() * sizeof(GridNode<Dim>);
   }
-
-  std::size_t bytes() const { return order_.capacity() * sizeof(std::int32_t); }
 
  private:
-  std::vector<std::int32_t> order_, strip_begin_, count_;
+  /// Colour of tile t: the parities of its tile coordinates, axis 0 in bit 0.
+  int colour_of(std::int32_t t) const {
+    int colour = 0;
+    for (int d = 0; d < Dim; ++d) {
+      colour |= (t % geometry_.tiles_along(d) & 1) << d;
+      t /= geometry_.tiles_along(d);
+    }
+    return colour;
+  }
+
+  /// Add the scratch records of tile t's footprint into the grid and clear them.
+  void fold(std::int32_t t, Grid<Dim>& grid) const {
+    std::array<int, Dim> lo, hi;
+    for (int d = 0; d < Dim; ++d) {
+      lo[d] = t % geometry_.tiles_along(d) * GridGeometry<Dim>::tile_width;
+      hi[d] = std::min(lo[d] + footprint_, geometry_.nodes_along(d));
+      t /= geometry_.tiles_along(d);
+    }
+    constexpr int R = static_cast<int>(sizeof(GridNode<Dim>) / sizeof(Real));
+    const int row = (hi[0] - lo[0]) * R;
+    std::array<int, Dim> i = lo;  // i[0] stays lo[0]: each visit is one row along axis 0
+    while (true) {
+      std::ptrdiff_t first = 0;
+      for (int d = Dim - 1; d >= 0; --d) first = first * geometry_.nodes_along(d) + i[d];
+      Real* to = &grid.nodes[first].m;
+      Real* from = &scratch_[first].m;
+      for (int k = 0; k < row; ++k) to[k] += from[k];
+      std::memset(static_cast<void*>(from), 0, static_cast<std::size_t>(row) * sizeof(Real));
+      int d = 1;
+      for (; d < Dim; ++d) {
+        if (++i[d] < hi[d]) break;
+        i[d] = lo[d];
+      }
+      if (d == Dim) return;
+    }
+  }
+
+  GridGeometry<Dim> geometry_;
+  int footprint_ = 0;  ///< node layers per axis a tile's particles reach
+  std::vector<std::int32_t> order_, tile_begin_, count_;
+  std::array<std::vector<std::int32_t>, colours> colour_;
+  mutable std::vector<GridNode<Dim>> scratch_;
   std::ptrdiff_t particles_ = 0;
 };
 
