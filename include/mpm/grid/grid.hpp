@@ -32,6 +32,10 @@ struct GridGeometry {
   /// index 0). A P2G pass sums each tile's particles apart and adds the tiles' sums into the nodes in an order
   /// fixed by the tiles (ScatterOrder), so a box of whole tiles computes the same sums.
   static constexpr int tile_shift = 3, tile_width = 1 << tile_shift;
+  /// A stencil packs its tile's flat index and its base node's coordinates in the tile (tile_shift bits per axis,
+  /// for three axes) in 32 bits: (tile << slot_bits) | slot.
+  static constexpr int slot_bits = 3 * tile_shift;
+  static constexpr std::size_t max_tiles = std::size_t{1} << (31 - slot_bits);
 
   int nodes_along(int d) const { return cells[d] + 1 + 2 * ghost; }
   int tiles_along(int d) const { return (nodes_along(d) + tile_width - 1) >> tile_shift; }

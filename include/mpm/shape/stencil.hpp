@@ -20,7 +20,7 @@ namespace mpm {
 template <int Dim, class Kernel>
 struct Stencil {
   std::int32_t node;                            ///< flat index of the base node
-  std::int32_t tile;                            ///< flat index of the tile holding the base node
+  std::int32_t tile_slot;  ///< the tile holding the base node and the base node's place in it (GridGeometry::slot_bits)
   std::array<typename Kernel::Axis, Dim> axis;  ///< per-axis data the kernel evaluates weights from
 };
 
@@ -31,18 +31,18 @@ struct StencilLanes {
   using AxisLanes = typename Kernel::template AxisOf<RealLanes>;
   static constexpr int axis_reals = reals_in<typename Kernel::Axis>;
   using StencilT = Stencil<Dim, Kernel>;
-  static_assert(sizeof(StencilT) == (1 + Dim * axis_reals) * sizeof(Real) && offsetof(StencilT, tile) == 4 &&
+  static_assert(sizeof(StencilT) == (1 + Dim * axis_reals) * sizeof(Real) && offsetof(StencilT, tile_slot) == 4 &&
                     sizeof(AxisLanes) == axis_reals * sizeof(RealLanes),
                 "a stencil is two 32-bit indices and Dim axes of Reals; AxisOf holds only its T members");
 
-  IntLanes node, tile;
+  IntLanes node, tile_slot;
   AxisLanes axis[Dim];
 
   StencilLanes() = default;
   explicit StencilLanes(const RecordLanes<Stencil<Dim, Kernel>>& r) {
     const IntLanes indices = reinterpret_cast<IntLanes>(r[0]);
     node = (indices << 32) >> 32;  // sign-extended low half
-    tile = indices >> 32;
+    tile_slot = indices >> 32;
     for (int d = 0; d < Dim; ++d) {
       std::array<RealLanes, axis_reals> members;
       for (int j = 0; j < axis_reals; ++j) members[j] = r[1 + d * axis_reals + j];
@@ -51,7 +51,7 @@ struct StencilLanes {
   }
   RecordLanes<Stencil<Dim, Kernel>> record() const {
     RecordLanes<Stencil<Dim, Kernel>> r;
-    r[0] = reinterpret_cast<RealLanes>((tile << 32) | (node & 0xffffffff));
+    r[0] = reinterpret_cast<RealLanes>((tile_slot << 32) | (node & 0xffffffff));
     for (int d = 0; d < Dim; ++d) {
       const auto members = std::bit_cast<std::array<RealLanes, axis_reals>>(axis[d]);
       for (int j = 0; j < axis_reals; ++j) r[1 + d * axis_reals + j] = members[j];
@@ -80,14 +80,16 @@ template <int Dim, class Kernel>
 inline Stencil<Dim, Kernel> make_stencil(const GridGeometry<Dim>& g, const NodeLayout<Dim>& nl,
                                          const Vec<Dim>& x, const Vec<Dim>& l) {
   Stencil<Dim, Kernel> s;
-  std::int32_t node = 0, tile = 0;
+  using G = GridGeometry<Dim>;
+  std::int32_t node = 0, tile = 0, slot = 0;
   for (int d = 0; d < Dim; ++d) {
     const int base = Kernel::locate((x[d] - g.lo[d]) * nl.inv_h, l[d] * nl.inv_h, s.axis[d]);
     node += (base + g.ghost) * nl.stride[d];
-    tile += ((base + g.ghost) >> GridGeometry<Dim>::tile_shift) * nl.tile_stride[d];
+    tile += ((base + g.ghost) >> G::tile_shift) * nl.tile_stride[d];
+    slot |= ((base + g.ghost) & (G::tile_width - 1)) << (G::tile_shift * d);
   }
   s.node = node;
-  s.tile = tile;
+  s.tile_slot = (tile << G::slot_bits) | slot;
   return s;
 }
 
@@ -99,13 +101,16 @@ template <int Dim, class Kernel>
                                                                      const RecordLanes<Vec<Dim>>& x,
                                                                      const RecordLanes<Vec<Dim>>& l) {
   StencilLanes<Dim, Kernel> s;
+  using G = GridGeometry<Dim>;
   s.node = IntLanes{};
-  s.tile = IntLanes{};
+  IntLanes tile{}, slot{};
   for (int d = 0; d < Dim; ++d) {
     const IntLanes base = Kernel::locate((x[d] - g.lo[d]) * nl.inv_h, l[d] * nl.inv_h, s.axis[d]);
     s.node += (base + g.ghost) * nl.stride[d];
-    s.tile += ((base + g.ghost) >> GridGeometry<Dim>::tile_shift) * nl.tile_stride[d];
+    tile += ((base + g.ghost) >> G::tile_shift) * nl.tile_stride[d];
+    slot |= ((base + g.ghost) & (G::tile_width - 1)) << (G::tile_shift * d);
   }
+  s.tile_slot = (tile << G::slot_bits) | slot;
   return s;
 }
 
@@ -120,10 +125,10 @@ struct StencilTargets {
   /// Store the stencils of a block of particles and their tiles.
   [[gnu::always_inline]] void store(const LaneBlock& block, const StencilLanes<Dim, Kernel>& s) {
     block.store(stencils, s.record());
-    const auto tiles = std::bit_cast<std::array<std::int64_t, LaneBlock::width>>(s.tile);
+    const auto tiles = std::bit_cast<std::array<std::int64_t, LaneBlock::width>>(s.tile_slot);
     bool moved = false;
     for (int k = 0; k < block.active; ++k) {
-      const auto tile_k = static_cast<std::int32_t>(tiles[k]);
+      const auto tile_k = static_cast<std::int32_t>(tiles[k] >> GridGeometry<Dim>::slot_bits);
       moved = moved || tile_k != tile[block.first + k];
       tile[block.first + k] = tile_k;
     }

@@ -16,12 +16,19 @@ template <int Dim, class Kernel>
 struct LaneStencil {
   static constexpr int N = Kernel::width;
   static constexpr std::size_t node_count = Dim == 1 ? N : Dim == 2 ? N * N : N * N * N;  ///< nodes per stencil
+  /// Node layers per axis of a tile's footprint: its own and those its particles' stencils reach above it.
+  static constexpr int footprint = GridGeometry<Dim>::tile_width + N - 1;
   IntLanes node;  ///< flat index of each lane's base node
+  IntLanes slot;  ///< flat index of each lane's base node in its tile's footprint (axis 0 fastest)
   RealLanes w[Dim][N], dw[Dim][N];
 
   [[gnu::always_inline]] LaneStencil(const std::vector<Stencil<Dim, Kernel>>& stencils, const LaneBlock& block, Real inv_h) {
     const StencilLanes<Dim, Kernel> s(block.load(stencils));
     node = s.node;
+    using G = GridGeometry<Dim>;
+    slot = IntLanes{};
+    for (int d = Dim - 1; d >= 0; --d)
+      slot = slot * footprint + ((s.tile_slot >> (G::tile_shift * d)) & (G::tile_width - 1));
     for (int d = 0; d < Dim; ++d) {
       Kernel::weights_at(s.axis[d], w[d], dw[d]);
       for (int a = 0; a < N; ++a) dw[d][a] *= inv_h;

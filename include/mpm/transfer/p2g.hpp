@@ -93,20 +93,23 @@ struct HoopForce {
   }
 };
 
-/// P2G onto node records that hold zero (`onto_zero`) or any values: the contributions of every particle added
-/// to the records of the nodes of its stencil, in ScatterOrder. Particles go `lanes` at a time: their
-/// contributions are computed in lanes and added to the node records particle by particle, so each tile's sum
-/// receives them in the same order as one particle at a time, whatever the thread count.
-template <bool onto_zero, int Dim, class Kernel, class... Contributions>
-void p2g_scatter(const std::vector<Stencil<Dim, Kernel>>& stencils, const ScatterOrder<Dim>& order, Grid<Dim>& grid,
-                 const Contributions&... contributions) {
+/// P2G: the contributions of every particle added to the records of the nodes of its stencil, in ScatterOrder.
+/// Particles go `lanes` at a time: their contributions are computed in lanes and added to their tile's footprint
+/// buffer particle by particle, so each tile's sum receives them in the same order as one particle at a time,
+/// whatever the thread count. The fields the contributions add to are not cleared first.
+template <int Dim, class Kernel, class... Contributions>
+void p2g_add(const std::vector<Stencil<Dim, Kernel>>& stencils, const ScatterOrder<Dim>& order, Grid<Dim>& grid,
+             const Contributions&... contributions) {
   constexpr int R = reals_in<GridNode<Dim>>;
-  constexpr std::size_t stencil_nodes = LaneStencil<Dim, Kernel>::node_count;
+  using Lanes = LaneStencil<Dim, Kernel>;
+  constexpr std::size_t stencil_nodes = Lanes::node_count;
   static_assert(sizeof(GridNode<Dim>) == R * sizeof(Real), "a node is a record of Reals");
-  const NodeLayout<Dim> layout(grid.geometry);
-  order.template scatter<LaneBlock::width>(grid, onto_zero, [&](Real* nodes, const std::int32_t* particles, int count) {
+  // The footprint buffer's strides: Lanes::footprint records per axis.
+  NodeLayout<Dim> layout(grid.geometry);
+  for (int d = 0, stride = 1; d < Dim; ++d, stride *= Lanes::footprint) layout.stride[d] = stride;
+  order.template scatter<LaneBlock::width>(grid, [&](Real* buffer, const std::int32_t* particles, int count) {
     const LaneBlock block(particles, count);
-    const LaneStencil<Dim, Kernel> s(stencils, block, layout.inv_h);
+    const Lanes s(stencils, block, layout.inv_h);
     const auto add = std::make_tuple(contributions(block)...);
     std::array<std::array<RealLanes, R>, stencil_nodes> records;
     std::array<std::int32_t, stencil_nodes> offsets;
@@ -120,15 +123,8 @@ void p2g_scatter(const std::vector<Stencil<Dim, Kernel>>& stencils, const Scatte
                       (add_one(record, S_ip, dS_ip), ...);
                     }, add);
                   });
-    simd::add_stencil_records<R>(nodes, s.node, offsets, records, block.active);
+    simd::add_stencil_records<R>(buffer, s.slot, offsets, records, block.active);
   });
-}
-
-/// P2G added to the fields as they are (they are not cleared first).
-template <int Dim, class Kernel, class... Contributions>
-void p2g_add(const std::vector<Stencil<Dim, Kernel>>& stencils, const ScatterOrder<Dim>& order, Grid<Dim>& grid,
-             const Contributions&... contributions) {
-  p2g_scatter<false>(stencils, order, grid, contributions...);
 }
 
 /// What a P2G pass of the explicit step scatters.
@@ -160,15 +156,15 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
   const bool body = what.force && !body_accel.empty();
   if constexpr (what.mass_momentum && what.force) {
     if (body)
-      p2g_scatter<true>(stencils, order, grid, momentum, internal, BodyForce<Dim>{p.m, body_accel});
+      p2g_add(stencils, order, grid, momentum, internal, BodyForce<Dim>{p.m, body_accel});
     else
-      p2g_scatter<true>(stencils, order, grid, momentum, internal);
+      p2g_add(stencils, order, grid, momentum, internal);
   } else if constexpr (what.mass_momentum) {
-    p2g_scatter<true>(stencils, order, grid, momentum);
+    p2g_add(stencils, order, grid, momentum);
   } else if (body) {
-    p2g_scatter<true>(stencils, order, grid, internal, BodyForce<Dim>{p.m, body_accel});
+    p2g_add(stencils, order, grid, internal, BodyForce<Dim>{p.m, body_accel});
   } else {
-    p2g_scatter<true>(stencils, order, grid, internal);
+    p2g_add(stencils, order, grid, internal);
   }
 }
 

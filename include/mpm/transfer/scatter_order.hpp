@@ -2,10 +2,10 @@
 /// A deterministic, race-free order for particle-to-grid scatter that does not depend on how the grid is divided
 /// between threads or ranks. The grid's tiles (GridGeometry::tile_width node layers per axis) are coloured by the
 /// parities of their global tile coordinates, 2^Dim colours. A P2G pass sums the particles of each tile, in id
-/// order, into the tile's footprint (its nodes and the width - 1 layers above it, where its particles' stencils
-/// reach); tiles of one colour have disjoint footprints, so they run in parallel. The colours' sums are added
-/// into the nodes in colour order. A node lies in the footprint of at most one tile of each colour, so its value
-/// is
+/// order, into a cleared buffer the size of the tile's footprint (its nodes and the width - 1 layers above it,
+/// where its particles' stencils reach), small enough to stay in cache, and adds the buffer into the grid; tiles
+/// of one colour have disjoint footprints, so they run in parallel, and the colours go in order. A node lies in
+/// the footprint of at most one tile of each colour, so its value is
 ///     f_i = (((f_i^0 + P_i^{c_0}) + P_i^{c_1}) + ...),   P_i^c = the sum over the one tile of colour c,
 /// a function of the grid and the particle ids alone: a rank that owns a set of whole tiles computes the same
 /// P_i^c, and the halo adds them in the same colour order (docs/scaling.md).
@@ -16,6 +16,9 @@
 #include <cstring>
 #include <vector>
 
+#include <string>
+
+#include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
 #include "mpm/grid/grid.hpp"
 
@@ -30,6 +33,10 @@ class ScatterOrder {
   /// The tiles of grid g, for a kernel whose stencils are `width` nodes wide.
   ScatterOrder(const GridGeometry<Dim>& g, int width) : geometry_(g), footprint_(GridGeometry<Dim>::tile_width + width - 1) {
     static_assert(GridGeometry<Dim>::tile_width >= 4, "footprints of tiles of one colour must not overlap");
+    if (g.tile_count() > GridGeometry<Dim>::max_tiles)
+      throw InputError("grid: " + std::to_string(g.tile_count()) + " tiles of " +
+                       std::to_string(GridGeometry<Dim>::tile_width) + " node layers per axis, more than the " +
+                       std::to_string(GridGeometry<Dim>::max_tiles) + " one process can index; use fewer cells");
   }
 
   /// Stable counting sort of particles by tile (`tile[p]`: flat tile index of particle p's stencil base node,
@@ -77,39 +84,34 @@ class ScatterOrder {
       if (tile_begin_[t + 1] > tile_begin_[t]) colour_[colour_of(t)].push_back(t);
   }
 
-  /// One P2G pass: call add(nodes, particles, count) for the particles in runs of at most `lanes` of one tile,
-  /// each run adding its contributions to the node records at `nodes` (laid out as grid.nodes). Runs of a colour
-  /// go in parallel. The first colour adds straight into the grid when `onto_zero` says the records it adds
-  /// to hold zero (0 + P = P exactly); the others add into a scratch copy, whose footprints are then added
-  /// into the grid and cleared.
+  /// One P2G pass: for each tile that holds particles, call add(buffer, particles, count) for them in runs of
+  /// at most `lanes`, each run adding its contributions to the node records of `buffer`, the tile's footprint
+  /// (footprint^Dim records, axis 0 fastest, cleared); then add the buffer into the grid's records. Tiles of one
+  /// colour run in parallel (their footprints are disjoint), the colours one after the other.
   template <int lanes, class Add>
-  void scatter(Grid<Dim>& grid, bool onto_zero, Add&& add) const {
-    bool direct = onto_zero;
+  void scatter(Grid<Dim>& grid, Add&& add) const {
+    std::size_t records = 1;
+    for (int d = 0; d < Dim; ++d) records *= static_cast<std::size_t>(footprint_);
     for (const std::vector<std::int32_t>& tiles : colour_) {
-      if (tiles.empty()) continue;
-      if (!direct && scratch_.size() != grid.size()) {
-        scratch_.resize(grid.size());
-        std::memset(static_cast<void*>(scratch_.data()), 0, scratch_.size() * sizeof(GridNode<Dim>));
-      }
-      Real* target = direct ? &grid.nodes[0].m : &scratch_[0].m;
-      const auto count = static_cast<std::ptrdiff_t>(tiles.size());
-      const std::ptrdiff_t min_parallel = particles_ >= 1024 ? 2 : PTRDIFF_MAX;
       parallel_for(
-          count,
+          static_cast<std::ptrdiff_t>(tiles.size()),
           [&](std::ptrdiff_t k) {
+            // One buffer per thread, cleared once; each fold clears it again.
+            static thread_local std::vector<GridNode<Dim>> buffer;
+            if (buffer.size() < records) {
+              buffer.resize(records);
+              std::memset(static_cast<void*>(buffer.data()), 0, buffer.size() * sizeof(GridNode<Dim>));
+            }
             const std::int32_t t = tiles[k];
             for (std::int32_t i = tile_begin_[t]; i < tile_begin_[t + 1]; i += lanes)
-              add(target, &order_[i], std::min(lanes, tile_begin_[t + 1] - i));
+              add(&buffer[0].m, &order_[i], std::min(lanes, tile_begin_[t + 1] - i));
+            fold(t, buffer, grid);
           },
-          min_parallel);
-      if (!direct) parallel_for(count, [&](std::ptrdiff_t k) { fold(tiles[k], grid); }, min_parallel);
-      direct = false;
+          particles_ >= 1024 ? 2 : PTRDIFF_MAX);
     }
   }
 
-  std::size_t bytes() const {
-    return order_.capacity() * sizeof(std::int32_t) + scratch_.capacity() * sizeof(GridNode<Dim>);
-  }
+  std::size_t bytes() const { return order_.capacity() * sizeof(std::int32_t); }
 
  private:
   /// Colour of tile t: the parities of its tile coordinates, axis 0 in bit 0.
@@ -122,22 +124,25 @@ class ScatterOrder {
     return colour;
   }
 
-  /// Add the scratch records of tile t's footprint into the grid and clear them.
-  void fold(std::int32_t t, Grid<Dim>& grid) const {
+  /// Add the footprint buffer of tile t into the grid's records and clear it.
+  void fold(std::int32_t t, std::vector<GridNode<Dim>>& buffer, Grid<Dim>& grid) const {
     std::array<int, Dim> lo, hi;
     for (int d = 0; d < Dim; ++d) {
       lo[d] = t % geometry_.tiles_along(d) * GridGeometry<Dim>::tile_width;
-      hi[d] = std::min(lo[d] + footprint_, geometry_.nodes_along(d));
+      hi[d] = std::min(lo[d] + footprint_, geometry_.nodes_along(d));  // stencils reach no further
       t /= geometry_.tiles_along(d);
     }
     constexpr int R = static_cast<int>(sizeof(GridNode<Dim>) / sizeof(Real));
     const int row = (hi[0] - lo[0]) * R;
     std::array<int, Dim> i = lo;  // i[0] stays lo[0]: each visit is one row along axis 0
     while (true) {
-      std::ptrdiff_t first = 0;
-      for (int d = Dim - 1; d >= 0; --d) first = first * geometry_.nodes_along(d) + i[d];
-      Real* to = &grid.nodes[first].m;
-      Real* from = &scratch_[first].m;
+      std::ptrdiff_t to_row = 0, from_row = 0;
+      for (int d = Dim - 1; d >= 0; --d) {
+        to_row = to_row * geometry_.nodes_along(d) + i[d];
+        from_row = from_row * footprint_ + (i[d] - lo[d]);
+      }
+      Real* to = &grid.nodes[to_row].m;
+      Real* from = &buffer[from_row].m;
       for (int k = 0; k < row; ++k) to[k] += from[k];
       std::memset(static_cast<void*>(from), 0, static_cast<std::size_t>(row) * sizeof(Real));
       int d = 1;
@@ -153,7 +158,6 @@ class ScatterOrder {
   int footprint_ = 0;  ///< node layers per axis a tile's particles reach
   std::vector<std::int32_t> order_, tile_begin_, count_;
   std::array<std::vector<std::int32_t>, colours> colour_;
-  mutable std::vector<GridNode<Dim>> scratch_;
   std::ptrdiff_t particles_ = 0;
 };
 
