@@ -79,13 +79,13 @@ class Simulation {
   /// The bytes a simulation will hold, from the arrays the constructor sizes (a body force adds one
   /// acceleration per particle; a rate-form material its state and the rates the stress update reads).
   static MemoryModel memory_model(bool body_force, bool rate_form) {
-    // Particles, their stencils, tiles and scatter order; per node its record and its scratch record.
+    // Particles, their stencils, tiles and scatter order; one node record per node.
     const std::size_t particle =
         ParticleSet<Dim>::bytes_per_particle() + sizeof(Stencil<Dim, Kernel>) + 2 * sizeof(std::int32_t) +
         (body_force ? sizeof(Vec<Dim>) : 0) +
         (rate_form ? MaterialState::bytes_per_particle() + sizeof(Mat<Dim>) + sizeof(Real) : 0);
     // A node's mirror copies (1 B) when light nodes are re-projected.
-    return {static_cast<double>(particle), static_cast<double>(2 * sizeof(GridNode<Dim>) + sizeof(std::uint8_t))};
+    return {static_cast<double>(particle), static_cast<double>(sizeof(GridNode<Dim>) + sizeof(std::uint8_t))};
   }
 
  private:
