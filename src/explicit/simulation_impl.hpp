@@ -9,6 +9,7 @@
 
 #include "mpm/core/errors.hpp"
 #include "mpm/explicit/simulation.hpp"
+#include "mpm/particles/reorder.hpp"
 #include "mpm/transfer/p2g.hpp"
 #include "simulation_stress_impl.hpp"
 
@@ -267,8 +268,17 @@ template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::build_stencils() {
   if (!stencils_current_)
     tiles_changed_ = mpm::build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, tile_) || tiles_changed_;
-  // The scatter order depends only on the tiles, so it is rebuilt only when a particle changed tile.
-  if (tiles_changed_) order_.build(tile_);
+  // The scatter order depends only on the tiles, so it is rebuilt only when a particle changed tile; the
+  // particles are then stored in that order, so that the transfers read them in sequence.
+  if (tiles_changed_) {
+    order_.build(tile_, particles_.id);
+    if (!order_.identity()) {
+      reorder_particles(particles_, order_.order());
+      gather_by(stencils_, order_.order());
+      gather_by(tile_, order_.order());
+      order_.reordered();
+    }
+  }
   stencils_current_ = tiles_changed_ = false;
   evaluate_body_force();
   if (!rigid_.empty()) {
@@ -345,7 +355,7 @@ void Simulation<Dim, Kernel>::check(ParticleFault fault, Real dt) const {
     cause = "cpGIMP half-lengths " + detail::format<Dim>(p.l[i]) + " left (0, h/2] (deformation too large)";
   std::ostringstream os;
   os.precision(9);
-  os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << i << ": " << cause;
+  os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << p.id[i] << ": " << cause;
   throw SimulationFailure(os.str());
 }
 

@@ -16,7 +16,7 @@ namespace mpm {
 // external force; rigid-body stencils at their positions.
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::project(Real dt) {
-  if (build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, tile_)) order_.build(tile_);
+  if (build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, tile_)) order_.build(tile_, particles_.id);
   p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils_, order_, {}, grid_);  // as explicit
   halo_.sum_into_owners(grid_, NodeFields::mass_momentum);
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);

@@ -62,7 +62,7 @@ std::vector<V1> internal_force(const mpm::ParticleSet<1>& p) {
   std::vector<std::int32_t> tile;
   mpm::build_stencils<1, Kernel>(p, geometry, stencils, tile);
   mpm::ScatterOrder<1> order(geometry, Kernel::width);
-  order.build(tile);
+  order.build(tile, p.id);
   const std::vector<V1> no_body_force;
   mpm::p2g<mpm::Scatter{.mass_momentum = false, .force = true}>(p, stencils, order, no_body_force, grid);
   std::vector<V1> force(grid.size());

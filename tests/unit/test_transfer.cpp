@@ -107,7 +107,7 @@ struct Transfer {
 
   Transfer(const mpm::ParticleSet<Dim>& p, const mpm::GridGeometry<Dim>& g) : order(g, Kernel::width) {
     mpm::build_stencils<Dim, Kernel>(p, g, stencils, tile);
-    order.build(tile);
+    order.build(tile, p.id);
   }
 };
 

@@ -48,8 +48,18 @@ shape = "box"
 }
 
 struct Final {
-  std::vector<Vec<2>> x, v;
+  std::vector<Vec<2>> x, v;  ///< by particle id
 };
+
+/// The particles' positions and velocities by id (the explicit engine stores them by tile).
+Final by_id(const mpm::ParticleSet<2>& p) {
+  Final out{std::vector<Vec<2>>(p.size()), std::vector<Vec<2>>(p.size())};
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    out.x.at(static_cast<std::size_t>(p.id[i])) = p.x[i];
+    out.v.at(static_cast<std::size_t>(p.id[i])) = p.v[i];
+  }
+  return out;
+}
 
 Final run(const Scene& sc) {
   Final out;
@@ -57,11 +67,11 @@ Final run(const Scene& sc) {
     if (sc.implicit) {
       ImplicitSimulation<2, K> sim(make_implicit_spec<2>(sc), seed_bodies<2>(sc));
       sim.run_until(sc.end_time);
-      out = {sim.particles().x, sim.particles().v};
+      out = by_id(sim.particles());
     } else {
       Simulation<2, K> sim(make_spec<2>(sc), seed_bodies<2>(sc));
       sim.run_until(sc.end_time);
-      out = {sim.particles().x, sim.particles().v};
+      out = by_id(sim.particles());
     }
   });
   return out;

@@ -62,13 +62,7 @@ void erase_at(std::vector<T>& a, const std::vector<std::size_t>& gone, std::size
 template <int Dim>
 void erase_particles(ParticleSet<Dim>& p, const std::vector<std::size_t>& gone) {
   const std::size_t n = p.size();
-  erase_at(p.x, gone, n), erase_at(p.X, gone, n), erase_at(p.v, gone, n), erase_at(p.F, gone, n);
-  erase_at(p.m, gone, n), erase_at(p.V0, gone, n), erase_at(p.V, gone, n);
-  erase_at(p.l0, gone, n), erase_at(p.l, gone, n), erase_at(p.sigma, gone, n), erase_at(p.material, gone, n);
-  erase_at(p.id, gone, n);
-  MaterialState& s = p.state;
-  erase_at(s.sigma, gone, n), erase_at(s.eps_bar, gone, n), erase_at(s.temperature, gone, n);
-  erase_at(s.energy, gone, n), erase_at(s.stretch3, gone, n);
+  p.for_each_array([&](auto& a) { erase_at(a, gone, n); });
 }
 
 /// The indices n, ..., size - 1: the particles a restart drops when its checkpoint holds n of the size seeded

@@ -23,8 +23,8 @@ struct ParticleSet {
   std::vector<Vec<Dim>> l;              ///< current GIMP half-lengths l_p [m]
   std::vector<SymTensor<Dim>> sigma;    ///< Cauchy stress [Pa]
   std::vector<std::uint16_t> material;  ///< index into the material table
-  /// Stable identity: the particle's index in the set as seeded, kept through removals, restarts and (in a
-  /// distributed run) moves between ranks. The arrays are kept in ascending id order.
+  /// Stable identity: the particle's index in the set as seeded, kept through removals, restarts, the engine's
+  /// reordering of the arrays and (in a distributed run) moves between ranks.
   std::vector<std::int64_t> id;
   /// State of the rate-form materials (sized by the engine when a rate-form material is present; sigma above is
   /// then its in-plane part).
@@ -57,6 +57,13 @@ struct ParticleSet {
     sigma.reserve(n);
     material.reserve(n);
     id.reserve(n);
+  }
+
+  /// Call fn(array) for every per-particle array, the material state's included (some may be empty).
+  template <class Fn>
+  void for_each_array(Fn&& fn) {
+    fn(x), fn(X), fn(v), fn(F), fn(m), fn(V0), fn(V), fn(l0), fn(l), fn(sigma), fn(material), fn(id);
+    fn(state.sigma), fn(state.eps_bar), fn(state.temperature), fn(state.energy), fn(state.stretch3);
   }
 
   /// Bytes of one particle's fields, without the rate-form state.

@@ -39,10 +39,10 @@ class ScatterOrder {
                        std::to_string(GridGeometry<Dim>::max_tiles) + " one process can index; use fewer cells");
   }
 
-  /// Stable counting sort of particles by tile (`tile[p]`: flat tile index of particle p's stencil base node,
-  /// StencilTargets). Particles are stored in ascending id order, so each tile lists its particles by id. The
-  /// result is unique, so computing it in parallel chunks gives the same order for any thread count.
-  void build(const std::vector<std::int32_t>& tile) {
+  /// Sort the particles by tile (`tile[p]`: flat tile index of particle p's stencil base node, StencilTargets),
+  /// each tile's by id: a stable counting sort, then a sort by id of the tiles whose particles were not stored
+  /// in id order. The result is unique, so computing it in parallel gives the same order for any thread count.
+  void build(const std::vector<std::int32_t>& tile, const std::vector<std::int64_t>& id) {
     const int tiles = static_cast<int>(geometry_.tile_count());
     const auto n = static_cast<std::ptrdiff_t>(tile.size());
     const std::ptrdiff_t chunks =
@@ -78,6 +78,17 @@ class ScatterOrder {
             order_[cursor[tile[p]]++] = static_cast<std::int32_t>(p);
         },
         2);
+    parallel_for(
+        tiles,
+        [&](std::ptrdiff_t t) {
+          const auto by_id = [&](std::int32_t a, std::int32_t b) { return id[a] < id[b]; };
+          std::int32_t* first = &order_[0] + tile_begin_[t];
+          std::int32_t* last = &order_[0] + tile_begin_[t + 1];
+          if (!std::is_sorted(first, last, by_id)) std::sort(first, last, by_id);
+        },
+        particles_ >= 1024 ? 2 : PTRDIFF_MAX);
+    identity_ = true;
+    for (std::ptrdiff_t k = 0; k < n && identity_; ++k) identity_ = order_[k] == k;
     // The tiles that hold particles, by colour, in flat-index order.
     for (auto& list : colour_) list.clear();
     for (int t = 0; t < tiles; ++t)
@@ -109,6 +120,16 @@ class ScatterOrder {
           },
           particles_ >= 1024 ? 2 : PTRDIFF_MAX);
     }
+  }
+
+  /// The particles by tile and id (storage indices).
+  const std::vector<std::int32_t>& order() const { return order_; }
+  /// Whether the particles are stored in this order already.
+  bool identity() const { return identity_; }
+  /// The caller has reordered its particle arrays by order(): the order becomes the identity.
+  void reordered() {
+    for (std::size_t k = 0; k < order_.size(); ++k) order_[k] = static_cast<std::int32_t>(k);
+    identity_ = true;
   }
 
   std::size_t bytes() const { return order_.capacity() * sizeof(std::int32_t); }
@@ -159,6 +180,7 @@ class ScatterOrder {
   std::vector<std::int32_t> order_, tile_begin_, count_;
   std::array<std::vector<std::int32_t>, colours> colour_;
   std::ptrdiff_t particles_ = 0;
+  bool identity_ = true;
 };
 
 }  // namespace mpm
