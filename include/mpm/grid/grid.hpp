@@ -14,7 +14,7 @@ namespace mpm {
 /// (Steffen et al. 2008, Sec. 3.4.2). Node (i_0, ..., i_{D-1}) with -ghost <= i_d <= cells_d + ghost.
 template <int Dim>
 struct GridGeometry {
-  Vec<Dim> lo = Vec<Dim>::Zero();  ///< position of node (0,...,0) [m]
+  Vec<Dim> lo = Vec<Dim>::Zero();  ///< position of the grid's node (0,...,0) [m] (a box's node 0 is at lo + h offset)
   Real h = 1.0;                    ///< cell width [m], equal along every axis
   IVec<Dim> cells{};               ///< cells per axis in the physical domain
   int ghost = 1;                   ///< extra node layers beyond each face
@@ -37,7 +37,11 @@ struct GridGeometry {
   static constexpr int slot_bits = 3 * tile_shift;
   static constexpr std::size_t max_tiles = std::size_t{1} << (31 - slot_bits);
 
-  int nodes_along(int d) const { return cells[d] + 1 + 2 * ghost; }
+  /// Node layers per axis this box of the grid holds, ghosts included; zero: the whole grid (one process). A
+  /// box's first layer is the global layer `offset` (counted from the first ghost layer), a whole tile.
+  IVec<Dim> box_nodes{};
+
+  int nodes_along(int d) const { return box_nodes[d] > 0 ? box_nodes[d] : cells[d] + 1 + 2 * ghost; }
   int tiles_along(int d) const { return (nodes_along(d) + tile_width - 1) >> tile_shift; }
   std::size_t tile_count() const {
     std::size_t n = 1;
@@ -78,7 +82,7 @@ struct GridGeometry {
   }
   Vec<Dim> position(const IVec<Dim>& i) const {
     Vec<Dim> x;
-    for (int d = 0; d < Dim; ++d) x[d] = lo[d] + h * i[d];
+    for (int d = 0; d < Dim; ++d) x[d] = lo[d] + h * (i[d] + offset[d]);
     return x;
   }
   Vec<Dim> hi() const {

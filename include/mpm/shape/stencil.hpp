@@ -84,9 +84,10 @@ inline Stencil<Dim, Kernel> make_stencil(const GridGeometry<Dim>& g, const NodeL
   std::int32_t node = 0, tile = 0, slot = 0;
   for (int d = 0; d < Dim; ++d) {
     const int base = Kernel::locate((x[d] - g.lo[d]) * nl.inv_h, l[d] * nl.inv_h, s.axis[d]);
-    node += (base + g.ghost) * nl.stride[d];
-    tile += ((base + g.ghost) >> G::tile_shift) * nl.tile_stride[d];
-    slot |= ((base + g.ghost) & (G::tile_width - 1)) << (G::tile_shift * d);
+    const int layer = base + g.ghost - g.offset[d];  // storage index in this box
+    node += layer * nl.stride[d];
+    tile += (layer >> G::tile_shift) * nl.tile_stride[d];
+    slot |= (layer & (G::tile_width - 1)) << (G::tile_shift * d);
   }
   s.node = node;
   s.tile_slot = (tile << G::slot_bits) | slot;
@@ -106,9 +107,10 @@ template <int Dim, class Kernel>
   IntLanes tile{}, slot{};
   for (int d = 0; d < Dim; ++d) {
     const IntLanes base = Kernel::locate((x[d] - g.lo[d]) * nl.inv_h, l[d] * nl.inv_h, s.axis[d]);
-    s.node += (base + g.ghost) * nl.stride[d];
-    tile += ((base + g.ghost) >> G::tile_shift) * nl.tile_stride[d];
-    slot |= ((base + g.ghost) & (G::tile_width - 1)) << (G::tile_shift * d);
+    const IntLanes layer = base + (g.ghost - g.offset[d]);  // storage index in this box
+    s.node += layer * nl.stride[d];
+    tile += (layer >> G::tile_shift) * nl.tile_stride[d];
+    slot |= (layer & (G::tile_width - 1)) << (G::tile_shift * d);
   }
   s.tile_slot = (tile << G::slot_bits) | slot;
   return s;

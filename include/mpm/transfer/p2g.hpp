@@ -96,10 +96,12 @@ struct HoopForce {
 /// P2G: the contributions of every particle added to the records of the nodes of its stencil, in ScatterOrder.
 /// Particles go `lanes` at a time: their contributions are computed in lanes and added to their tile's footprint
 /// buffer particle by particle, so each tile's sum receives them in the same order as one particle at a time,
-/// whatever the thread count. The fields the contributions add to are not cleared first.
-template <int Dim, class Kernel, class... Contributions>
-void p2g_add(const std::vector<Stencil<Dim, Kernel>>& stencils, const ScatterOrder<Dim>& order, Grid<Dim>& grid,
-             const Contributions&... contributions) {
+/// whatever the thread count. The fields the contributions add to are not cleared first. Each tile's sums are
+/// shown to keep(tile, footprint records) before they are added into the grid (the halo keeps those of the tiles
+/// at a box's faces).
+template <int Dim, class Kernel, class Keep, class... Contributions>
+void p2g_add_keeping(const Keep& keep, const std::vector<Stencil<Dim, Kernel>>& stencils,
+                     const ScatterOrder<Dim>& order, Grid<Dim>& grid, const Contributions&... contributions) {
   constexpr int R = reals_in<GridNode<Dim>>;
   using Lanes = LaneStencil<Dim, Kernel>;
   constexpr std::size_t stencil_nodes = Lanes::node_count;
@@ -124,7 +126,14 @@ void p2g_add(const std::vector<Stencil<Dim, Kernel>>& stencils, const ScatterOrd
                     }, add);
                   });
     simd::add_stencil_records<R>(buffer, s.slot, offsets, records, block.active);
-  });
+  }, keep);
+}
+
+/// p2g_add_keeping without a look at the tiles' sums.
+template <int Dim, class Kernel, class... Contributions>
+void p2g_add(const std::vector<Stencil<Dim, Kernel>>& stencils, const ScatterOrder<Dim>& order, Grid<Dim>& grid,
+             const Contributions&... contributions) {
+  p2g_add_keeping([](std::int32_t, const GridNode<Dim>*) {}, stencils, order, grid, contributions...);
 }
 
 /// What a P2G pass of the explicit step scatters.

@@ -32,6 +32,7 @@ class ScatterOrder {
   ScatterOrder() = default;
   /// The tiles of grid g, for a kernel whose stencils are `width` nodes wide.
   ScatterOrder(const GridGeometry<Dim>& g, int width) : geometry_(g), footprint_(GridGeometry<Dim>::tile_width + width - 1) {
+    for (int d = 0; d < Dim; ++d) tile_origin_[d] = g.offset[d] >> GridGeometry<Dim>::tile_shift;
     static_assert(GridGeometry<Dim>::tile_width >= 4, "footprints of tiles of one colour must not overlap");
     if (g.tile_count() > GridGeometry<Dim>::max_tiles)
       throw InputError("grid: " + std::to_string(g.tile_count()) + " tiles of " +
@@ -97,10 +98,11 @@ class ScatterOrder {
 
   /// One P2G pass: for each tile that holds particles, call add(buffer, particles, count) for them in runs of
   /// at most `lanes`, each run adding its contributions to the node records of `buffer`, the tile's footprint
-  /// (footprint^Dim records, axis 0 fastest, cleared); then add the buffer into the grid's records. Tiles of one
-  /// colour run in parallel (their footprints are disjoint), the colours one after the other.
-  template <int lanes, class Add>
-  void scatter(Grid<Dim>& grid, Add&& add) const {
+  /// (footprint^Dim records, axis 0 fastest, cleared); then show the tile's sums to keep(tile, buffer) and add
+  /// the buffer into the grid's records. Tiles of one colour run in parallel (their footprints are disjoint), the
+  /// colours one after the other.
+  template <int lanes, class Add, class Keep>
+  void scatter(Grid<Dim>& grid, Add&& add, Keep&& keep) const {
     std::size_t records = 1;
     for (int d = 0; d < Dim; ++d) records *= static_cast<std::size_t>(footprint_);
     for (const std::vector<std::int32_t>& tiles : colour_) {
@@ -116,6 +118,7 @@ class ScatterOrder {
             const std::int32_t t = tiles[k];
             for (std::int32_t i = tile_begin_[t]; i < tile_begin_[t + 1]; i += lanes)
               add(&buffer[0].m, &order_[i], std::min(lanes, tile_begin_[t + 1] - i));
+            keep(t, buffer.data());
             fold(t, buffer, grid);
           },
           particles_ >= 1024 ? 2 : PTRDIFF_MAX);
@@ -134,17 +137,19 @@ class ScatterOrder {
 
   std::size_t bytes() const { return order_.capacity() * sizeof(std::int32_t); }
 
- private:
-  /// Colour of tile t: the parities of its tile coordinates, axis 0 in bit 0.
+  /// Node layers per axis a tile's particles reach.
+  int footprint() const { return footprint_; }
+  /// Colour of tile t: the parities of its global tile coordinates, axis 0 in bit 0.
   int colour_of(std::int32_t t) const {
     int colour = 0;
     for (int d = 0; d < Dim; ++d) {
-      colour |= (t % geometry_.tiles_along(d) & 1) << d;
+      colour |= ((t % geometry_.tiles_along(d) + tile_origin_[d]) & 1) << d;
       t /= geometry_.tiles_along(d);
     }
     return colour;
   }
 
+ private:
   /// Add the footprint buffer of tile t into the grid's records and clear it.
   void fold(std::int32_t t, std::vector<GridNode<Dim>>& buffer, Grid<Dim>& grid) const {
     std::array<int, Dim> lo, hi;
@@ -177,6 +182,7 @@ class ScatterOrder {
 
   GridGeometry<Dim> geometry_;
   int footprint_ = 0;  ///< node layers per axis a tile's particles reach
+  IVec<Dim> tile_origin_{};  ///< global tile coordinates of this box's first tile
   std::vector<std::int32_t> order_, tile_begin_, count_;
   std::array<std::vector<std::int32_t>, colours> colour_;
   std::ptrdiff_t particles_ = 0;
