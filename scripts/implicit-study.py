@@ -65,8 +65,9 @@ def main():
         sections.append(text)
         groups.update(g)
 
-    command = "/usr/bin/python3 scripts/implicit-study.py" + "".join(
-        f" {a}" for a in sys.argv[1:] if not a.startswith("--mpm"))
+    shown = [a for k, a in enumerate(sys.argv[1:])  # the binary's path (--mpm PATH or --mpm=PATH) is left out
+             if not a.startswith("--mpm") and not (k > 0 and sys.argv[k] == "--mpm")]
+    command = "/usr/bin/python3 scripts/implicit-study.py" + "".join(f" {a}" for a in shown)
     elapsed = time.time() - start
     write_document(sections, groups, args, command, elapsed)
 

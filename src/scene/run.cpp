@@ -9,6 +9,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <utility>
 
 #include "mpm/core/errors.hpp"
 #include "mpm/core/interrupt.hpp"
@@ -70,7 +71,7 @@ class SceneRun {
       const std::int64_t stop_at = o_.stop_after > 0 ? sim_.steps() + o_.stop_after : -1;
       try {
         while (sim_.time() < sc_.end_time * (1 - 1e-14) && sim_.steps() != stop_at && !interrupt_requested()) {
-          v_before_ = sim_.particles().v;
+          v_before_ = std::as_const(sim_).particles().v;
           const auto step_start = Clock::now();
           in_step_ = true;
           sim_.step(sc_.end_time - sim_.time());
@@ -78,7 +79,9 @@ class SceneRun {
           compute_seconds_ += std::chrono::duration<double>(Clock::now() - step_start).count();
           account_work();
           sim_.remove_outflow();
-          if (has_check()) acc_.error.record(sim_.particles(), sim_.time(), ExactFromScene<Dim>{&sc_.exact_displacement});
+          if (has_check())
+            acc_.error.record(std::as_const(sim_).particles(), sim_.time(),
+                              ExactFromScene<Dim>{&sc_.exact_displacement});
           write_history_row();
           if (newton_log_.is_open()) newton_log_.write(sim_.steps(), engine_.newton_attempts());
           if (sc_.output_every > 0 && sim_.time() >= next_output_time() * (1 - 1e-12)) write_frame();
@@ -238,7 +241,7 @@ class SceneRun {
                      {"end_time", sc_.end_time},
                      {"wall_seconds", wall},
                      {"compute_seconds", compute_seconds_},
-                     {"particles", sim_.particles().size()},
+                     {"particles", std::as_const(sim_).particles().size()},
                      {"frames", acc_.frames},
                      {"threads", num_threads()},
                      {"memory", {{"estimated_bytes", budget_.memory_bytes},

@@ -51,9 +51,10 @@ class Simulation {
   Real next_dt() const;
 
   const ParticleSet<Dim>& particles() const { return particles_; }
-  /// Mutable particles (restarts, scene set-up): the next step recomputes their stencils.
+  /// Mutable particles (restarts, scene set-up): the next step recomputes their stencils and their scatter order.
   ParticleSet<Dim>& particles() {
     stencils_current_ = false;
+    tiles_changed_ = true;
     return particles_;
   }
   const Grid<Dim>& grid() const { return grid_; }
