@@ -1,11 +1,44 @@
 // The `mpm` command-line program.
 #include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <new>
+#include <string>
+#include <utility>
 
 #include "commands.hpp"
 #include "mpm/core/errors.hpp"
+
+namespace {
+
+/// The value of a whole-number environment variable, or `otherwise` when it is unset or not a number.
+long env_number(const char* name, long otherwise) {
+  const char* text = std::getenv(name);
+  if (!text || !*text) return otherwise;
+  char* end = nullptr;
+  const long value = std::strtol(text, &end, 10);
+  return *end ? otherwise : value;
+}
+
+/// When an MPI launcher started this process among several (OpenMPI's mpirun sets OMPI_COMM_WORLD_SIZE; MPICH's
+/// mpiexec and Slurm's srun with PMI set PMI_SIZE): say once, from rank 0, that this build runs in one process,
+/// so that the copies do not all write the same output; true when the run must not go on.
+bool started_among_several() {
+  for (const auto& [size_name, rank_name] : {std::pair{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"},
+                                             std::pair{"PMI_SIZE", "PMI_RANK"}}) {
+    const long size = env_number(size_name, 1);
+    if (size <= 1) continue;
+    if (env_number(rank_name, 0) == 0)
+      std::cerr << "mpm: started as one of " << size << " processes (" << size_name << "=" << size
+                << "), but mpm runs in one process (threads: --threads); start it without mpirun or srun "
+                   "(docs/scaling.md)\n";
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   // A write past the file-size limit (ulimit -f) fails with EFBIG and is reported, instead of killing the program.
@@ -28,6 +61,7 @@ int main(int argc, char** argv) {
     std::cerr << "mpm: " << e.what() << '\n';
     return mpm::exit_input_error;
   }
+  if (started_among_several()) return mpm::exit_input_error;
   try {
     for (CLI::App* sub : app.get_subcommands()) {
       if (sub->get_name() == "bench") return bench();

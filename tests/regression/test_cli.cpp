@@ -24,11 +24,12 @@ std::string slurp(const std::filesystem::path& f) {
   return ss.str();
 }
 
-Outcome run_mpm(const std::string& args) {
+/// `mpm ARGS`, with the environment assignments `env` (e.g. "NAME=value ") before it.
+Outcome run_mpm(const std::string& args, const std::string& env = "") {
   const auto dir = std::filesystem::temp_directory_path() / ("mpm_cli_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const std::string cmd =
-      std::string(MPM_BINARY) + " " + args + " >" + (dir / "out").string() + " 2>" + (dir / "err").string();
+      env + std::string(MPM_BINARY) + " " + args + " >" + (dir / "out").string() + " 2>" + (dir / "err").string();
   const int raw = std::system(cmd.c_str());
   Outcome o{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(dir / "out"), slurp(dir / "err")};
   std::filesystem::remove_all(dir);
@@ -149,6 +150,24 @@ TEST(Cli, DensityProjectionReportsItsSupport) {
   o = run_mpm("density-1d --kernel ugimp --gimp-length 0.5");
   EXPECT_EQ(o.status, 2);
   EXPECT_NE(o.err.find("--gimp-length: expected a smoothing length in (0, h]"), std::string::npos) << o.err;
+}
+
+// Started by an MPI launcher among several processes, mpm (one process) refuses with exit 2, said once by rank 0,
+// instead of letting every copy write the same output; one process under a launcher runs.
+TEST(Cli, StartedAmongSeveralMpiProcessesRefusesOnce) {
+  for (const char* launcher : {"OMPI_COMM_WORLD_SIZE=3 OMPI_COMM_WORLD_RANK=", "PMI_SIZE=3 PMI_RANK="}) {
+    const Outcome first = run_mpm("verify axis-aligned --cells 4", std::string(launcher) + "0 ");
+    EXPECT_EQ(first.status, 2);
+    EXPECT_NE(first.err.find("started as one of 3 processes"), std::string::npos) << first.err;
+    EXPECT_EQ(first.err.find('\n'), first.err.size() - 1) << "one line: " << first.err;
+    EXPECT_TRUE(first.out.empty());
+    const Outcome second = run_mpm("verify axis-aligned --cells 4", std::string(launcher) + "2 ");
+    EXPECT_EQ(second.status, 2);
+    EXPECT_TRUE(second.err.empty() && second.out.empty()) << second.err;
+  }
+  const Outcome alone = run_mpm("verify axis-aligned --cells 4", "OMPI_COMM_WORLD_SIZE=1 OMPI_COMM_WORLD_RANK=0 ");
+  EXPECT_EQ(alone.status, 0) << alone.err;
+  EXPECT_NE(alone.out.find("axis-aligned"), std::string::npos);
 }
 
 TEST(Cli, BenchRejectsBadKernelAndDimension) {
