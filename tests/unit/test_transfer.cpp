@@ -17,6 +17,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "mpm/core/errors.hpp"
 #include "mpm/grid/grid.hpp"
 #include "mpm/materials/neo_hookean.hpp"
 #include "mpm/particles/particles.hpp"
@@ -200,6 +201,23 @@ TYPED_TEST(TransferTest, p2g_equals_the_colour_ordered_sum_of_separate_tile_sums
   for (std::size_t n = 0; n < sum.size(); ++n)
     differ += sum.nodes[n].m != full.nodes[n].m || sum.nodes[n].v != full.nodes[n].v || sum.nodes[n].a != full.nodes[n].a;
   EXPECT_EQ(differ, 0u) << "of " << sum.size() << " nodes";
+}
+
+// A stencil packs its tile's index in 22 bits (GridGeometry::max_tiles): a grid with more tiles is refused with
+// one line before anything is sized (its geometry alone is built here; 1,300^3 cells are 163^3 tiles).
+TEST(ScatterOrderLimits, AGridWithMoreTilesThanAStencilCanIndexIsRefused) {
+  mpm::GridGeometry<3> huge{Vec<3>::Zero(), 1.0, {1300, 1300, 1300}, 1};
+  ASSERT_GT(huge.tile_count(), mpm::GridGeometry<3>::max_tiles);
+  try {
+    mpm::ScatterOrder<3> order(huge, 2);
+    ADD_FAILURE() << "accepted " << huge.tile_count() << " tiles";
+  } catch (const mpm::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("more than the 4194304 one process can index"), std::string::npos)
+        << e.what();
+  }
+  mpm::GridGeometry<3> largest = huge;
+  largest.cells = {1200, 1200, 1200};  // 151^3 = 3,442,951 tiles
+  EXPECT_NO_THROW(mpm::ScatterOrder<3>(largest, 2));
 }
 
 TYPED_TEST(TransferTest, g2p_reproduces_linear_velocity_field_and_its_gradient) {
