@@ -48,6 +48,19 @@ def read_vtp(path):
     return arrays
 
 
+def read_frame(path):
+    """A frame's arrays: a .vtp, or the pieces a .pvtp lists (a run divided between ranks, one piece per rank),
+    joined in the order listed."""
+    path = pathlib.Path(path)
+    if path.suffix != ".pvtp":
+        return read_vtp(path)
+    sources = [p.get("Source") for p in ET.parse(path).getroot().iter("Piece")]
+    if not sources:
+        raise ValueError(f"{path} lists no pieces")
+    parts = [read_vtp(path.parent / source) for source in sources]
+    return {name: np.concatenate([part[name] for part in parts]) for name in parts[0]}
+
+
 def read_pvd(path):
     """[(time, path of the dataset)] from a .pvd collection, in its order; the paths are relative to its folder."""
     path = pathlib.Path(path)

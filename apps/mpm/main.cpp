@@ -9,33 +9,28 @@
 
 #include "commands.hpp"
 #include "mpm/core/errors.hpp"
+#include "mpm/distributed/communicator.hpp"
 
 namespace {
 
-/// The value of a whole-number environment variable, or `otherwise` when it is unset or not a number.
-long env_number(const char* name, long otherwise) {
-  const char* text = std::getenv(name);
-  if (!text || !*text) return otherwise;
-  char* end = nullptr;
-  const long value = std::strtol(text, &end, 10);
-  return *end ? otherwise : value;
+/// Error messages come from rank 0 alone when a launcher started several processes (they all meet the same
+/// input); in one process, from it.
+std::ostream& say() {
+  static std::ostream null(nullptr);
+  return mpm::launched_rank() == 0 ? std::cerr : null;
 }
 
-/// When an MPI launcher started this process among several (OpenMPI's mpirun sets OMPI_COMM_WORLD_SIZE; MPICH's
-/// mpiexec and Slurm's srun with PMI set PMI_SIZE): say once, from rank 0, that this build runs in one process,
-/// so that the copies do not all write the same output; true when the run must not go on.
-bool started_among_several() {
-  for (const auto& [size_name, rank_name] : {std::pair{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"},
-                                             std::pair{"PMI_SIZE", "PMI_RANK"}}) {
-    const long size = env_number(size_name, 1);
-    if (size <= 1) continue;
-    if (env_number(rank_name, 0) == 0)
-      std::cerr << "mpm: started as one of " << size << " processes (" << size_name << "=" << size
-                << "), but mpm runs in one process (threads: --threads); start it without mpirun or srun "
-                   "(docs/scaling.md)\n";
-    return true;
-  }
-  return false;
+/// Started among several processes (mpirun, srun): only `mpm run` of an MPI build divides its work between them.
+/// Otherwise say so once, from rank 0, so that the copies do not all write the same output; true when the
+/// command must not go on.
+bool refused_among_several(const std::string& command) {
+  const int size = mpm::launched_size();
+  if (size <= 1 || (command == "run" && mpm::built_with_mpi())) return false;
+  say() << "mpm: started as one of " << size << " processes, but "
+        << (mpm::built_with_mpi() ? "mpm " + command + " runs in one process (only mpm run divides a run between ranks)"
+                                  : std::string("this mpm was built without MPI and runs in one process"))
+        << "; start it without mpirun or srun (docs/scaling.md)\n";
+  return true;
 }
 
 }  // namespace
@@ -58,10 +53,12 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "mpm: " << e.what() << '\n';
+    say() << "mpm: " << e.what() << '\n';
     return mpm::exit_input_error;
   }
-  if (started_among_several()) return mpm::exit_input_error;
+  if (refused_among_several(app.get_subcommands().front()->get_name())) return mpm::exit_input_error;
+  // MPI starts only for a command that uses it, and only under a launcher (MpiSession).
+  const mpm::MpiSession mpi(argc, argv);
   try {
     for (CLI::App* sub : app.get_subcommands()) {
       if (sub->get_name() == "bench") return bench();
@@ -72,25 +69,25 @@ int main(int argc, char** argv) {
       if (sub->get_name() == "render") return render();
     }
   } catch (const mpm::InputError& e) {
-    std::cerr << "mpm: " << e.what() << '\n';
+    say() << "mpm: " << e.what() << '\n';
     return mpm::exit_input_error;
   } catch (const mpm::SimulationFailure& e) {
-    std::cerr << "mpm: simulation failed: " << e.what() << '\n';
+    say() << "mpm: simulation failed: " << e.what() << '\n';
     return mpm::exit_simulation_failure;
   } catch (const mpm::ToolError& e) {
-    std::cerr << "mpm: " << e.what() << '\n';
+    say() << "mpm: " << e.what() << '\n';
     return mpm::exit_tool_error;
   } catch (const mpm::OutputError& e) {
-    std::cerr << "mpm: " << e.what() << '\n';
+    say() << "mpm: " << e.what() << '\n';
     return mpm::exit_output_failure;
   } catch (const std::bad_alloc&) {
-    std::cerr << "mpm: out of memory (see the budget line; --dry-run estimates a run's memory)\n";
+    say() << "mpm: out of memory (see the budget line; --dry-run estimates a run's memory)\n";
     return mpm::exit_simulation_failure;
   } catch (const std::filesystem::filesystem_error& e) {
-    std::cerr << "mpm: " << e.what() << '\n';
+    say() << "mpm: " << e.what() << '\n';
     return mpm::exit_output_failure;
   } catch (const std::exception& e) {
-    std::cerr << "mpm: internal error: " << e.what() << '\n';
+    say() << "mpm: internal error: " << e.what() << '\n';
     return mpm::exit_simulation_failure;
   }
   return 0;

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include "mpm/core/errors.hpp"
+#include "mpm/distributed/communicator.hpp"
 #include "mpm/scene/budget.hpp"
 #include "mpm/scene/run.hpp"
 #include "mpm/scene/scene.hpp"
@@ -97,7 +98,7 @@ Action add_run(CLI::App& app) {
     o->run.dry_run = o->dry_run;
     const int status = run_scene(scene, o->run);
     if (o->dry_run) return status;
-    if (!o->run.quiet)
+    if (!o->run.quiet && world().rank() == 0)
       std::cout << (status == 0 ? "done" : "failed") << ": " << o->out << "/particles.pvd (ParaView), " << o->out
                 << "/history.csv, " << o->out << "/summary.json\n";
     return status;

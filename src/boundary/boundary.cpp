@@ -8,10 +8,11 @@ namespace {
 constexpr const char* face_name[] = {"x-min", "x-max", "y-min", "y-max", "z-min", "z-max"};
 
 /// Visit every node (ghosts included) with its grid coordinates.
+/// Visit every node (ghosts included) with its global grid coordinates (a box's nodes with its offset added).
 template <int Dim, class Fn>
 void for_all_nodes(const GridGeometry<Dim>& g, Fn&& fn) {
   const auto n = static_cast<std::ptrdiff_t>(g.node_count());
-  for (std::ptrdiff_t f = 0; f < n; ++f) fn(static_cast<std::int32_t>(f), g.coords(f));
+  for (std::ptrdiff_t f = 0; f < n; ++f) fn(static_cast<std::int32_t>(f), g.global(g.coords(f)));
 }
 
 template <int Dim>
@@ -40,7 +41,8 @@ void validate_faces(const BoundarySpec<Dim>& spec, const IVec<Dim>& cells, Geome
 }
 
 template <int Dim>
-KinematicConstraints<Dim>::KinematicConstraints(const BoundarySpec<Dim>& spec, const GridGeometry<Dim>& g)
+KinematicConstraints<Dim>::KinematicConstraints(const BoundarySpec<Dim>& spec, const GridGeometry<Dim>& g,
+                                                const IVec<Dim>& owned)
     : acceleration_(spec.acceleration) {
   for (int face = 0; face < 2 * Dim; ++face) {
     const FaceCondition<Dim>& fc = spec.faces[face];
@@ -49,20 +51,24 @@ KinematicConstraints<Dim>::KinematicConstraints(const BoundarySpec<Dim>& spec, c
     const int plane = high ? g.cells[axis] : 0;
     const int outward = high ? 1 : -1;
     if (fc.type == FaceType::velocity) {
-      Group grp{face_name[face], {}, -1, fc.velocity};
+      Group grp{face_name[face], {}, -1, fc.velocity, {}};
       for_all_nodes(g, [&](std::int32_t f, const IVec<Dim>& i) {
         if ((i[axis] - plane) * outward >= 0) grp.nodes.push_back(f);
       });
       groups_.push_back(std::move(grp));
     } else if (fc.type == FaceType::symmetry) {
-      Group grp{face_name[face], {}, axis, {}};
+      Group grp{face_name[face], {}, axis, {}, {}};
       Mirror mir{axis, {}, {}};
       for_all_nodes(g, [&](std::int32_t f, const IVec<Dim>& i) {
         const int k = (i[axis] - plane) * outward;  // layers beyond the plane
         if (k == 0) grp.nodes.push_back(f);
         if (k > 0) {
+          // The mirror node, in this box's coordinates. A box of a divided grid holds both or neither of the
+          // pairs any of its particles reach (cut_limit in mpm/distributed/box_halo.hpp); the rest are skipped.
           IVec<Dim> j = i;
           j[axis] = plane - k * outward;
+          for (int d = 0; d < Dim; ++d) j[d] -= g.offset[d];
+          if (j[axis] + g.ghost < 0 || j[axis] + g.ghost >= g.nodes_along(axis)) return;
           mir.ghost.push_back(f);
           mir.real.push_back(static_cast<std::int32_t>(g.flat(j)));
         }
@@ -73,7 +79,7 @@ KinematicConstraints<Dim>::KinematicConstraints(const BoundarySpec<Dim>& spec, c
   }
   const Real tol = 1e-9 * g.h;
   for (const RegionConstraint<Dim>& rc : spec.regions) {
-    Group grp{"region " + std::to_string(&rc - spec.regions.data()), {}, -1, rc.velocity};
+    Group grp{"region " + std::to_string(&rc - spec.regions.data()), {}, -1, rc.velocity, {}};
     for_all_nodes(g, [&](std::int32_t f, const IVec<Dim>& i) {
       const Vec<Dim> x = g.position(i);
       for (int d = 0; d < Dim; ++d)
@@ -82,8 +88,24 @@ KinematicConstraints<Dim>::KinematicConstraints(const BoundarySpec<Dim>& spec, c
     });
     groups_.push_back(std::move(grp));
   }
+  for (Group& grp : groups_)
+    for (std::int32_t f : grp.nodes) {
+      const IVec<Dim> i = g.coords(f);
+      bool mine = true;
+      for (int d = 0; d < Dim; ++d) mine = mine && i[d] + g.ghost < owned[d];
+      grp.owned.push_back(mine);
+    }
   reactions_.assign(groups_.size(), Vec<Dim>::Zero());
+  reaction_sums_.resize(groups_.size());
 }
+
+template <int Dim>
+KinematicConstraints<Dim>::KinematicConstraints(const BoundarySpec<Dim>& spec, const GridGeometry<Dim>& g)
+    : KinematicConstraints(spec, g, [&] {
+        IVec<Dim> all;
+        for (int d = 0; d < Dim; ++d) all[d] = g.nodes_along(d);
+        return all;
+      }()) {}
 
 template <int Dim>
 void KinematicConstraints<Dim>::fold_and_mirror(Grid<Dim>& grid, NodeFields fields) const {
@@ -163,19 +185,21 @@ void KinematicConstraints<Dim>::constrain_update(Grid<Dim>& grid, Real t_new, Re
     const Vec<Dim> val = value(grp, t_new);
     const int first = grp.component < 0 ? 0 : grp.component;
     const int last = grp.component < 0 ? Dim : grp.component + 1;
-    Vec<Dim> reaction = Vec<Dim>::Zero();
-    for (std::int32_t n : grp.nodes) {
-      GridNode<Dim>& node = grid.nodes[n];
+    std::array<ExactSum, Dim>& reaction = reaction_sums_[g];
+    reaction = {};
+    for (std::size_t k = 0; k < grp.nodes.size(); ++k) {
+      GridNode<Dim>& node = grid.nodes[grp.nodes[k]];
       for (int c = first; c < last; ++c) {
         node.v_new[c] = val[c];
         // Steffen et al. 2008, Eq. (30): the acceleration that brings the projected velocity to the
         // prescribed one.
         const Real a = difference ? (val[c] - node.v[c]) / dt : 0;
-        reaction[c] += node.m * (a - node.a[c]);  // the force that turns the free acceleration into a
+        // The force that turns the free acceleration into a, summed exactly over the nodes this box owns.
+        if (grp.owned[k]) reaction[c].add(node.m * (a - node.a[c]));
         node.a[c] = a;
       }
     }
-    reactions_[g] = reaction;
+    for (int c = 0; c < Dim; ++c) reactions_[g][c] = reaction[c].value();
   }
 }
 

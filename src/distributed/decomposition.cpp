@@ -35,19 +35,22 @@ std::int64_t weight_of(const IVec<Dim>& tiles, const std::vector<std::int64_t>& 
 }
 
 template <int Dim>
-void bisect_into(const IVec<Dim>& tiles, const std::vector<std::int64_t>& weight, const TileBox<Dim>& box, int ranks,
-                 std::vector<TileBox<Dim>>& out) {
+void bisect_into(const IVec<Dim>& tiles, const std::vector<std::int64_t>& weight, const IVec<Dim>& cut_limit,
+                 const TileBox<Dim>& box, int ranks, std::vector<TileBox<Dim>>& out) {
   if (ranks == 1) {
     out.push_back(box);
     return;
   }
-  int axis = 0;
-  for (int d = 1; d < Dim; ++d)
-    if (box.hi[d] - box.lo[d] > box.hi[axis] - box.lo[axis]) axis = d;
-  const int length = box.hi[axis] - box.lo[axis];
-  if (length < 2)
+  // The longest axis that can be cut: cuts after layers 1 .. last_cut of the box.
+  int axis = -1;
+  const auto last_cut = [&](int d) { return std::min(box.hi[d] - box.lo[d] - 1, cut_limit[d] - box.lo[d]); };
+  for (int d = 0; d < Dim; ++d)
+    if (last_cut(d) >= 1 && (axis < 0 || box.hi[d] - box.lo[d] > box.hi[axis] - box.lo[axis])) axis = d;
+  if (axis < 0)
     throw InputError("cannot divide the grid between " + std::to_string(ranks) +
-                     " more ranks: a box is one tile (8 node layers) along every axis; run on fewer ranks");
+                     " more ranks: a box is one tile (8 node layers) along every axis it can be cut across; run on "
+                     "fewer ranks");
+  const int length = box.hi[axis] - box.lo[axis];
   // The weight of each tile layer across the axis.
   std::vector<std::int64_t> layer(static_cast<std::size_t>(length), 0);
   for_each_tile<Dim>(tiles, box, [&](const IVec<Dim>& t, std::int64_t flat) { layer[t[axis] - box.lo[axis]] += weight[flat]; });
@@ -59,7 +62,7 @@ void bisect_into(const IVec<Dim>& tiles, const std::vector<std::int64_t>& weight
   std::int64_t best_miss = -1, below = 0;
   double best_gap = 0;
   const double proportional = static_cast<double>(length) * low_ranks / ranks;
-  for (int c = 1; c < length; ++c) {
+  for (int c = 1; c <= last_cut(axis); ++c) {
     below += layer[c - 1];
     const std::int64_t miss = std::llabs(below * ranks - total * low_ranks);
     const double gap = std::abs(c - proportional);
@@ -72,14 +75,15 @@ void bisect_into(const IVec<Dim>& tiles, const std::vector<std::int64_t>& weight
   TileBox<Dim> low = box, high = box;
   low.hi[axis] = box.lo[axis] + best;
   high.lo[axis] = box.lo[axis] + best;
-  bisect_into<Dim>(tiles, weight, low, low_ranks, out);
-  bisect_into<Dim>(tiles, weight, high, ranks - low_ranks, out);
+  bisect_into<Dim>(tiles, weight, cut_limit, low, low_ranks, out);
+  bisect_into<Dim>(tiles, weight, cut_limit, high, ranks - low_ranks, out);
 }
 
 }  // namespace
 
 template <int Dim>
-std::vector<TileBox<Dim>> bisect(const IVec<Dim>& tiles, const std::vector<std::int64_t>& weight, int ranks) {
+std::vector<TileBox<Dim>> bisect(const IVec<Dim>& tiles, const std::vector<std::int64_t>& weight, int ranks,
+                                 const IVec<Dim>& cut_limit) {
   TileBox<Dim> all;
   all.hi = tiles;
   if (ranks < 1) throw InputError("ranks: expected at least 1, got " + std::to_string(ranks));
@@ -88,7 +92,7 @@ std::vector<TileBox<Dim>> bisect(const IVec<Dim>& tiles, const std::vector<std::
                      std::to_string(all.tile_count()) + " tiles");
   std::vector<TileBox<Dim>> out;
   out.reserve(static_cast<std::size_t>(ranks));
-  bisect_into<Dim>(tiles, weight, all, ranks, out);
+  bisect_into<Dim>(tiles, weight, cut_limit, all, ranks, out);
   return out;
 }
 
@@ -104,9 +108,12 @@ double imbalance(const IVec<Dim>& tiles, const std::vector<std::int64_t>& weight
   return static_cast<double>(largest) * static_cast<double>(boxes.size()) / static_cast<double>(total);
 }
 
-template std::vector<TileBox<1>> bisect<1>(const IVec<1>&, const std::vector<std::int64_t>&, int);
-template std::vector<TileBox<2>> bisect<2>(const IVec<2>&, const std::vector<std::int64_t>&, int);
-template std::vector<TileBox<3>> bisect<3>(const IVec<3>&, const std::vector<std::int64_t>&, int);
+template std::vector<TileBox<1>> bisect<1>(const IVec<1>&, const std::vector<std::int64_t>&, int,
+                                                const IVec<1>&);
+template std::vector<TileBox<2>> bisect<2>(const IVec<2>&, const std::vector<std::int64_t>&, int,
+                                                const IVec<2>&);
+template std::vector<TileBox<3>> bisect<3>(const IVec<3>&, const std::vector<std::int64_t>&, int,
+                                                const IVec<3>&);
 template double imbalance<1>(const IVec<1>&, const std::vector<std::int64_t>&, const std::vector<TileBox<1>>&);
 template double imbalance<2>(const IVec<2>&, const std::vector<std::int64_t>&, const std::vector<TileBox<2>>&);
 template double imbalance<3>(const IVec<3>&, const std::vector<std::int64_t>&, const std::vector<TileBox<3>>&);

@@ -9,6 +9,7 @@
 
 #include "mpm/core/errors.hpp"
 #include "mpm/explicit/simulation.hpp"
+#include "mpm/particles/pack.hpp"
 #include "mpm/particles/reorder.hpp"
 #include "mpm/transfer/p2g.hpp"
 #include "simulation_stress_impl.hpp"
@@ -43,20 +44,71 @@ GridGeometry<Dim> make_geometry(const SimulationSpec<Dim>& spec) {
   g.outflow = outflow_faces(spec.boundary);
   return g;
 }
+
+/// The global storage layer of the base node of the stencil of a particle at x with half-lengths l: the layers
+/// make_stencil computes, before a box's offset is subtracted.
+template <int Dim, class Kernel>
+IVec<Dim> base_layer(const GridGeometry<Dim>& whole, const Vec<Dim>& x, const Vec<Dim>& l) {
+  const Real inv_h = 1 / whole.h;
+  IVec<Dim> s;
+  typename Kernel::Axis axis;
+  for (int d = 0; d < Dim; ++d) s[d] = Kernel::locate((x[d] - whole.lo[d]) * inv_h, l[d] * inv_h, axis) + whole.ghost;
+  return s;
+}
+
+/// The division of the grid between the ranks of comm: bisection of the tiles weighted by the particles in
+/// them, cut where the symmetry planes allow (cut_limit).
+template <int Dim, class Kernel>
+BoxHalo<Dim> divide(const SimulationSpec<Dim>& spec, const ParticleSet<Dim>& p, const Communicator& comm) {
+  const GridGeometry<Dim> whole = make_geometry<Dim, Kernel>(spec);
+  if (comm.size() == 1) return BoxHalo<Dim>(whole);
+  const auto refuse = [&](const std::string& what) {
+    throw InputError(what + " run in one process for now (docs/scaling.md); start mpm without mpirun or srun");
+  };
+  for (const FaceCondition<Dim>& f : spec.boundary.faces) {
+    if (f.type == FaceType::periodic) refuse("periodic faces");
+    if (f.type == FaceType::outflow) refuse("outflow faces");
+  }
+  if (Dim == 2 && spec.geometry == Geometry::axisymmetric) refuse("axisymmetric runs");
+  if (!spec.rigid_bodies.empty()) refuse("rigid bodies");
+  IVec<Dim> tiles;
+  for (int d = 0; d < Dim; ++d) tiles[d] = whole.tiles_along(d);
+  std::vector<std::int64_t> weight(whole.tile_count(), 0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!whole.contains(p.x[i])) continue;  // refused by the constructor, with its index
+    const IVec<Dim> s = base_layer<Dim, Kernel>(whole, p.x[i], p.l[i]);
+    std::int64_t flat = 0;
+    bool inside = true;
+    for (int d = Dim - 1; d >= 0; --d) {
+      const int t = s[d] >> GridGeometry<Dim>::tile_shift;
+      inside = inside && t >= 0 && t < tiles[d];
+      flat = flat * tiles[d] + t;
+    }
+    if (inside) ++weight[static_cast<std::size_t>(flat)];
+  }
+  std::array<bool, Dim> symmetric_high;
+  for (int d = 0; d < Dim; ++d) symmetric_high[d] = spec.boundary.faces[2 * d + 1].type == FaceType::symmetry;
+  return BoxHalo<Dim>(whole, bisect<Dim>(tiles, weight, comm.size(), cut_limit<Dim>(whole, symmetric_high, Kernel::width)),
+                      comm.rank(), Kernel::width);
+}
 }  // namespace detail
 
 template <int Dim, class Kernel>
-Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet<Dim> particles)
+Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet<Dim> particles,
+                                    const Communicator& comm)
     : spec_(spec),
       particles_(std::move(particles)),
-      grid_(detail::make_geometry<Dim, Kernel>(spec)),
+      comm_(&comm),
+      box_halo_(detail::divide<Dim, Kernel>(spec, particles_, comm)),
+      grid_(box_halo_.box()),
       halo_(grid_.geometry),
-      constraints_(spec.boundary, grid_.geometry),
+      constraints_(spec.boundary, grid_.geometry, box_halo_.owned_layers()),
       rigid_(spec.rigid_bodies, grid_.geometry),
       sizes_(spec.kernel == KernelKind::cpgimp ? SizeUpdate::deformed : SizeUpdate::fixed),
       neo_hookean_(neo_hookean_only(spec.materials)),
       axisymmetric_(Dim == 2 && spec.geometry == Geometry::axisymmetric),
-      order_(grid_.geometry, Kernel::width) {
+      order_(grid_.geometry, Kernel::width),
+      loads_(spec.body_force || !spec.gravity.isZero(0)) {
   const GridGeometry<Dim>& g = grid_.geometry;
   ParticleSet<Dim>& p = particles_;
   if (p.size() == 0) throw InputError("particles: the simulation has no particles");
@@ -111,13 +163,72 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
     mirror_copies_.assign(grid_.size(), 1);
     constraints_.count_mirror_copies(mirror_copies_);
   }
+  // Every rank was given all the particles (the masses above are the whole set's); each keeps its box's.
+  if (box_halo_.divided()) erase_particles(p, not_owned());
   if (neo_hookean_.empty()) {
     p.state.resize(p.size());
     for (std::size_t i = 0; i < p.size(); ++i) p.state.sigma[i] = full_stress(i);
-    grad_v_.assign(p.size(), Mat<Dim>::Zero());
-    if (axisymmetric_) hoop_rate_.assign(p.size(), 0);
+    size_rates();
   }
   build_stencils();  // sizes the per-particle arrays, so that steps do not allocate
+}
+
+template <int Dim, class Kernel>
+std::vector<Vec<Dim>> Simulation<Dim, Kernel>::face_reactions() const {
+  if (!box_halo_.divided()) return constraints_.reactions();
+  std::vector<std::int64_t> integers;
+  for (const std::array<ExactSum, Dim>& r : constraints_.reaction_sums())
+    for (const ExactSum& e : r) {
+      const std::vector<std::int64_t> mine = e.integers();
+      integers.insert(integers.end(), mine.begin(), mine.end());
+    }
+  comm_->sum(integers);
+  std::vector<Vec<Dim>> out(constraints_.reaction_sums().size());
+  auto at = integers.begin();
+  for (Vec<Dim>& r : out)
+    for (int d = 0; d < Dim; ++d, at += ExactSum::integer_count)
+      r[d] = ExactSum::from_integers({at, at + ExactSum::integer_count}).value();
+  return out;
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::size_rates() {
+  if (!neo_hookean_.empty()) return;
+  grad_v_.resize(particles_.size(), Mat<Dim>::Zero());
+  if (axisymmetric_) hoop_rate_.resize(particles_.size(), 0);
+}
+
+template <int Dim, class Kernel>
+std::vector<std::size_t> Simulation<Dim, Kernel>::not_owned(std::vector<int>* owner) const {
+  std::vector<std::size_t> out;
+  const ParticleSet<Dim>& p = particles_;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const int r = box_halo_.owner(detail::base_layer<Dim, Kernel>(box_halo_.whole(), p.x[i], p.l[i]));
+    if (r == comm_->rank()) continue;
+    out.push_back(i);
+    if (owner) owner->push_back(r);
+  }
+  return out;
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::migrate() {
+  std::vector<int> owner;
+  const std::vector<std::size_t> leaving = not_owned(&owner);
+  std::vector<std::vector<std::byte>> to(static_cast<std::size_t>(comm_->size()));
+  const bool with_state = neo_hookean_.empty();
+  for (std::size_t k = 0; k < leaving.size(); ++k)
+    pack_particle(particles_, leaving[k], with_state, to[static_cast<std::size_t>(owner[k])]);
+  if (!leaving.empty()) erase(leaving);
+  const std::vector<std::vector<std::byte>> from = comm_->exchange(to);
+  bool arrived = false;
+  for (const std::vector<std::byte>& bytes : from) {
+    arrived = arrived || !bytes.empty();
+    unpack_particles(bytes, with_state, particles_);
+  }
+  if (!arrived) return;
+  size_rates();
+  stencils_current_ = false;  // the next step locates them and sorts them into the scatter order
 }
 
 template <int Dim, class Kernel>
@@ -134,7 +245,7 @@ Real Simulation<Dim, Kernel>::next_dt() const {
     for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(p.size()); ++i)
       speed = std::max(speed, wave_speed(spec_.materials[p.material[i]], p.V[i] / p.V0[i]) + p.v[i].norm());
   }
-  return spec_.cfl * spec_.h / speed;
+  return spec_.cfl * spec_.h / comm_->max(speed);  // every rank takes the step of the fastest particle
 }
 
 template <int Dim, class Kernel>
@@ -158,9 +269,12 @@ void Simulation<Dim, Kernel>::step(Real max_dt) {
       step_musl(dt, first_scale);
       break;
   }
+  if (loads_) account_load_power();
   rigid_.advance(time_, dt);
   time_ += dt;
   ++steps_;
+  if (box_halo_.divided()) migrate();
+  settle();  // between steps the particles are in scatter order, each on the rank that owns its tile
 }
 
 template <int Dim, class Kernel>
@@ -179,10 +293,17 @@ void Simulation<Dim, Kernel>::restore_outflow(std::size_t n, const Outflow<Dim>&
 
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::erase(const std::vector<std::size_t>& gone) {
+  const std::size_t n = particles_.size();
   erase_particles(particles_, gone);
-  grad_v_.resize(grad_v_.empty() ? 0 : particles_.size());
-  hoop_rate_.resize(hoop_rate_.empty() ? 0 : particles_.size());
-  stencils_current_ = false;  // the next step locates the rest again and rebuilds the scatter order
+  size_rates();
+  // The rest keep their stencils and their order (by tile, then id); the scatter order's lists are rebuilt.
+  if (stencils_.size() == n) {
+    erase_at(stencils_, gone, n);
+    erase_at(tile_, gone, n);
+  } else {
+    stencils_current_ = false;
+  }
+  tiles_changed_ = true;
 }
 
 template <int Dim, class Kernel>
@@ -224,7 +345,9 @@ void Simulation<Dim, Kernel>::step_usl(Real dt, Real accel_scale) {
   scatter<Scatter{.mass_momentum = true, .force = true}>();
   grid_velocity_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
   constrain_update(time_ + dt, dt);
-  if (!light_node_mass_.any() || !any_light(grid_, mirror_copies_, min_node_mass_, light_node_mass_)) {
+  // Every rank takes the same path: a light node on any decides it.
+  if (!light_node_mass_.any() ||
+      !(comm_->max(any_light(grid_, mirror_copies_, min_node_mass_, light_node_mass_) ? 1.0 : 0.0) > 0)) {
     gather<Gather{.velocity = true, .position = true, .deformation = true}>(&GridNode<Dim>::v_new, dt);
     return;
   }
@@ -265,7 +388,7 @@ void Simulation<Dim, Kernel>::constrain_update(Real t_new, Real dt) {
 }
 
 template <int Dim, class Kernel>
-void Simulation<Dim, Kernel>::build_stencils() {
+void Simulation<Dim, Kernel>::settle() {
   if (!stencils_current_)
     tiles_changed_ = mpm::build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, tile_) || tiles_changed_;
   // The scatter order depends only on the tiles, so it is rebuilt only when a particle changed tile; the
@@ -279,8 +402,18 @@ void Simulation<Dim, Kernel>::build_stencils() {
       order_.reordered();
     }
   }
-  stencils_current_ = tiles_changed_ = false;
+  stencils_current_ = true;
+  tiles_changed_ = false;
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::build_stencils() {
+  settle();
   evaluate_body_force();
+  if (loads_) {
+    v_start_ = particles_.v;
+    start_tile_ = tile_;
+  }
   if (!rigid_.empty()) {
     std::ostringstream when;
     when.precision(9);
@@ -292,7 +425,13 @@ void Simulation<Dim, Kernel>::build_stencils() {
 template <int Dim, class Kernel>
 template <Scatter what>
 void Simulation<Dim, Kernel>::scatter() {
-  p2g<what>(particles_, stencils_, order_, body_accel_, grid_);
+  if (box_halo_.divided()) {  // the halo sum: the sums of tiles of other boxes at the nodes they share
+    const FaceTileSums<Dim> kept(grid_.geometry, order_);
+    p2g<what>(particles_, stencils_, order_, body_accel_, grid_, kept);
+    box_halo_.sum(grid_, kept.take(), what.mass_momentum, what.force, *comm_);
+  } else {
+    p2g<what>(particles_, stencils_, order_, body_accel_, grid_);
+  }
   if constexpr (what.force && Dim == 2)  // the hoop force in a pass of its own, as in the implicit step
     if (axisymmetric_) p2g_add(stencils_, order_, grid_, HoopForce{particles_.V, particles_.state.sigma, particles_.x});
   if constexpr (what.mass_momentum) halo_.sum_into_owners(grid_, NodeFields::mass_momentum);
@@ -326,6 +465,16 @@ void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
 }
 
 template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::account_load_power() {
+  // Grouped by the tiles of the step's start, whose particles one rank held, in id order.
+  const ParticleSet<Dim>& p = particles_;
+  load_power_ = sum_by_tile<1>([&](std::size_t i) { return start_tile_[i]; }, [&](std::size_t i) {
+    const Vec<Dim> load = body_accel_.empty() ? spec_.gravity : Vec<Dim>(spec_.gravity + body_accel_[i]);
+    return std::array<Real, 1>{p.m[i] * load.dot(0.5 * (v_start_[i] + p.v[i]))};
+  })[0];
+}
+
+template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::evaluate_body_force() {
   if (!spec_.body_force) return;
   body_accel_.resize(particles_.size());
@@ -335,8 +484,30 @@ void Simulation<Dim, Kernel>::evaluate_body_force() {
 
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::check(ParticleFault fault, Real dt) const {
-  if (!fault) return;
-  const std::int64_t i = fault.index;
+  const ParticleSet<Dim>& p = particles_;
+  if (!box_halo_.divided()) {
+    if (fault) throw SimulationFailure(failure_message(static_cast<std::size_t>(fault.index), dt));
+    return;
+  }
+  // Every rank learns of the failure: the one holding the faulty particle of least id says why.
+  constexpr std::int64_t none = std::numeric_limits<std::int64_t>::max();
+  const std::int64_t mine = fault ? p.id[static_cast<std::size_t>(fault.index)] : none;
+  const std::int64_t first = comm_->min(mine);
+  if (first == none) return;
+  const int root = static_cast<int>(comm_->min(mine == first ? comm_->rank() : comm_->size()));
+  std::vector<std::byte> message;
+  if (mine == first) {
+    const std::string text = failure_message(static_cast<std::size_t>(fault.index), dt);
+    for (char c : text) message.push_back(static_cast<std::byte>(c));
+  }
+  message = comm_->broadcast(std::move(message), root);
+  std::string text;
+  for (std::byte b : message) text.push_back(static_cast<char>(b));
+  throw SimulationFailure(text);
+}
+
+template <int Dim, class Kernel>
+std::string Simulation<Dim, Kernel>::failure_message(std::size_t i, Real dt) const {
   const ParticleSet<Dim>& p = particles_;
   const Real J = p.F[i].determinant();
   std::string cause;
@@ -356,7 +527,7 @@ void Simulation<Dim, Kernel>::check(ParticleFault fault, Real dt) const {
   std::ostringstream os;
   os.precision(9);
   os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << p.id[i] << ": " << cause;
-  throw SimulationFailure(os.str());
+  return os.str();
 }
 
 template <int Dim, class Kernel>

@@ -162,6 +162,21 @@ void write_vtp(const std::filesystem::path& file, const std::vector<double>& poi
   write_file_atomically(file, content);
 }
 
+void write_pvtp(const std::filesystem::path& file, const std::vector<PointField>& fields,
+                const std::vector<std::string>& pieces) {
+  std::string text =
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"PPolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+      "<PPolyData GhostLevel=\"0\">\n<PPointData>\n";
+  for (const PointField& f : fields)
+    text += "<PDataArray type=\"" + std::string(f.integer ? "Int64" : "Float64") + "\" Name=\"" + xml_escape(f.name) +
+            "\" NumberOfComponents=\"" + std::to_string(f.components) + "\"/>\n";
+  text += "</PPointData>\n<PPoints>\n<PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>\n</PPoints>\n";
+  for (const std::string& piece : pieces) text += "<Piece Source=\"" + xml_escape(piece) + "\"/>\n";
+  text += "</PPolyData>\n</VTKFile>\n";
+  write_file_atomically(file, text);
+}
+
 PvdSeries::PvdSeries(std::filesystem::path pvd_file) : file_(std::move(pvd_file)) {}
 
 void PvdSeries::add(double time, const std::string& dataset) {

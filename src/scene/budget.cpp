@@ -158,10 +158,13 @@ Budget estimate_budget(const Scene& sc) {
   b.steps = std::max(1.0, std::ceil(sc.end_time / b.first_dt * (1 - 1e-14)));
   b.frames = 2 + (sc.output_every > 0 ? std::floor(sc.end_time / sc.output_every) : 0);
 
-  // Memory: the engine's arrays, the runner's velocities of the step before (for the work of the loads), and
-  // the largest transient output: a frame (its fields, the file's bytes and their assembly) or a checkpoint.
+  // Memory: the engine's arrays, the velocities of the step before for the work of the loads (the implicit
+  // runner's copy; the explicit engine's, with their tiles, when there are loads), and the largest transient
+  // output: a frame (its fields, the file's bytes and their assembly) or a checkpoint.
   const double frame = frame_bytes_per_particle(sc), checkpoint = checkpoint_bytes_per_particle(sc);
-  const double runner = sc.dim * 8.0 + std::max(3 * frame, 2 * checkpoint);
+  const bool loads = !sc.body_force.empty() || std::any_of(sc.gravity.begin(), sc.gravity.end(), [](double g) { return g != 0; });
+  const double before = sc.implicit ? sc.dim * 8.0 : loads ? sc.dim * 8.0 + 4 : 0;
+  const double runner = before + std::max(3 * frame, 2 * checkpoint);
   const MemoryModel engine = engine_memory(sc);
   constexpr double process = 16e6;  // the program, its libraries and thread stacks (measured: 14-15 MB)
   b.memory_bytes = process + engine.bytes(b.particles, b.nodes) + runner * b.particles;

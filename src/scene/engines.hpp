@@ -109,29 +109,36 @@ class Explicit {
 
   explicit Explicit(const Scene& sc)
       : spec_(make_spec<Dim>(sc)),
-        sim_(naming_scene(sc, [&] { return Simulation<Dim, Kernel>(spec_, seed_bodies<Dim>(sc)); })) {}
+        sim_(naming_scene(sc, [&] { return Simulation<Dim, Kernel>(spec_, seed_bodies<Dim>(sc), world()); })) {}
 
   Simulation<Dim, Kernel>& sim() { return sim_; }
   const Simulation<Dim, Kernel>& sim() const { return sim_; }
   std::vector<std::string> reaction_names() const { return constraint_names(sim_.constraints(), sim_.rigid_bodies()); }
   std::vector<Vec<Dim>> reactions() const {
-    return constraint_forces(sim_.constraints().reactions(), sim_.rigid_bodies());
+    return constraint_forces(sim_.face_reactions(), sim_.rigid_bodies());
   }
   std::vector<Vec<Dim>> reaction_velocities(Real t) const {
     return constraint_velocities(sim_.constraints(), sim_.rigid_bodies(), t);
   }
-  /// Stored energy sum_p V0 W(F) of the Neo-Hookean particles (the potential of Wallstedt & Guilkey 2008,
-  /// Eq. (54)) plus the internal energy of the rate-form ones (Sulsky & Kaul 2004, Eq. (2.2.16)).
-  Real strain_energy() const {
-    Real e = 0;
-    for (std::size_t i = 0; i < sim_.particles().size(); ++i) e += sim_.strain_energy(i);
-    return e;
+  /// Stored energy V0 W(F) of a Neo-Hookean particle (the potential of Wallstedt & Guilkey 2008, Eq. (54)), the
+  /// internal energy of a rate-form one (Sulsky & Kaul 2004, Eq. (2.2.16)).
+  Real strain_energy(std::size_t i) const { return sim_.strain_energy(i); }
+  /// Sums over the particles of every rank, the same bits for any division (Simulation::particle_sum).
+  template <std::size_t N, class Fn>
+  std::array<Real, N> particle_sum(Fn&& fn) const {
+    return sim_.template particle_sum<N>(fn);
   }
-  /// Acceleration of the external loads on particle i over the last step.
-  Vec<Dim> load_acceleration(std::size_t i) const {
-    const std::vector<Vec<Dim>>& b = sim_.body_acceleration();
-    return b.empty() ? spec_.gravity : Vec<Dim>(spec_.gravity + b[i]);
+  const Communicator& communicator() const { return sim_.communicator(); }
+  /// This rank's particles' count, and all ranks'.
+  std::int64_t particle_count() const {
+    std::vector<std::int64_t> n{static_cast<std::int64_t>(sim_.particles().size())};
+    sim_.communicator().sum(n);
+    return n[0];
   }
+  /// The simulation accounts the loads' power itself (Simulation::load_power), as its particles move between
+  /// ranks in a step: it needs no velocities from before the step.
+  static constexpr bool needs_velocities_before = false;
+  Real load_power(const std::vector<Vec<Dim>>&) const { return sim_.load_power(); }
   /// Cauchy stress of particle i, xx yy zz xy xz yz; in 2-D a Neo-Hookean zz is the plane-strain lambda ln J / J
   /// (Wallstedt & Guilkey 2008, Eq. (55)).
   void stress(std::size_t i, double* out) const {
@@ -155,6 +162,12 @@ class Explicit {
   /// (Wallstedt & Guilkey 2008, Eq. (13), Eq. (55)); with them, the checkpoint holds the state and the
   /// volumes.
   void load(const io::CheckpointData& c, const std::string& where) {
+    load_particles(c, where);
+    sim_.settle();
+  }
+
+ private:
+  void load_particles(const io::CheckpointData& c, const std::string& where) {
     ParticleSet<Dim>& p = sim_.particles();
     if (!p.state.empty()) load_state(c, where, p);
     for (std::size_t i = 0; i < p.size(); ++i) {
@@ -176,7 +189,6 @@ class Explicit {
     sim_.restore_clock(entry(c.real_scalars, "time", where), entry(c.integer_scalars, "steps", where));
   }
 
- private:
   SimulationSpec<Dim> spec_;
   Simulation<Dim, Kernel> sim_;
 };
@@ -190,7 +202,12 @@ class Implicit {
 
   explicit Implicit(const Scene& sc)
       : spec_(make_implicit_spec<Dim>(sc)),
-        sim_(naming_scene(sc, [&] { return ImplicitSimulation<Dim, Kernel>(spec_, seed_bodies<Dim>(sc)); })) {}
+        sim_(naming_scene(sc, [&] {
+          if (world().size() > 1)
+            throw InputError("simulation.integrator = \"implicit\": the implicit integrator runs in one process (its "
+                             "distributed solver is a later step); start mpm without mpirun or srun");
+          return ImplicitSimulation<Dim, Kernel>(spec_, seed_bodies<Dim>(sc));
+        })) {}
 
   ImplicitSimulation<Dim, Kernel>& sim() { return sim_; }
   const ImplicitSimulation<Dim, Kernel>& sim() const { return sim_; }
@@ -199,16 +216,32 @@ class Implicit {
   std::vector<Vec<Dim>> reaction_velocities(Real t) const {
     return constraint_velocities(sim_.constraints(), sim_.rigid_bodies(), t);
   }
-  /// Internal energy sum_p e_p (Sulsky & Kaul 2004, Eq. (2.2.16)): stored plus dissipated; a Neo-Hookean
-  /// particle's is its stored energy V0 W(F).
-  Real strain_energy() const {
-    Real e = 0;
-    for (Real ep : sim_.state().energy) e += ep;
-    return e;
+  /// Internal energy e_p (Sulsky & Kaul 2004, Eq. (2.2.16)): stored plus dissipated; a Neo-Hookean particle's is
+  /// its stored energy V0 W(F).
+  Real strain_energy(std::size_t i) const { return sim_.state().energy[i]; }
+  /// Sums over the particles (one process), in storage order.
+  template <std::size_t N, class Fn>
+  std::array<Real, N> particle_sum(Fn&& fn) const {
+    std::array<Real, N> total{};
+    for (std::size_t i = 0; i < sim_.particles().size(); ++i) {
+      const std::array<Real, N> v = fn(i);
+      for (std::size_t k = 0; k < N; ++k) total[k] += v[k];
+    }
+    return total;
   }
-  Vec<Dim> load_acceleration(std::size_t i) const {
+  const Communicator& communicator() const { return one_process(); }
+  std::int64_t particle_count() const { return static_cast<std::int64_t>(sim_.particles().size()); }
+  /// Power of gravity and the body force over the last step: sum_p m_p (g + b_p) . (v_before + v_after) / 2.
+  static constexpr bool needs_velocities_before = true;
+  Real load_power(const std::vector<Vec<Dim>>& v_before) const {
     const std::vector<Vec<Dim>>& b = sim_.body_acceleration();
-    return b.empty() ? spec_.gravity : Vec<Dim>(spec_.gravity + b[i]);
+    const ParticleSet<Dim>& p = sim_.particles();
+    Real power = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const Vec<Dim> load = b.empty() ? spec_.gravity : Vec<Dim>(spec_.gravity + b[i]);
+      power += p.m[i] * load.dot(0.5 * (v_before[i] + p.v[i]));
+    }
+    return power;
   }
   void stress(std::size_t i, double* out) const {
     const SymTensor<3>& s = sim_.state().sigma[i];

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
+#include <optional>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -41,7 +42,12 @@ struct Totals {
 template <int Dim, class Engine>
 class SceneRun {
  public:
-  SceneRun(const Scene& sc, const RunOptions& o) : sc_(sc), o_(o), engine_(sc), sim_(engine_.sim()) {
+  SceneRun(const Scene& sc, const RunOptions& o)
+      : sc_(sc), o_(o), engine_(sc), sim_(engine_.sim()), comm_(engine_.communicator()), root_(comm_.rank() == 0) {
+    if (comm_.size() > 1 && (o.checkpoint_every > 0 || !o.restart.empty()))
+      throw InputError(std::string(o.restart.empty() ? "--checkpoint-every" : "--restart") +
+                       ": checkpoints of runs divided between ranks are a later step (docs/scaling.md); run in one "
+                       "process to checkpoint");
     if (o.restart.empty()) return;
     try {
       scene_checkpoint::restore<Dim>(io::read_checkpoint(o.restart), engine_, acc_, "--restart " + o.restart.string());
@@ -53,12 +59,12 @@ class SceneRun {
   }
 
   int run() {
-    std::cout << describe(budget_) << std::endl;
+    if (root_) std::cout << describe(budget_) << std::endl;
     if (o_.dry_run) return 0;
     const auto wall_start = Clock::now();
     const InterruptHandlers handlers;
     prepare_outputs();
-    Progress progress(o_.quiet, sim_.time(), sc_.end_time);
+    Progress progress(o_.quiet || !root_, sim_.time(), sc_.end_time);
     progress.start_at(sim_.steps());
     std::string failure;
     bool stopped = false;
@@ -70,8 +76,8 @@ class SceneRun {
       }
       const std::int64_t stop_at = o_.stop_after > 0 ? sim_.steps() + o_.stop_after : -1;
       try {
-        while (sim_.time() < sc_.end_time * (1 - 1e-14) && sim_.steps() != stop_at && !interrupt_requested()) {
-          v_before_ = std::as_const(sim_).particles().v;
+        while (sim_.time() < sc_.end_time * (1 - 1e-14) && sim_.steps() != stop_at && !interrupted()) {
+          if constexpr (Engine::needs_velocities_before) v_before_ = std::as_const(sim_).particles().v;
           const auto step_start = Clock::now();
           in_step_ = true;
           sim_.step(sc_.end_time - sim_.time());
@@ -79,9 +85,7 @@ class SceneRun {
           compute_seconds_ += std::chrono::duration<double>(Clock::now() - step_start).count();
           account_work();
           sim_.remove_outflow();
-          if (has_check())
-            acc_.error.record(std::as_const(sim_).particles(), sim_.time(),
-                              ExactFromScene<Dim>{&sc_.exact_displacement});
+          if (has_check()) record_error();
           write_history_row();
           if (newton_log_.is_open()) newton_log_.write(sim_.steps(), engine_.newton_attempts());
           if (sc_.output_every > 0 && sim_.time() >= next_output_time() * (1 - 1e-12)) write_frame();
@@ -100,13 +104,13 @@ class SceneRun {
         if (!in_step_ || Engine::failure_keeps_state) write_checkpoint();
       }
       const bool unfinished = sim_.time() < sc_.end_time * (1 - 1e-14);
-      signal = failure.empty() && unfinished ? interrupt_requested() : 0;
+      signal = failure.empty() && unfinished ? static_cast<int>(comm_.max(interrupt_requested())) : 0;
       stopped = failure.empty() && unfinished && !signal;
       if (failure.empty()) {
         if (!unfinished && (acc_.frames == 0 || acc_.last_frame_time < sim_.time())) write_frame();
-        if (o_.checkpoint_every > 0 || unfinished) write_checkpoint();
+        if (o_.checkpoint_every > 0 || (unfinished && comm_.size() == 1)) write_checkpoint();
       }
-      history_.flush();
+      if (root_) history_.flush();
       if (newton_log_.is_open()) newton_log_.flush();
     } catch (const OutputError& e) {
       // The checkpoint written last (atomically) stays readable; say what failed, if the summary can be written.
@@ -119,12 +123,16 @@ class SceneRun {
     const char* status = !failure.empty() ? "failed" : signal ? "interrupted" : stopped ? "stopped" : "ok";
     write_summary(failure, status, std::chrono::duration<double>(Clock::now() - wall_start).count(), signal);
     if (!failure.empty()) {
-      std::cerr << "mpm: simulation failed: " << failure << '\n';
+      if (root_) std::cerr << "mpm: simulation failed: " << failure << '\n';
       return exit_simulation_failure;
     }
     if (signal) {
-      std::cerr << "mpm: interrupted by " << signal_name(signal) << " after step " << sim_.steps() << ", t = "
-                << sim_.time() << " s; continue with --restart " << (o_.out_dir / "checkpoint.h5").string() << '\n';
+      if (root_)
+        std::cerr << "mpm: interrupted by " << signal_name(signal) << " after step " << sim_.steps() << ", t = "
+                  << sim_.time() << " s; "
+                  << (comm_.size() == 1 ? "continue with --restart " + (o_.out_dir / "checkpoint.h5").string()
+                                        : std::string("a run divided between ranks writes no checkpoint yet"))
+                  << '\n';
       return exit_interrupted(signal);
     }
     return 0;
@@ -132,6 +140,21 @@ class SceneRun {
 
  private:
   bool has_check() const { return !sc_.exact_displacement.empty(); }
+  /// A signal on any rank stops every rank after the same step.
+  bool interrupted() const { return comm_.max(interrupt_requested()) > 0; }
+  /// The [check] error of this step's particles (Wallstedt & Guilkey 2008, Eq. (64)), over every rank.
+  void record_error() {
+    const ExactFromScene<Dim> exact{&sc_.exact_displacement};
+    const ParticleSet<Dim>& p = sim_.particles();
+    Real largest = 0;
+    const auto delta = [&](std::size_t i) { return ((p.x[i] - p.X[i]) - exact.displacement(p.X[i], sim_.time())).norm(); };
+    const std::array<Real, 2> sums = engine_.template particle_sum<2>([&](std::size_t i) {
+      const Real d = delta(i);
+      largest = std::max(largest, d);
+      return std::array<Real, 2>{d, d * d};
+    });
+    acc_.error.add_sums(comm_.max(largest), sums[0], sums[1], engine_.particle_count());
+  }
   bool has_outflow() const {
     for (const SceneFace& f : sc_.faces)
       if (f.kind == SceneFace::Kind::outflow) return true;
@@ -143,6 +166,10 @@ class SceneRun {
   /// before its checkpoint.
   void prepare_outputs() {
     std::error_code ec;
+    if (!root_) {  // rank 0 makes the folder and clears an earlier run's files; the others then write pieces there
+      comm_.min(0);
+      return;
+    }
     fs::create_directories(o_.out_dir, ec);
     if (ec || !fs::is_directory(o_.out_dir))
       throw InputError("--out " + o_.out_dir.string() + ": cannot make the output folder" +
@@ -151,7 +178,8 @@ class SceneRun {
     if (o_.restart.empty()) {
       for (const fs::directory_entry& e : fs::directory_iterator(o_.out_dir)) {
         const std::string name = e.path().filename().string();
-        if ((name.rfind("particles_", 0) == 0 && e.path().extension() == ".vtp") || name == "particles.pvd" ||
+        if ((name.rfind("particles_", 0) == 0 && (e.path().extension() == ".vtp" || e.path().extension() == ".pvtp")) ||
+            name == "particles.pvd" ||
             name == "history.csv" || name == "newton.csv" || name == "summary.json")
           fs::remove(e.path(), ec);
       }
@@ -167,6 +195,7 @@ class SceneRun {
       newton_log_.open(o_.out_dir / "newton.csv", restart, sim_.steps());
     else if (restart && fs::exists(o_.out_dir / "newton.csv"))
       NewtonLog::trim(o_.out_dir / "newton.csv", sim_.steps());  // an earlier run's log ends at the checkpoint
+    comm_.min(0);
   }
 
   std::string history_header() const {
@@ -185,11 +214,13 @@ class SceneRun {
 
   void write_history_row() {
     const Totals<Dim> t = totals();
+    const std::vector<Vec<Dim>> reactions = engine_.reactions();
+    if (!root_) return;
     std::ostream& history = history_.row();
     history << sim_.steps() << ',' << sim_.time() << ',' << t.kinetic << ',' << t.strain << ','
              << t.kinetic + t.strain << ',' << acc_.external_work;
     for (int d = 0; d < Dim; ++d) history << ',' << t.momentum[d];
-    for (const Vec<Dim>& r : engine_.reactions())
+    for (const Vec<Dim>& r : reactions)
       for (int d = 0; d < Dim; ++d) history << ',' << r[d];
     for (const std::int64_t n : engine_.counters()) history << ',' << n;
     if (has_outflow()) {
@@ -203,32 +234,46 @@ class SceneRun {
   /// Work of gravity, body forces and tractions over the step (force at t^n times the mean of the old and new
   /// velocities) plus the work of the moving constraints (reaction times prescribed velocity).
   void account_work() {
-    const std::vector<Vec<Dim>>& v_before = v_before_;
-    const ParticleSet<Dim>& p = sim_.particles();
     const Real dt = sim_.time() - previous_time_;
     previous_time_ = sim_.time();
-    Real power = 0;
-    for (std::size_t i = 0; i < p.size(); ++i)
-      power += p.m[i] * engine_.load_acceleration(i).dot(0.5 * (v_before[i] + p.v[i]));
+    Real power = engine_.load_power(v_before_);
     const std::vector<Vec<Dim>> walls = engine_.reaction_velocities(sim_.time());
     const std::vector<Vec<Dim>> reactions = engine_.reactions();
     for (std::size_t g = 0; g < walls.size(); ++g) power += reactions[g].dot(walls[g]);
     acc_.external_work += dt * power;
   }
 
+  /// One frame: particles_NNNN.vtp, or divided between ranks one piece per rank, particles_NNNN_R.vtp, gathered
+  /// by rank 0's particles_NNNN.pvtp.
   void write_frame() {
     std::vector<double> points;
     std::vector<io::PointField> fields;
     frame_fields<Dim>(engine_, sc_.exact_displacement, sim_.time(), points, fields);
     std::ostringstream name;
-    name << "particles_" << std::setw(4) << std::setfill('0') << acc_.frames << ".vtp";
-    io::write_vtp(o_.out_dir / name.str(), points, fields);
-    series_.add(sim_.time(), name.str());
+    name << "particles_" << std::setw(4) << std::setfill('0') << acc_.frames;
+    if (comm_.size() == 1) {
+      io::write_vtp(o_.out_dir / (name.str() + ".vtp"), points, fields);
+      series_.add(sim_.time(), name.str() + ".vtp");
+    } else {
+      const auto piece = [&](int r) { return name.str() + "_" + std::to_string(r) + ".vtp"; };
+      io::write_vtp(o_.out_dir / piece(comm_.rank()), points, fields);
+      comm_.min(0);  // every piece is written before the set that lists them
+      if (root_) {
+        std::vector<std::string> pieces;
+        for (int r = 0; r < comm_.size(); ++r) pieces.push_back(piece(r));
+        io::write_pvtp(o_.out_dir / (name.str() + ".pvtp"), fields, pieces);
+        series_.add(sim_.time(), name.str() + ".pvtp");
+      }
+    }
     ++acc_.frames;
     acc_.last_frame_time = sim_.time();
   }
 
   void write_summary(const std::string& failure, const char* status, double wall, int signal = 0) {
+    const std::int64_t particles = engine_.particle_count();
+    // After a failure the particle state is not valid: no energies from it.
+    const std::optional<Totals<Dim>> t = failure.empty() ? std::optional(totals()) : std::nullopt;
+    if (!root_) return;
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
     nlohmann::json j{{"status", status},
@@ -241,8 +286,9 @@ class SceneRun {
                      {"end_time", sc_.end_time},
                      {"wall_seconds", wall},
                      {"compute_seconds", compute_seconds_},
-                     {"particles", std::as_const(sim_).particles().size()},
+                     {"particles", particles},
                      {"frames", acc_.frames},
+                     {"ranks", comm_.size()},
                      {"threads", num_threads()},
                      {"memory", {{"estimated_bytes", budget_.memory_bytes},
                                  {"peak_bytes", 1024.0 * static_cast<double>(usage.ru_maxrss)}}}};
@@ -252,10 +298,7 @@ class SceneRun {
     if (!o_.restart.empty()) j["restarted_from"] = o_.restart.string();
     if (has_check())
       j["error"] = {{"linf", failure.empty() ? acc_.error.linf : 1.0}, {"l1", acc_.error.l1()}, {"l2", acc_.error.l2()}};
-    if (failure.empty()) {  // after a failure the particle state is not valid: no energies from it
-      const Totals<Dim> t = totals();
-      j["energy"] = {{"kinetic", t.kinetic}, {"strain", t.strain}, {"external_work", acc_.external_work}};
-    }
+    if (t) j["energy"] = {{"kinetic", t->kinetic}, {"strain", t->strain}, {"external_work", acc_.external_work}};
     if (has_outflow()) {
       const Outflow<Dim>& out = sim_.outflow();
       j["outflow"] = {{"particles", out.particles},
@@ -269,19 +312,26 @@ class SceneRun {
 
   /// The per-step files are flushed first, so that a restart from this checkpoint finds every row before it.
   void write_checkpoint() {
+    if (comm_.size() > 1) return;  // not yet among several ranks (refused up front when asked for)
     history_.flush();
     if (newton_log_.is_open()) newton_log_.flush();
     io::write_checkpoint(o_.out_dir / "checkpoint.h5", scene_checkpoint::save<Dim>(sc_, engine_, acc_));
   }
 
+  /// Over every rank's particles, the same bits whatever the division (Simulation::particle_sum).
   Totals<Dim> totals() const {
     const ParticleSet<Dim>& p = sim_.particles();
+    const std::array<Real, Dim + 2> sums = engine_.template particle_sum<Dim + 2>([&](std::size_t i) {
+      std::array<Real, Dim + 2> v;
+      v[0] = 0.5 * p.m[i] * p.v[i].squaredNorm();
+      v[1] = engine_.strain_energy(i);
+      for (int d = 0; d < Dim; ++d) v[2 + d] = p.m[i] * p.v[i][d];
+      return v;
+    });
     Totals<Dim> t;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      t.kinetic += 0.5 * p.m[i] * p.v[i].squaredNorm();
-      t.momentum += p.m[i] * p.v[i];
-    }
-    t.strain = engine_.strain_energy();
+    t.kinetic = sums[0];
+    t.strain = sums[1];
+    for (int d = 0; d < Dim; ++d) t.momentum[d] = sums[2 + d];
     return t;
   }
 
@@ -290,6 +340,8 @@ class SceneRun {
   const Budget budget_ = estimate_budget(sc_);
   Engine engine_;
   decltype(engine_.sim())& sim_;
+  const Communicator& comm_;
+  const bool root_;  // rank 0 writes history.csv, summary.json and the frames' .pvtp and .pvd
   io::PvdSeries series_{""};
   CsvFile history_;
   NewtonLog newton_log_;  // newton.csv, with [output] newton_log = "on"

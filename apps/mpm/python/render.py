@@ -2,7 +2,7 @@
 
 Usage: python3 render.py DIR FIELD EVERY [PLANE]   (PLANE: xy, xz or yz; default xy)
 Reads DIR/particles.pvd and every EVERY-th dataset it lists (the last one always), and writes
-DIR/pictures/FIELD_NNNN.png (NNNN: the index of the dataset in the .pvd, as in particles_NNNN.vtp). FIELD is a point-data array name; vectors and tensors are
+DIR/pictures/FIELD_NNNN.png (NNNN: the index of the dataset in the .pvd, as in particles_NNNN.vtp or, from a run divided between ranks, particles_NNNN.pvtp). FIELD is a point-data array name; vectors and tensors are
 coloured by magnitude, or by one component with FIELD:K (e.g. velocity:1, stress:0). Axis limits and colour range
 are the same in every frame. The .vtp files are read without VTK (raw appended data, as mpm::io::write_vtp
 writes them), so only numpy and matplotlib are needed. Exit status: 2 bad arguments or files, 3 no matplotlib,
@@ -61,6 +61,17 @@ def read_vtp(path):
     return arrays
 
 
+def read_frame(path):
+    """A frame's arrays: a .vtp, or the pieces a .pvtp lists (a run divided between ranks), joined."""
+    if not path.endswith(".pvtp"):
+        return read_vtp(path)
+    sources = [p.get("Source") for p in ET.parse(path).getroot().iter("Piece")]
+    if not sources:
+        fail(f"{path} lists no pieces")
+    parts = [read_vtp(os.path.join(os.path.dirname(path), source)) for source in sources]
+    return {name: np.concatenate([part[name] for part in parts]) for name in parts[0]}
+
+
 def scalar(values, component, name):
     """One value per point: the component asked for, or the magnitude (6 components: a symmetric tensor
     xx yy zz xy xz yz, Frobenius norm)."""
@@ -93,7 +104,7 @@ def main(folder, field, every, plane="xy"):
 
     frames = []
     for time, file in chosen:
-        arrays = read_vtp(os.path.join(folder, file))
+        arrays = read_frame(os.path.join(folder, file))
         if name not in arrays or name == "points":
             available = ", ".join(k for k in arrays if k != "points")
             fail(f"no field '{name}' in {file}; available: {available}", 4)

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "mpm/core/exact_sum.hpp"
 #include "mpm/core/model_geometry.hpp"
 #include "mpm/core/parallel.hpp"
 #include "mpm/core/types.hpp"
@@ -74,6 +75,9 @@ template <int Dim>
 class KinematicConstraints {
  public:
   KinematicConstraints(const BoundarySpec<Dim>& spec, const GridGeometry<Dim>& g);
+  /// On a box of a divided grid: the reactions count the nodes of the first owned[d] storage layers along each
+  /// axis, the box's own tiles (the layers above them are other boxes').
+  KinematicConstraints(const BoundarySpec<Dim>& spec, const GridGeometry<Dim>& g, const IVec<Dim>& owned);
 
   /// Add each symmetry-face ghost node's contributions to its mirror node (reflected), then overwrite the
   /// ghost with the reflected mirror node: the grid then holds the fields of the body and its mirror image,
@@ -112,6 +116,8 @@ class KinematicConstraints {
   /// Reaction force [N] of each constraint in the last constrain_update (normal component only on symmetry
   /// planes).
   const std::vector<Vec<Dim>>& reactions() const { return reactions_; }
+  /// The same as exact sums over the owned nodes, to be added over the boxes of a divided grid.
+  const std::vector<std::array<ExactSum, Dim>>& reaction_sums() const { return reaction_sums_; }
   /// Prescribed velocity of each constraint at time t (zero on symmetry planes).
   std::vector<Vec<Dim>> velocities(Real t) const;
 
@@ -121,6 +127,7 @@ class KinematicConstraints {
     std::vector<std::int32_t> nodes;
     int component;             ///< constrained component, or -1 for all
     VelocityFn<Dim> velocity;  ///< empty: zero
+    std::vector<std::uint8_t> owned;  ///< per node: its reaction counts here (the box owns it)
   };
   struct Mirror {
     int axis;
@@ -130,6 +137,7 @@ class KinematicConstraints {
 
   std::vector<Group> groups_;
   std::vector<Vec<Dim>> reactions_;
+  std::vector<std::array<ExactSum, Dim>> reaction_sums_;
   std::vector<Mirror> mirrors_;
   ConstrainedAcceleration acceleration_;
 };

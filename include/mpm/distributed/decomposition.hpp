@@ -33,10 +33,17 @@ struct TileBox {
 /// into boxes for floor(n/2) and n - floor(n/2) ranks, at the tile layer that shares `weight` between them
 /// closest to that ratio (on a tie, the layer nearest the proportional cut of the box's length), and so on
 /// until each box has one rank. `weight[t]` is the work of tile t (its particles), flat with axis 0 fastest.
-/// Box r is rank r's. The result depends only on the arguments. Throws InputError when a box for several ranks
-/// is one tile along every axis (more ranks than the grid can be cut into).
+/// Box r is rank r's. A cut across axis d lies at a tile layer no higher than cut_limit[d] (cut_limit in
+/// box_halo.hpp; an axis with no such layer is not cut). The result depends only on the arguments. Throws
+/// InputError when a box for several ranks cannot be cut (more ranks than the grid can be cut into).
 template <int Dim>
-std::vector<TileBox<Dim>> bisect(const IVec<Dim>& tiles, const std::vector<std::int64_t>& weight, int ranks);
+std::vector<TileBox<Dim>> bisect(const IVec<Dim>& tiles, const std::vector<std::int64_t>& weight, int ranks,
+                                 const IVec<Dim>& cut_limit);
+/// bisect with no limit on the cuts.
+template <int Dim>
+std::vector<TileBox<Dim>> bisect(const IVec<Dim>& tiles, const std::vector<std::int64_t>& weight, int ranks) {
+  return bisect<Dim>(tiles, weight, ranks, tiles);
+}
 
 /// The largest box's weight over the mean weight per rank (1: balanced; 1 when there is no weight at all).
 template <int Dim>

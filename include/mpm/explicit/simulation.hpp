@@ -1,12 +1,16 @@
 #pragma once
 /// An explicit MPM/GIMP simulation: particles, grid, boundary conditions, and one time step per integrator.
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <vector>
 
 #include "mpm/boundary/boundary.hpp"
 #include "mpm/boundary/rigid_body.hpp"
+#include "mpm/core/exact_sum.hpp"
 #include "mpm/core/memory.hpp"
+#include "mpm/distributed/box_halo.hpp"
+#include "mpm/distributed/communicator.hpp"
 #include "mpm/grid/grid.hpp"
 #include "mpm/grid/halo.hpp"
 #include "mpm/explicit/spec.hpp"
@@ -24,8 +28,11 @@ namespace mpm {
 template <int Dim, class Kernel>
 class Simulation {
  public:
-  /// Validate the spec and the particles (InputError on bad input) and set up the grid.
-  Simulation(const SimulationSpec<Dim>& spec, ParticleSet<Dim> particles);
+  /// Validate the spec and the particles (InputError on bad input) and set up the grid. Among several ranks
+  /// (`comm`), every rank passes all the particles: the grid is divided into one box per rank by bisection
+  /// weighted by the particles (BoxHalo), and each rank keeps the particles of its box; periodic and outflow
+  /// faces, axisymmetry and rigid bodies are refused there for now.
+  Simulation(const SimulationSpec<Dim>& spec, ParticleSet<Dim> particles, const Communicator& comm = one_process());
 
   /// Advance one time step of min(next_dt(), max_dt). Throws SimulationFailure (naming step, time, particle
   /// and cause) on a non-finite value, J <= 0, or a particle leaving the grid other than through an outflow face.
@@ -50,17 +57,69 @@ class Simulation {
   /// The time step the next call to step() will take (fixed, or from the CFL condition).
   Real next_dt() const;
 
+  /// This rank's particles (all of them in one process).
   const ParticleSet<Dim>& particles() const { return particles_; }
-  /// Mutable particles (restarts, scene set-up): the next step recomputes their stencils and their scatter order.
+  /// The ranks the run is divided between, and this rank's box of the grid.
+  const Communicator& communicator() const { return *comm_; }
+  const BoxHalo<Dim>& boxes() const { return box_halo_; }
+  /// Mutable particles (restarts, scene set-up): settle() or the next step recomputes their stencils and their
+  /// scatter order.
   ParticleSet<Dim>& particles() {
     stencils_current_ = false;
     tiles_changed_ = true;
     return particles_;
   }
+  /// Locate the particles and store them in scatter order (by tile, then id), as every step leaves them.
+  void settle();
+  /// The power of gravity and the body force over the last step, sum_p m_p (g + b_p) . (v_p^n + v_p^{n+1}) / 2
+  /// over every rank's particles (each particle's load and velocities, however the particles moved between
+  /// ranks after it) [W]; zero without loads.
+  Real load_power() const { return load_power_; }
+  /// The sums over all the particles, every rank's, of the N values fn(i) gives particle i, the same bits
+  /// whatever the division of the grid and the thread count: each tile's particles are added in id order from
+  /// zero, and the tiles' sums exactly (ExactSum), over tiles and ranks. The particles must be settled (as every
+  /// step, outflow removal and settle() leave them).
+  template <std::size_t N, class Fn>
+  std::array<Real, N> particle_sum(Fn&& fn) const {
+    return sum_by_tile<N>([&](std::size_t i) { return tile_[i]; }, fn);
+  }
+
+ private:
+  /// particle_sum over the runs of particles of equal tile(i) in storage order.
+  template <std::size_t N, class Tile, class Fn>
+  std::array<Real, N> sum_by_tile(Tile&& tile, Fn&& fn) const {
+    std::array<ExactSum, N> total;
+    const std::size_t n = particles_.size();
+    for (std::size_t i = 0; i < n;) {
+      std::array<Real, N> partial{};
+      const std::int32_t t = tile(i);
+      for (; i < n && tile(i) == t; ++i) {
+        const std::array<Real, N> v = fn(i);
+        for (std::size_t k = 0; k < N; ++k) partial[k] += v[k];
+      }
+      for (std::size_t k = 0; k < N; ++k) total[k].add(partial[k]);
+    }
+    std::vector<std::int64_t> integers;
+    for (const ExactSum& e : total) {
+      const std::vector<std::int64_t> mine = e.integers();
+      integers.insert(integers.end(), mine.begin(), mine.end());
+    }
+    comm_->sum(integers);
+    std::array<Real, N> out;
+    for (std::size_t k = 0; k < N; ++k) {
+      const auto first = integers.begin() + static_cast<std::ptrdiff_t>(k * ExactSum::integer_count);
+      out[k] = ExactSum::from_integers({first, first + static_cast<std::ptrdiff_t>(ExactSum::integer_count)}).value();
+    }
+    return out;
+  }
+
+ public:
   const Grid<Dim>& grid() const { return grid_; }
   /// Nodes at or below this mass are treated as empty (their acceleration is zero) [kg].
   Real min_node_mass() const { return min_node_mass_; }
   const KinematicConstraints<Dim>& constraints() const { return constraints_; }
+  /// The reaction of each face and region constraint (constraints().names()) in the last step, over all ranks [N].
+  std::vector<Vec<Dim>> face_reactions() const;
   const RigidBodies<Dim>& rigid_bodies() const { return rigid_; }
   /// The Cauchy stress of particle i with its out-of-plane components [Pa] (a Neo-Hookean particle's from its
   /// in-plane stress and F).
@@ -84,13 +143,18 @@ class Simulation {
     const std::size_t particle =
         ParticleSet<Dim>::bytes_per_particle() + sizeof(Stencil<Dim, Kernel>) + 2 * sizeof(std::int32_t) +
         (body_force ? sizeof(Vec<Dim>) : 0) +
-        (rate_form ? MaterialState::bytes_per_particle() + sizeof(Mat<Dim>) + sizeof(Real) : 0);
+        (rate_form ? MaterialState::bytes_per_particle() + sizeof(Mat<Dim>) + sizeof(Real) : 0) + reorder_bytes(rate_form);
     // A node's mirror copies (1 B) when light nodes are re-projected.
     return {static_cast<double>(particle), static_cast<double>(sizeof(GridNode<Dim>) + sizeof(std::uint8_t))};
   }
 
  private:
   using StencilT = Stencil<Dim, Kernel>;
+  /// The buffers the reorder into scatter order keeps (gather_by): one array of each element type it moves.
+  static constexpr std::size_t reorder_bytes(bool rate_form) {
+    return sizeof(Vec<Dim>) + sizeof(Mat<Dim>) + sizeof(Real) + sizeof(SymTensor<Dim>) + sizeof(std::uint16_t) +
+           sizeof(std::int64_t) + sizeof(StencilT) + sizeof(std::int32_t) + (rate_form ? sizeof(SymTensor<3>) : 0);
+  }
 
   // Time steps of each integrator (Wallstedt & Guilkey 2008, Sec. 2 and 4).
   void step_usf(Real dt);
@@ -109,15 +173,27 @@ class Simulation {
   template <Gather what>
   void gather(NodeVelocity<Dim> v_grid, Real dt);
   void evaluate_body_force();
+  /// load_power_ of the step just taken, before the particles move between ranks.
+  void account_load_power();
   /// The stress update of the rate-form (and, in a mixed table, Neo-Hookean) particles from the rates the last
   /// deforming G2P pass recorded.
   ParticleFault update_stress(Real dt);
+  /// Stop every rank with the failure of the first faulty particle (a SimulationFailure naming step, time, id, cause).
   void check(ParticleFault fault, Real dt) const;
+  std::string failure_message(std::size_t i, Real dt) const;
   /// Remove the particles at `gone` (ascending) with their per-particle arrays.
   void erase(const std::vector<std::size_t>& gone);
+  /// Size the rates the stress update reads to the particles (rate-form materials only).
+  void size_rates();
+  /// The particles whose tile another rank owns (ascending), and those ranks.
+  std::vector<std::size_t> not_owned(std::vector<int>* owner = nullptr) const;
+  /// Send the particles that moved into another rank's box there, and take in those that moved into this one.
+  void migrate();
 
   SimulationSpec<Dim> spec_;
   ParticleSet<Dim> particles_;
+  const Communicator* comm_;
+  BoxHalo<Dim> box_halo_;
   Grid<Dim> grid_;
   Halo<Dim> halo_;
   KinematicConstraints<Dim> constraints_;
@@ -140,6 +216,11 @@ class Simulation {
   bool stencils_current_ = false, tiles_changed_ = false;
   ScatterOrder<Dim> order_;
   std::vector<Vec<Dim>> body_accel_;
+  /// Loads, their velocities at the step's start (the particles' order then), their power over the last step.
+  bool loads_;
+  std::vector<Vec<Dim>> v_start_;
+  std::vector<std::int32_t> start_tile_;
+  Real load_power_ = 0;
   Outflow<Dim> outflow_;
   Real time_ = 0;
   std::int64_t steps_ = 0;

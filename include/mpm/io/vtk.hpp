@@ -25,6 +25,12 @@ struct PointField {
 void write_vtp(const std::filesystem::path& file, const std::vector<double>& points,
                const std::vector<PointField>& fields);
 
+/// Write a parallel PolyData file (.pvtp) that gathers `pieces` (.vtp paths relative to its folder), each
+/// written by write_vtp with these `fields`: what ParaView opens as one data set of a run divided between ranks.
+/// Written atomically; OutputError when it cannot be written.
+void write_pvtp(const std::filesystem::path& file, const std::vector<PointField>& fields,
+                const std::vector<std::string>& pieces);
+
 /// A ParaView time-series collection (.pvd) that lists one dataset per output time.
 class PvdSeries {
  public:

@@ -62,8 +62,13 @@ struct ParticleSet {
   /// Call fn(array) for every per-particle array, the material state's included (some may be empty).
   template <class Fn>
   void for_each_array(Fn&& fn) {
-    fn(x), fn(X), fn(v), fn(F), fn(m), fn(V0), fn(V), fn(l0), fn(l), fn(sigma), fn(material), fn(id);
+    for_each_field(fn);
     fn(state.sigma), fn(state.eps_bar), fn(state.temperature), fn(state.energy), fn(state.stretch3);
+  }
+  /// Call fn(array) for every per-particle array but the material state's.
+  template <class Fn>
+  void for_each_field(Fn&& fn) {
+    fn(x), fn(X), fn(v), fn(F), fn(m), fn(V0), fn(V), fn(l0), fn(l), fn(sigma), fn(material), fn(id);
   }
 
   /// Bytes of one particle's fields, without the rate-form state.

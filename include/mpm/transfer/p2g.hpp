@@ -129,11 +129,17 @@ void p2g_add_keeping(const Keep& keep, const std::vector<Stencil<Dim, Kernel>>& 
   }, keep);
 }
 
+/// The `keep` of a pass that does not look at the tiles' sums (one process).
+struct KeepNothing {
+  template <int Dim>
+  void operator()(std::int32_t, const GridNode<Dim>*) const {}
+};
+
 /// p2g_add_keeping without a look at the tiles' sums.
 template <int Dim, class Kernel, class... Contributions>
 void p2g_add(const std::vector<Stencil<Dim, Kernel>>& stencils, const ScatterOrder<Dim>& order, Grid<Dim>& grid,
              const Contributions&... contributions) {
-  p2g_add_keeping([](std::int32_t, const GridNode<Dim>*) {}, stencils, order, grid, contributions...);
+  p2g_add_keeping(KeepNothing{}, stencils, order, grid, contributions...);
 }
 
 /// What a P2G pass of the explicit step scatters.
@@ -144,10 +150,11 @@ struct Scatter {
 
 /// The explicit step's P2G: clear the fields it scatters, then add mass and momentum (Wallstedt & Guilkey 2008,
 /// Eq. (8), Eq. (9)), and the internal force plus, when per-particle body accelerations are given, the body
-/// force (Wallstedt & Guilkey 2008, Eq. (14), Eq. (15)).
-template <Scatter what, int Dim, class Kernel>
+/// force (Wallstedt & Guilkey 2008, Eq. (14), Eq. (15)). Each tile's sums are shown to keep (p2g_add_keeping).
+template <Scatter what, int Dim, class Kernel, class Keep = KeepNothing>
 void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils,
-         const ScatterOrder<Dim>& order, const std::vector<Vec<Dim>>& body_accel, Grid<Dim>& grid) {
+         const ScatterOrder<Dim>& order, const std::vector<Vec<Dim>>& body_accel, Grid<Dim>& grid,
+         const Keep& keep = {}) {
   parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) {
     GridNode<Dim>& node = grid.nodes[n];
     if constexpr (what.mass_momentum && what.force) {  // v_new is recomputed from these, so clear all at once
@@ -165,15 +172,15 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
   const bool body = what.force && !body_accel.empty();
   if constexpr (what.mass_momentum && what.force) {
     if (body)
-      p2g_add(stencils, order, grid, momentum, internal, BodyForce<Dim>{p.m, body_accel});
+      p2g_add_keeping(keep, stencils, order, grid, momentum, internal, BodyForce<Dim>{p.m, body_accel});
     else
-      p2g_add(stencils, order, grid, momentum, internal);
+      p2g_add_keeping(keep, stencils, order, grid, momentum, internal);
   } else if constexpr (what.mass_momentum) {
-    p2g_add(stencils, order, grid, momentum);
+    p2g_add_keeping(keep, stencils, order, grid, momentum);
   } else if (body) {
-    p2g_add(stencils, order, grid, internal, BodyForce<Dim>{p.m, body_accel});
+    p2g_add_keeping(keep, stencils, order, grid, internal, BodyForce<Dim>{p.m, body_accel});
   } else {
-    p2g_add(stencils, order, grid, internal);
+    p2g_add_keeping(keep, stencils, order, grid, internal);
   }
 }
 

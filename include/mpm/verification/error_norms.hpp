@@ -29,6 +29,13 @@ struct ErrorNorms {
     sum_sq += delta * delta;
     ++samples;
   }
+  /// The samples of one step over every rank: their largest, sum, sum of squares and count.
+  void add_sums(Real largest, Real step_sum, Real step_sum_sq, std::int64_t count) {
+    linf = std::max(linf, largest);
+    sum += step_sum;
+    sum_sq += step_sum_sq;
+    samples += count;
+  }
   Real l1() const { return samples ? sum / static_cast<Real>(samples) : 0; }
   Real l2() const { return samples ? std::sqrt(sum_sq / static_cast<Real>(samples)) : 0; }
 };

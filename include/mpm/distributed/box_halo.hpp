@@ -1,0 +1,80 @@
+#pragma once
+/// One rank's box of a divided grid and its halo sum. The box (whole tiles, decomposition.hpp) holds its tiles'
+/// node layers and the width - 1 layers above them that its particles' stencils reach (box_geometry). After a
+/// P2G pass every node a tile of another box also reaches gets, on every box that holds it, the sums of all
+/// the tiles that reach it added in colour order from zero: one process's value (ScatterOrder). Each box sends
+/// the kept sums of its face tiles (FaceTileSums) to the boxes whose grids they reach, one exchange per pass;
+/// the boxes then hold the same bits on the nodes they share, and the grid update, the boundary conditions and
+/// G2P need no second exchange.
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "mpm/distributed/communicator.hpp"
+#include "mpm/distributed/decomposition.hpp"
+#include "mpm/distributed/tile_halo.hpp"
+#include "mpm/grid/grid.hpp"
+
+namespace mpm {
+
+template <int Dim>
+class BoxHalo {
+ public:
+  /// One process: the whole grid is the one box.
+  explicit BoxHalo(const GridGeometry<Dim>& whole) : whole_(whole), box_(whole) {}
+  /// Rank `rank`'s box of `boxes` (bisect), for a kernel `width` nodes wide.
+  BoxHalo(const GridGeometry<Dim>& whole, std::vector<TileBox<Dim>> boxes, int rank, int width);
+
+  /// Whether the grid is divided (more than one box).
+  bool divided() const { return boxes_.size() > 1; }
+  const GridGeometry<Dim>& whole() const { return whole_; }
+  /// This rank's box of the grid.
+  const GridGeometry<Dim>& box() const { return box_; }
+  const std::vector<TileBox<Dim>>& boxes() const { return boxes_; }
+  /// The storage layers per axis of this box's grid that its own tiles hold (the rest are other boxes').
+  IVec<Dim> owned_layers() const {
+    IVec<Dim> n;
+    for (int d = 0; d < Dim; ++d)
+      n[d] = divided() ? std::min(box_.nodes_along(d), GridGeometry<Dim>::tile_width *
+                                                           (boxes_[rank_].hi[d] - boxes_[rank_].lo[d]))
+                       : box_.nodes_along(d);
+    return n;
+  }
+  /// The rank that owns the tile holding global storage node layer s (per axis).
+  int owner(const IVec<Dim>& s) const {
+    std::int64_t flat = 0;
+    for (int d = Dim - 1; d >= 0; --d) flat = flat * whole_.tiles_along(d) + (s[d] >> GridGeometry<Dim>::tile_shift);
+    return owner_[static_cast<std::size_t>(flat)];
+  }
+
+  /// After a P2G pass of the fields `mass_momentum` (m, momentum) and/or `force` onto cleared fields, with the
+  /// sums of this box's face tiles `kept`: the halo sum over `comm`.
+  void sum(Grid<Dim>& grid, std::vector<TileSums<Dim>> kept, bool mass_momentum, bool force,
+           const Communicator& comm) const;
+
+ private:
+  GridGeometry<Dim> whole_, box_;
+  std::vector<TileBox<Dim>> boxes_;
+  std::vector<IVec<Dim>> first_, end_;  ///< each box's grid: global storage layers [first, end) per axis
+  std::vector<std::int32_t> owner_;     ///< rank of each tile of the whole grid (flat, axis 0 fastest)
+  int rank_ = 0;
+};
+
+/// The largest tile layer along each axis a cut between boxes may lie at (bisect's `cut_limit`): below a
+/// symmetry plane on a high face, so that a box that holds any node the plane's fold pairs holds them all
+/// (Steffen et al. 2008, Sec. 3.4.2: ghost and mirror node within `ghost` layers of the plane). `symmetric_high[d]`:
+/// the high face of axis d is a symmetry plane.
+template <int Dim>
+IVec<Dim> cut_limit(const GridGeometry<Dim>& whole, const std::array<bool, Dim>& symmetric_high, int width) {
+  IVec<Dim> limit;
+  for (int d = 0; d < Dim; ++d) {
+    limit[d] = whole.tiles_along(d);
+    // A cut at tile layer t starts the upper box at storage layer 8t, and the lower box's grid reaches
+    // 8t + width - 2; the fold pairs storage layers [cells, cells + 2 ghost]: the lower box must end below them.
+    if (symmetric_high[d])
+      limit[d] = (whole.cells[d] - width + 1) >> GridGeometry<Dim>::tile_shift;
+  }
+  return limit;
+}
+
+}  // namespace mpm

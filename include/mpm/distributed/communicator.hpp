@@ -1,0 +1,59 @@
+#pragma once
+/// The communication points of a run, named even in one process: the ranks a run is divided between and the few
+/// collective operations the explicit step needs. One process is a communicator of one rank whose operations
+/// return their arguments; an MPI build started under mpirun or srun gets the world's ranks (world()).
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace mpm {
+
+class Communicator {
+ public:
+  virtual ~Communicator() = default;
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  /// The largest of every rank's x (exact: a maximum does not round, so any order gives the same bits).
+  virtual double max(double x) const = 0;
+  /// The smallest of every rank's n.
+  virtual std::int64_t min(std::int64_t n) const = 0;
+  /// Every rank's a added element by element (integers: exact in any order). All ranks pass the same length.
+  virtual void sum(std::vector<std::int64_t>& a) const = 0;
+  /// Send to[r] to rank r (to.size() == size()); returns from, from[r] what rank r sent to this one.
+  virtual std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& to) const = 0;
+  /// Rank root's bytes, on every rank.
+  virtual std::vector<std::byte> broadcast(std::vector<std::byte> bytes, int root) const = 0;
+};
+
+/// One process: rank 0 of 1.
+const Communicator& one_process();
+
+/// The ranks this process runs among: MPI's world when the build has MPI and a launcher started several
+/// processes (MpiSession must be alive), otherwise one_process().
+const Communicator& world();
+
+/// Initialises MPI for the process's lifetime when the build has MPI and a launcher (mpirun, srun) started this
+/// process among several; does nothing otherwise. Threads inside a rank do not call MPI (MPI_THREAD_FUNNELED).
+class MpiSession {
+ public:
+  MpiSession(int& argc, char**& argv);
+  ~MpiSession();
+  MpiSession(const MpiSession&) = delete;
+  MpiSession& operator=(const MpiSession&) = delete;
+  /// Whether MPI was initialised (several processes started by a launcher, in an MPI build).
+  bool active() const { return active_; }
+
+ private:
+  bool active_ = false;
+};
+
+/// The number of processes a launcher started (OMPI_COMM_WORLD_SIZE, PMI_SIZE or PMIX_SIZE... when set), 1 when
+/// none did; and this process's rank among them.
+int launched_size();
+int launched_rank();
+
+/// Whether this build can run among several processes.
+bool built_with_mpi();
+
+}  // namespace mpm

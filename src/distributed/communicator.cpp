@@ -1,0 +1,161 @@
+#include "mpm/distributed/communicator.hpp"
+
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#ifdef MPM_WITH_MPI
+#include <mpi.h>
+#endif
+
+namespace mpm {
+namespace {
+
+/// The value of a whole-number environment variable, or `otherwise` when it is unset or not a number.
+long env_number(const char* name, long otherwise) {
+  const char* text = std::getenv(name);
+  if (!text || !*text) return otherwise;
+  char* end = nullptr;
+  const long value = std::strtol(text, &end, 10);
+  return *end ? otherwise : value;
+}
+
+/// Size and rank variables of the launchers: OpenMPI's mpirun, MPICH's mpiexec (PMI), Slurm's srun.
+constexpr std::pair<const char*, const char*> launcher_variables[] = {
+    {"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"},
+    {"PMI_SIZE", "PMI_RANK"},
+    {"SLURM_STEP_NUM_TASKS", "SLURM_PROCID"}};
+
+class OneProcess final : public Communicator {
+ public:
+  int rank() const override { return 0; }
+  int size() const override { return 1; }
+  double max(double x) const override { return x; }
+  std::int64_t min(std::int64_t n) const override { return n; }
+  void sum(std::vector<std::int64_t>&) const override {}
+  std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& to) const override {
+    return to;
+  }
+  std::vector<std::byte> broadcast(std::vector<std::byte> bytes, int) const override { return bytes; }
+};
+
+#ifdef MPM_WITH_MPI
+/// A failed MPI call: MPI's default handler aborts every rank with its message first, so this is not reached
+/// unless the handler was changed.
+void check(int status, const char* call) {
+  if (status != MPI_SUCCESS) throw std::runtime_error(std::string("MPI: ") + call + " failed");
+}
+
+class MpiWorld final : public Communicator {
+ public:
+  int rank() const override {
+    int r = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &r);
+    return r;
+  }
+  int size() const override {
+    int s = 1;
+    MPI_Comm_size(MPI_COMM_WORLD, &s);
+    return s;
+  }
+  double max(double x) const override {
+    double out = x;
+    check(MPI_Allreduce(&x, &out, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce");
+    return out;
+  }
+  std::int64_t min(std::int64_t n) const override {
+    std::int64_t out = n;
+    check(MPI_Allreduce(&n, &out, 1, MPI_INT64_T, MPI_MIN, MPI_COMM_WORLD), "MPI_Allreduce");
+    return out;
+  }
+  void sum(std::vector<std::int64_t>& a) const override {
+    check(MPI_Allreduce(MPI_IN_PLACE, a.data(), static_cast<int>(a.size()), MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD),
+          "MPI_Allreduce");
+  }
+  std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& to) const override {
+    const int n = size();
+    std::vector<int> send_count(n), recv_count(n), send_at(n), recv_at(n);
+    for (int r = 0; r < n; ++r) send_count[r] = static_cast<int>(to[r].size());
+    check(MPI_Alltoall(send_count.data(), 1, MPI_INT, recv_count.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Alltoall");
+    std::vector<std::byte> send, recv;
+    int s = 0, q = 0;
+    for (int r = 0; r < n; ++r) {
+      send_at[r] = s;
+      recv_at[r] = q;
+      s += send_count[r];
+      q += recv_count[r];
+      send.insert(send.end(), to[r].begin(), to[r].end());
+    }
+    recv.resize(static_cast<std::size_t>(q));
+    check(MPI_Alltoallv(send.data(), send_count.data(), send_at.data(), MPI_BYTE, recv.data(), recv_count.data(),
+                        recv_at.data(), MPI_BYTE, MPI_COMM_WORLD),
+          "MPI_Alltoallv");
+    std::vector<std::vector<std::byte>> from(static_cast<std::size_t>(n));
+    for (int r = 0; r < n; ++r) from[r].assign(recv.begin() + recv_at[r], recv.begin() + recv_at[r] + recv_count[r]);
+    return from;
+  }
+  std::vector<std::byte> broadcast(std::vector<std::byte> bytes, int root) const override {
+    std::int64_t length = static_cast<std::int64_t>(bytes.size());
+    check(MPI_Bcast(&length, 1, MPI_INT64_T, root, MPI_COMM_WORLD), "MPI_Bcast");
+    bytes.resize(static_cast<std::size_t>(length));
+    check(MPI_Bcast(bytes.data(), static_cast<int>(length), MPI_BYTE, root, MPI_COMM_WORLD), "MPI_Bcast");
+    return bytes;
+  }
+};
+#endif
+
+bool mpi_active = false;
+
+}  // namespace
+
+const Communicator& one_process() {
+  static const OneProcess one;
+  return one;
+}
+
+const Communicator& world() {
+#ifdef MPM_WITH_MPI
+  static const MpiWorld mpi;
+  if (mpi_active) return mpi;
+#endif
+  return one_process();
+}
+
+int launched_size() {
+  for (const auto& [size, rank] : launcher_variables)
+    if (env_number(size, 1) > 1) return static_cast<int>(env_number(size, 1));
+  return 1;
+}
+
+int launched_rank() {
+  for (const auto& [size, rank] : launcher_variables)
+    if (env_number(size, 1) > 1) return static_cast<int>(env_number(rank, 0));
+  return 0;
+}
+
+bool built_with_mpi() {
+#ifdef MPM_WITH_MPI
+  return true;
+#else
+  return false;
+#endif
+}
+
+MpiSession::MpiSession([[maybe_unused]] int& argc, [[maybe_unused]] char**& argv) {
+#ifdef MPM_WITH_MPI
+  if (launched_size() <= 1) return;
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  active_ = mpi_active = true;
+#endif
+}
+
+MpiSession::~MpiSession() {
+#ifdef MPM_WITH_MPI
+  if (active_) MPI_Finalize();
+  mpi_active = false;
+#endif
+}
+
+}  // namespace mpm

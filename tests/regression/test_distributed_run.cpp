@@ -1,0 +1,153 @@
+// `mpirun -np N mpm run SCENE` on 1 to 4 ranks (oversubscribed) writes the same history.csv, byte for byte, the
+// same summary figures and the same particle fields (by id, to the bit) as one process, with the frames as one
+// .pvtp of N pieces listed in particles.pvd. Cases: the colliding-disks example (particles cross between ranks;
+// energies and momenta) and the 2-D axis-aligned scene (symmetry-plane reactions, body-force work, [check]
+// error norms). Skipped when the build has no MPI.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "support.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using mpm::testing::scratch;
+using mpm::testing::slurp;
+using mpm::testing::vtp_array;
+
+const fs::path source_dir = fs::path(__FILE__).parent_path().parent_path().parent_path();
+
+/// `mpirun -np ranks mpm run SCENE --quiet ARGS`, its output in log; the exit status.
+int run_on(int ranks, const std::string& scene, const std::string& args, const fs::path& log) {
+  // Under AddressSanitizer, OpenMPI's own allocations at start-up are reported as leaks: leak checks off.
+  const std::string sanitizer = MPM_SANITIZED ? "ASAN_OPTIONS=halt_on_error=1:detect_leaks=0 " : "";
+  const std::string cmd = sanitizer + "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + std::string(MPM_MPIEXEC) +
+                          " -np " + std::to_string(ranks) + " --oversubscribe " + MPM_BINARY + " run " + scene +
+                          " --quiet " + args + " >" + log.string() + " 2>&1";
+  const int raw = std::system(cmd.c_str());
+  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+}
+
+/// The datasets particles.pvd lists, in order.
+std::vector<std::string> frames(const fs::path& dir) {
+  const std::string pvd = slurp(dir / "particles.pvd");
+  std::vector<std::string> out;
+  for (std::size_t at = pvd.find("file=\""); at != std::string::npos; at = pvd.find("file=\"", at + 1)) {
+    at += 6;
+    out.push_back(pvd.substr(at, pvd.find('"', at) - at));
+  }
+  return out;
+}
+
+/// The .vtp files of a frame: itself, or the pieces a .pvtp lists.
+std::vector<fs::path> pieces(const fs::path& dir, const std::string& frame) {
+  if (frame.ends_with(".vtp")) return {dir / frame};
+  const std::string text = slurp(dir / frame);
+  std::vector<fs::path> out;
+  for (std::size_t at = text.find("Source=\""); at != std::string::npos; at = text.find("Source=\"", at + 1)) {
+    at += 8;
+    out.push_back(dir / text.substr(at, text.find('"', at) - at));
+  }
+  return out;
+}
+
+/// Array `name` (components per point) of a frame, all pieces, rows sorted by particle id.
+std::vector<double> by_id(const fs::path& dir, const std::string& frame, const std::string& name, int components) {
+  std::vector<double> ids, values;
+  for (const fs::path& piece : pieces(dir, frame)) {
+    const std::vector<double> i = vtp_array(piece, "id"), v = vtp_array(piece, name);
+    ids.insert(ids.end(), i.begin(), i.end());
+    values.insert(values.end(), v.begin(), v.end());
+  }
+  std::vector<std::size_t> order(ids.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return ids[a] < ids[b]; });
+  std::vector<double> out;
+  for (std::size_t k : order)
+    out.insert(out.end(), values.begin() + static_cast<std::ptrdiff_t>(k * components),
+               values.begin() + static_cast<std::ptrdiff_t>((k + 1) * components));
+  return out;
+}
+
+/// The lines mpm wrote (mpirun adds its own report of a rank's non-zero exit status).
+int mpm_lines(const std::string& log) {
+  int n = 0;
+  for (std::size_t at = log.find("mpm: "); at != std::string::npos; at = log.find("mpm: ", at + 1)) ++n;
+  return n;
+}
+
+bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](double x, double y) {
+           return std::memcmp(&x, &y, sizeof x) == 0;
+         });
+}
+
+void expect_same_on_one_to_four_ranks(const std::string& name, const std::string& scene, const std::string& args) {
+  if (std::string(MPM_MPIEXEC).empty()) GTEST_SKIP() << "built without MPI";
+  std::vector<fs::path> dirs;
+  for (int ranks = 1; ranks <= 4; ++ranks) {
+    const fs::path dir = scratch("distributed_" + name, std::to_string(ranks));
+    ASSERT_EQ(run_on(ranks, scene, args + " --out " + dir.string(), dir / "log.txt"), 0)
+        << ranks << " ranks: " << slurp(dir / "log.txt");
+    dirs.push_back(dir);
+  }
+  const std::string history = slurp(dirs[0] / "history.csv");
+  const nlohmann::json one = nlohmann::json::parse(slurp(dirs[0] / "summary.json"));
+  const std::vector<std::string> one_frames = frames(dirs[0]);
+  ASSERT_GT(one_frames.size(), 1u);
+  for (int ranks = 2; ranks <= 4; ++ranks) {
+    const fs::path& dir = dirs[static_cast<std::size_t>(ranks - 1)];
+    const std::string at = name + " on " + std::to_string(ranks) + " ranks";
+    EXPECT_EQ(slurp(dir / "history.csv"), history) << at;
+    const nlohmann::json s = nlohmann::json::parse(slurp(dir / "summary.json"));
+    EXPECT_EQ(s["ranks"], ranks) << at;
+    for (const char* key : {"steps", "time", "particles", "frames", "energy", "error"})
+      EXPECT_EQ(s.value(key, nlohmann::json()), one.value(key, nlohmann::json())) << at << ": " << key;
+    const std::vector<std::string> f = frames(dir);
+    ASSERT_EQ(f.size(), one_frames.size()) << at;
+    for (std::size_t k : {std::size_t{1}, f.size() - 1}) {
+      EXPECT_TRUE(f[k].ends_with(".pvtp")) << at;
+      EXPECT_EQ(pieces(dir, f[k]).size(), static_cast<std::size_t>(ranks)) << at;
+      for (const auto& [field, components] : std::vector<std::pair<std::string, int>>{
+               {"", 3}, {"velocity", 3}, {"stress", 6}, {"F", 9}, {"volume", 1}, {"mass", 1}, {"id", 1}})
+        EXPECT_TRUE(same_bits(by_id(dir, f[k], field, components), by_id(dirs[0], one_frames[k], field, components)))
+            << at << ", frame " << k << ": " << (field.empty() ? "positions" : field);
+    }
+  }
+  for (const fs::path& dir : dirs) fs::remove_all(dir);
+}
+
+TEST(DistributedRun, CollidingDisksSameBitsOnOneToFourRanks) {
+  expect_same_on_one_to_four_ranks("disks", (source_dir / "examples/colliding-disks/scene.toml").string(),
+                                   "--set output.every=0.5");
+}
+
+TEST(DistributedRun, AxisAlignedSameBitsOnOneToFourRanks) {
+  expect_same_on_one_to_four_ranks("axis_aligned", (source_dir / "examples/axis-aligned/scene.toml").string(),
+                                   "--set simulation.end_time=0.01 --set output.every=0.005");
+}
+
+TEST(DistributedRun, ImplicitAndCheckpointsSayTheyRunInOneProcess) {
+  if (std::string(MPM_MPIEXEC).empty()) GTEST_SKIP() << "built without MPI";
+  const fs::path dir = scratch("distributed", "refusals");
+  const std::string bar = (source_dir / "examples/implicit/elastic-bar.toml").string();
+  EXPECT_EQ(run_on(2, bar, "--out " + (dir / "out").string(), dir / "log.txt"), 2);
+  std::string log = slurp(dir / "log.txt");
+  EXPECT_NE(log.find("the implicit integrator runs in one process"), std::string::npos) << log;
+  EXPECT_EQ(mpm_lines(log), 1) << "once, from rank 0: " << log;
+  const std::string disks = (source_dir / "examples/colliding-disks/scene.toml").string();
+  EXPECT_EQ(run_on(2, disks, "--checkpoint-every 5 --out " + (dir / "out").string(), dir / "log.txt"), 2);
+  log = slurp(dir / "log.txt");
+  EXPECT_NE(log.find("--checkpoint-every: checkpoints of runs divided between ranks are a later step"), std::string::npos)
+      << log;
+  EXPECT_EQ(mpm_lines(log), 1) << log;
+  fs::remove_all(dir);
+}
+
+}  // namespace
