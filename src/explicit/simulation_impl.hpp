@@ -45,53 +45,13 @@ GridGeometry<Dim> make_geometry(const SimulationSpec<Dim>& spec) {
   return g;
 }
 
-/// The global storage layer of the base node of the stencil of a particle at x with half-lengths l: the layers
-/// make_stencil computes, before a box's offset is subtracted.
-template <int Dim, class Kernel>
-IVec<Dim> base_layer(const GridGeometry<Dim>& whole, const Vec<Dim>& x, const Vec<Dim>& l) {
-  const Real inv_h = 1 / whole.h;
-  IVec<Dim> s;
-  typename Kernel::Axis axis;
-  for (int d = 0; d < Dim; ++d) s[d] = Kernel::locate((x[d] - whole.lo[d]) * inv_h, l[d] * inv_h, axis) + whole.ghost;
-  return s;
-}
-
-/// The division of the grid between the ranks of comm: bisection of the tiles weighted by the particles in
-/// them, cut where the symmetry planes allow (cut_limit).
-template <int Dim, class Kernel>
-BoxHalo<Dim> divide(const SimulationSpec<Dim>& spec, const ParticleSet<Dim>& p, const Communicator& comm) {
-  const GridGeometry<Dim> whole = make_geometry<Dim, Kernel>(spec);
-  if (comm.size() == 1) return BoxHalo<Dim>(whole);
-  const auto refuse = [&](const std::string& what) {
-    throw InputError(what + " run in one process for now (docs/scaling.md); start mpm without mpirun or srun");
-  };
-  for (const FaceCondition<Dim>& f : spec.boundary.faces) {
-    if (f.type == FaceType::periodic) refuse("periodic faces");
-    if (f.type == FaceType::outflow) refuse("outflow faces");
-  }
-  if (Dim == 2 && spec.geometry == Geometry::axisymmetric) refuse("axisymmetric runs");
-  if (!spec.rigid_bodies.empty()) refuse("rigid bodies");
-  IVec<Dim> tiles;
-  for (int d = 0; d < Dim; ++d) tiles[d] = whole.tiles_along(d);
-  std::vector<std::int64_t> weight(whole.tile_count(), 0);
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (!whole.contains(p.x[i])) continue;  // refused by the constructor, with its index
-    const IVec<Dim> s = base_layer<Dim, Kernel>(whole, p.x[i], p.l[i]);
-    std::int64_t flat = 0;
-    bool inside = true;
-    for (int d = Dim - 1; d >= 0; --d) {
-      const int t = s[d] >> GridGeometry<Dim>::tile_shift;
-      inside = inside && t >= 0 && t < tiles[d];
-      flat = flat * tiles[d] + t;
-    }
-    if (inside) ++weight[static_cast<std::size_t>(flat)];
-  }
-  std::array<bool, Dim> symmetric_high;
-  for (int d = 0; d < Dim; ++d) symmetric_high[d] = spec.boundary.faces[2 * d + 1].type == FaceType::symmetry;
-  return BoxHalo<Dim>(whole, bisect<Dim>(tiles, weight, comm.size(), cut_limit<Dim>(whole, symmetric_high, Kernel::width)),
-                      comm.rank(), Kernel::width);
-}
 }  // namespace detail
+}  // namespace mpm
+
+#include "simulation_ranks_impl.hpp"
+#include "simulation_stages_impl.hpp"
+
+namespace mpm {
 
 template <int Dim, class Kernel>
 Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet<Dim> particles,
@@ -174,61 +134,10 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
 }
 
 template <int Dim, class Kernel>
-std::vector<Vec<Dim>> Simulation<Dim, Kernel>::face_reactions() const {
-  if (!box_halo_.divided()) return constraints_.reactions();
-  std::vector<std::int64_t> integers;
-  for (const std::array<ExactSum, Dim>& r : constraints_.reaction_sums())
-    for (const ExactSum& e : r) {
-      const std::vector<std::int64_t> mine = e.integers();
-      integers.insert(integers.end(), mine.begin(), mine.end());
-    }
-  comm_->sum(integers);
-  std::vector<Vec<Dim>> out(constraints_.reaction_sums().size());
-  auto at = integers.begin();
-  for (Vec<Dim>& r : out)
-    for (int d = 0; d < Dim; ++d, at += ExactSum::integer_count)
-      r[d] = ExactSum::from_integers({at, at + ExactSum::integer_count}).value();
-  return out;
-}
-
-template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::size_rates() {
   if (!neo_hookean_.empty()) return;
   grad_v_.resize(particles_.size(), Mat<Dim>::Zero());
   if (axisymmetric_) hoop_rate_.resize(particles_.size(), 0);
-}
-
-template <int Dim, class Kernel>
-std::vector<std::size_t> Simulation<Dim, Kernel>::not_owned(std::vector<int>* owner) const {
-  std::vector<std::size_t> out;
-  const ParticleSet<Dim>& p = particles_;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const int r = box_halo_.owner(detail::base_layer<Dim, Kernel>(box_halo_.whole(), p.x[i], p.l[i]));
-    if (r == comm_->rank()) continue;
-    out.push_back(i);
-    if (owner) owner->push_back(r);
-  }
-  return out;
-}
-
-template <int Dim, class Kernel>
-void Simulation<Dim, Kernel>::migrate() {
-  std::vector<int> owner;
-  const std::vector<std::size_t> leaving = not_owned(&owner);
-  std::vector<std::vector<std::byte>> to(static_cast<std::size_t>(comm_->size()));
-  const bool with_state = neo_hookean_.empty();
-  for (std::size_t k = 0; k < leaving.size(); ++k)
-    pack_particle(particles_, leaving[k], with_state, to[static_cast<std::size_t>(owner[k])]);
-  if (!leaving.empty()) erase(leaving);
-  const std::vector<std::vector<std::byte>> from = comm_->exchange(to);
-  bool arrived = false;
-  for (const std::vector<std::byte>& bytes : from) {
-    arrived = arrived || !bytes.empty();
-    unpack_particles(bytes, with_state, particles_);
-  }
-  if (!arrived) return;
-  size_rates();
-  stencils_current_ = false;  // the next step locates them and sorts them into the scatter order
 }
 
 template <int Dim, class Kernel>
@@ -385,160 +294,6 @@ template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::constrain_update(Real t_new, Real dt) {
   constraints_.constrain_update(grid_, t_new, dt);
   rigid_.constrain_update(grid_, t_new, dt);
-}
-
-template <int Dim, class Kernel>
-void Simulation<Dim, Kernel>::settle() {
-  if (!stencils_current_)
-    tiles_changed_ = mpm::build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, tile_) || tiles_changed_;
-  // The scatter order depends only on the tiles, so it is rebuilt only when a particle changed tile; the
-  // particles are then stored in that order, so that the transfers read them in sequence.
-  if (tiles_changed_) {
-    order_.build(tile_, particles_.id);
-    if (!order_.identity()) {
-      reorder_particles(particles_, order_.order());
-      gather_by(stencils_, order_.order());
-      gather_by(tile_, order_.order());
-      order_.reordered();
-    }
-  }
-  stencils_current_ = true;
-  tiles_changed_ = false;
-}
-
-template <int Dim, class Kernel>
-void Simulation<Dim, Kernel>::build_stencils() {
-  settle();
-  evaluate_body_force();
-  if (loads_) {
-    v_start_ = particles_.v;
-    start_tile_ = tile_;
-  }
-  if (!rigid_.empty()) {
-    std::ostringstream when;
-    when.precision(9);
-    when << "step " << steps_ + 1 << ", t = " << time_;
-    rigid_.template locate<Kernel>(grid_.geometry, when.str());
-  }
-}
-
-template <int Dim, class Kernel>
-template <Scatter what>
-void Simulation<Dim, Kernel>::scatter() {
-  if (box_halo_.divided()) {  // the halo sum: the sums of tiles of other boxes at the nodes they share
-    const FaceTileSums<Dim> kept(grid_.geometry, order_);
-    p2g<what>(particles_, stencils_, order_, body_accel_, grid_, kept);
-    box_halo_.sum(grid_, kept.take(), what.mass_momentum, what.force, *comm_);
-  } else {
-    p2g<what>(particles_, stencils_, order_, body_accel_, grid_);
-  }
-  if constexpr (what.force && Dim == 2)  // the hoop force in a pass of its own, as in the implicit step
-    if (axisymmetric_) p2g_add(stencils_, order_, grid_, HoopForce{particles_.V, particles_.state.sigma, particles_.x});
-  if constexpr (what.mass_momentum) halo_.sum_into_owners(grid_, NodeFields::mass_momentum);
-  if constexpr (what.force) halo_.sum_into_owners(grid_, NodeFields::force);
-  if constexpr (what.mass_momentum) constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
-  if constexpr (what.force) constraints_.fold_and_mirror(grid_, NodeFields::force);
-}
-
-template <int Dim, class Kernel>
-template <Gather what>
-void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
-  halo_.copy_to_ghosts(grid_);
-  StencilTargets<Dim, Kernel> next{stencils_, tile_};
-  StencilTargets<Dim, Kernel>* targets = what.position ? &next : nullptr;
-  ParticleFault fault;
-  if (!neo_hookean_.empty()) {
-    fault = g2p<what>(particles_, stencils_, grid_, v_grid, dt, NeoHookeanLanes{neo_hookean_}, sizes_, targets);
-  } else {
-    const RecordRates<Dim> rates{grad_v_, hoop_rate_, axisymmetric_};
-    fault = g2p<what>(particles_, stencils_, grid_, v_grid, dt, rates, sizes_, targets);
-    if constexpr (what.deformation) {
-      const ParticleFault stress = update_stress(dt);
-      fault.index = std::min(fault.index, stress.index);
-    }
-  }
-  check(fault, dt);
-  if constexpr (what.position) {
-    stencils_current_ = true;
-    tiles_changed_ = tiles_changed_ || next.tile_changed.load();
-  }
-}
-
-template <int Dim, class Kernel>
-void Simulation<Dim, Kernel>::account_load_power() {
-  // Grouped by the tiles of the step's start, whose particles one rank held, in id order.
-  const ParticleSet<Dim>& p = particles_;
-  load_power_ = sum_by_tile<1>([&](std::size_t i) { return start_tile_[i]; }, [&](std::size_t i) {
-    const Vec<Dim> load = body_accel_.empty() ? spec_.gravity : Vec<Dim>(spec_.gravity + body_accel_[i]);
-    return std::array<Real, 1>{p.m[i] * load.dot(0.5 * (v_start_[i] + p.v[i]))};
-  })[0];
-}
-
-template <int Dim, class Kernel>
-void Simulation<Dim, Kernel>::evaluate_body_force() {
-  if (!spec_.body_force) return;
-  body_accel_.resize(particles_.size());
-  parallel_for(static_cast<std::ptrdiff_t>(particles_.size()),
-               [&](std::ptrdiff_t i) { body_accel_[i] = spec_.body_force(particles_.X[i], time_); });
-}
-
-template <int Dim, class Kernel>
-void Simulation<Dim, Kernel>::check(ParticleFault fault, Real dt) const {
-  const ParticleSet<Dim>& p = particles_;
-  if (!box_halo_.divided()) {
-    if (fault) throw SimulationFailure(failure_message(static_cast<std::size_t>(fault.index), dt));
-    return;
-  }
-  // Every rank learns of the failure: the one holding the faulty particle of least id says why.
-  constexpr std::int64_t none = std::numeric_limits<std::int64_t>::max();
-  const std::int64_t mine = fault ? p.id[static_cast<std::size_t>(fault.index)] : none;
-  const std::int64_t first = comm_->min(mine);
-  if (first == none) return;
-  const int root = static_cast<int>(comm_->min(mine == first ? comm_->rank() : comm_->size()));
-  std::vector<std::byte> message;
-  if (mine == first) {
-    const std::string text = failure_message(static_cast<std::size_t>(fault.index), dt);
-    for (char c : text) message.push_back(static_cast<std::byte>(c));
-  }
-  message = comm_->broadcast(std::move(message), root);
-  std::string text;
-  for (std::byte b : message) text.push_back(static_cast<char>(b));
-  throw SimulationFailure(text);
-}
-
-template <int Dim, class Kernel>
-std::string Simulation<Dim, Kernel>::failure_message(std::size_t i, Real dt) const {
-  const ParticleSet<Dim>& p = particles_;
-  const Real J = p.F[i].determinant();
-  std::string cause;
-  if (!p.x[i].allFinite() || !p.v[i].allFinite() || !std::isfinite(J))
-    cause = "non-finite position, velocity or deformation gradient";
-  else if (!grid_.geometry.contains(p.x[i]))
-    cause = "left the grid at " + detail::format<Dim>(p.x[i]);
-  else if (!(J > 0))
-    cause = "det F = " + std::to_string(J) + " <= 0 (material inverted)";
-  else if (!p.state.empty() && !(p.state.stretch3[i] > 0 && p.V[i] > 0))
-    cause = "volume V / V0 = " + std::to_string(p.V[i] / p.V0[i]) + " with out-of-plane stretch " +
-            std::to_string(p.state.stretch3[i]) + " (material inverted)";
-  else if (!p.state.empty() && !p.state.sigma[i].full().allFinite())
-    cause = "non-finite stress from the material update";
-  else
-    cause = "cpGIMP half-lengths " + detail::format<Dim>(p.l[i]) + " left (0, h/2] (deformation too large)";
-  std::ostringstream os;
-  os.precision(9);
-  os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << p.id[i] << ": " << cause;
-  return os.str();
-}
-
-template <int Dim, class Kernel>
-double Simulation<Dim, Kernel>::bytes_per_particle() const {
-  const double n = static_cast<double>(particles_.size());
-  return static_cast<double>(particles_.bytes_per_particle()) + sizeof(StencilT) +
-         static_cast<double>(order_.bytes() + tile_.capacity() * sizeof(std::int32_t) +
-                             body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes() +
-                             (particles_.state.empty() ? 0 : particles_.size() * MaterialState::bytes_per_particle()) +
-                             grad_v_.capacity() * sizeof(Mat<Dim>) + hoop_rate_.capacity() * sizeof(Real)) /
-             n;
 }
 
 }  // namespace mpm

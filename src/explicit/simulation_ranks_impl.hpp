@@ -1,0 +1,140 @@
+#pragma once
+// The parts of Simulation<Dim, Kernel> that divide a run between ranks (mpm/distributed): the division of the
+// grid, the particles a rank owns and their migration, the failures and reactions agreed over all ranks.
+// Included by simulation_impl.hpp.
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "mpm/core/errors.hpp"
+#include "mpm/explicit/simulation.hpp"
+#include "mpm/particles/pack.hpp"
+
+namespace mpm {
+namespace detail {
+
+/// The global storage layer of the base node of the stencil of a particle at x with half-lengths l: the layers
+/// make_stencil computes, before a box's offset is subtracted.
+template <int Dim, class Kernel>
+IVec<Dim> base_layer(const GridGeometry<Dim>& whole, const Vec<Dim>& x, const Vec<Dim>& l) {
+  const Real inv_h = 1 / whole.h;
+  IVec<Dim> s;
+  typename Kernel::Axis axis;
+  for (int d = 0; d < Dim; ++d) s[d] = Kernel::locate((x[d] - whole.lo[d]) * inv_h, l[d] * inv_h, axis) + whole.ghost;
+  return s;
+}
+
+/// The division of the grid between the ranks of comm: bisection of the tiles weighted by the particles in
+/// them, cut where the symmetry planes allow (cut_limit).
+template <int Dim, class Kernel>
+BoxHalo<Dim> divide(const SimulationSpec<Dim>& spec, const ParticleSet<Dim>& p, const Communicator& comm) {
+  const GridGeometry<Dim> whole = make_geometry<Dim, Kernel>(spec);
+  if (comm.size() == 1) return BoxHalo<Dim>(whole);
+  const auto refuse = [&](const std::string& what) {
+    throw InputError(what + " run in one process for now (docs/scaling.md); start mpm without mpirun or srun");
+  };
+  for (const FaceCondition<Dim>& f : spec.boundary.faces) {
+    if (f.type == FaceType::periodic) refuse("periodic faces");
+    if (f.type == FaceType::outflow) refuse("outflow faces");
+  }
+  if (Dim == 2 && spec.geometry == Geometry::axisymmetric) refuse("axisymmetric runs");
+  if (!spec.rigid_bodies.empty()) refuse("rigid bodies");
+  IVec<Dim> tiles;
+  for (int d = 0; d < Dim; ++d) tiles[d] = whole.tiles_along(d);
+  std::vector<std::int64_t> weight(whole.tile_count(), 0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!whole.contains(p.x[i])) continue;  // refused by the constructor, with its index
+    const IVec<Dim> s = base_layer<Dim, Kernel>(whole, p.x[i], p.l[i]);
+    std::int64_t flat = 0;
+    bool inside = true;
+    for (int d = Dim - 1; d >= 0; --d) {
+      const int t = s[d] >> GridGeometry<Dim>::tile_shift;
+      inside = inside && t >= 0 && t < tiles[d];
+      flat = flat * tiles[d] + t;
+    }
+    if (inside) ++weight[static_cast<std::size_t>(flat)];
+  }
+  std::array<bool, Dim> symmetric_high;
+  for (int d = 0; d < Dim; ++d) symmetric_high[d] = spec.boundary.faces[2 * d + 1].type == FaceType::symmetry;
+  return BoxHalo<Dim>(whole, bisect<Dim>(tiles, weight, comm.size(), cut_limit<Dim>(whole, symmetric_high, Kernel::width)),
+                      comm.rank(), Kernel::width);
+}
+
+}  // namespace detail
+
+template <int Dim, class Kernel>
+std::vector<Vec<Dim>> Simulation<Dim, Kernel>::face_reactions() const {
+  if (!box_halo_.divided()) return constraints_.reactions();
+  std::vector<std::int64_t> integers;
+  for (const std::array<ExactSum, Dim>& r : constraints_.reaction_sums())
+    for (const ExactSum& e : r) {
+      const std::vector<std::int64_t> mine = e.integers();
+      integers.insert(integers.end(), mine.begin(), mine.end());
+    }
+  comm_->sum(integers);
+  std::vector<Vec<Dim>> out(constraints_.reaction_sums().size());
+  auto at = integers.begin();
+  for (Vec<Dim>& r : out)
+    for (int d = 0; d < Dim; ++d, at += ExactSum::integer_count)
+      r[d] = ExactSum::from_integers({at, at + ExactSum::integer_count}).value();
+  return out;
+}
+
+template <int Dim, class Kernel>
+std::vector<std::size_t> Simulation<Dim, Kernel>::not_owned(std::vector<int>* owner) const {
+  std::vector<std::size_t> out;
+  const ParticleSet<Dim>& p = particles_;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const int r = box_halo_.owner(detail::base_layer<Dim, Kernel>(box_halo_.whole(), p.x[i], p.l[i]));
+    if (r == comm_->rank()) continue;
+    out.push_back(i);
+    if (owner) owner->push_back(r);
+  }
+  return out;
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::migrate() {
+  std::vector<int> owner;
+  const std::vector<std::size_t> leaving = not_owned(&owner);
+  std::vector<std::vector<std::byte>> to(static_cast<std::size_t>(comm_->size()));
+  const bool with_state = neo_hookean_.empty();
+  for (std::size_t k = 0; k < leaving.size(); ++k)
+    pack_particle(particles_, leaving[k], with_state, to[static_cast<std::size_t>(owner[k])]);
+  if (!leaving.empty()) erase(leaving);
+  const std::vector<std::vector<std::byte>> from = comm_->exchange(to);
+  bool arrived = false;
+  for (const std::vector<std::byte>& bytes : from) {
+    arrived = arrived || !bytes.empty();
+    unpack_particles(bytes, with_state, particles_);
+  }
+  if (!arrived) return;
+  size_rates();
+  stencils_current_ = false;  // the next step locates them and sorts them into the scatter order
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::check(ParticleFault fault, Real dt) const {
+  const ParticleSet<Dim>& p = particles_;
+  if (!box_halo_.divided()) {
+    if (fault) throw SimulationFailure(failure_message(static_cast<std::size_t>(fault.index), dt));
+    return;
+  }
+  // Every rank learns of the failure: the one holding the faulty particle of least id says why.
+  constexpr std::int64_t none = std::numeric_limits<std::int64_t>::max();
+  const std::int64_t mine = fault ? p.id[static_cast<std::size_t>(fault.index)] : none;
+  const std::int64_t first = comm_->min(mine);
+  if (first == none) return;
+  const int root = static_cast<int>(comm_->min(mine == first ? comm_->rank() : comm_->size()));
+  std::vector<std::byte> message;
+  if (mine == first) {
+    const std::string text = failure_message(static_cast<std::size_t>(fault.index), dt);
+    for (char c : text) message.push_back(static_cast<std::byte>(c));
+  }
+  message = comm_->broadcast(std::move(message), root);
+  std::string text;
+  for (std::byte b : message) text.push_back(static_cast<char>(b));
+  throw SimulationFailure(text);
+}
+
+}  // namespace mpm

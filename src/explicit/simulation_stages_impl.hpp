@@ -1,0 +1,146 @@
+#pragma once
+// The stages of Simulation<Dim, Kernel>'s step shared by its integrators: locating and ordering the particles,
+// P2G with the halo sum, G2P with the stress update, the loads and their power, the failure message. Included
+// by simulation_impl.hpp.
+#include <algorithm>
+#include <sstream>
+#include <string>
+
+#include "mpm/explicit/simulation.hpp"
+#include "mpm/particles/reorder.hpp"
+#include "mpm/transfer/p2g.hpp"
+#include "simulation_stress_impl.hpp"
+
+namespace mpm {
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::settle() {
+  if (!stencils_current_)
+    tiles_changed_ = mpm::build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, tile_) || tiles_changed_;
+  // The scatter order depends only on the tiles, so it is rebuilt only when a particle changed tile; the
+  // particles are then stored in that order, so that the transfers read them in sequence.
+  if (tiles_changed_) {
+    order_.build(tile_, particles_.id);
+    if (!order_.identity()) {
+      reorder_particles(particles_, order_.order());
+      gather_by(stencils_, order_.order());
+      gather_by(tile_, order_.order());
+      order_.reordered();
+    }
+  }
+  stencils_current_ = true;
+  tiles_changed_ = false;
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::build_stencils() {
+  settle();
+  evaluate_body_force();
+  if (loads_) {
+    v_start_ = particles_.v;
+    start_tile_ = tile_;
+  }
+  if (!rigid_.empty()) {
+    std::ostringstream when;
+    when.precision(9);
+    when << "step " << steps_ + 1 << ", t = " << time_;
+    rigid_.template locate<Kernel>(grid_.geometry, when.str());
+  }
+}
+
+template <int Dim, class Kernel>
+template <Scatter what>
+void Simulation<Dim, Kernel>::scatter() {
+  if (box_halo_.divided()) {  // the halo sum: the sums of tiles of other boxes at the nodes they share
+    const FaceTileSums<Dim> kept(grid_.geometry, order_);
+    p2g<what>(particles_, stencils_, order_, body_accel_, grid_, kept);
+    box_halo_.sum(grid_, kept.take(), what.mass_momentum, what.force, *comm_);
+  } else {
+    p2g<what>(particles_, stencils_, order_, body_accel_, grid_);
+  }
+  if constexpr (what.force && Dim == 2)  // the hoop force in a pass of its own, as in the implicit step
+    if (axisymmetric_) p2g_add(stencils_, order_, grid_, HoopForce{particles_.V, particles_.state.sigma, particles_.x});
+  if constexpr (what.mass_momentum) halo_.sum_into_owners(grid_, NodeFields::mass_momentum);
+  if constexpr (what.force) halo_.sum_into_owners(grid_, NodeFields::force);
+  if constexpr (what.mass_momentum) constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
+  if constexpr (what.force) constraints_.fold_and_mirror(grid_, NodeFields::force);
+}
+
+template <int Dim, class Kernel>
+template <Gather what>
+void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
+  halo_.copy_to_ghosts(grid_);
+  StencilTargets<Dim, Kernel> next{stencils_, tile_};
+  StencilTargets<Dim, Kernel>* targets = what.position ? &next : nullptr;
+  ParticleFault fault;
+  if (!neo_hookean_.empty()) {
+    fault = g2p<what>(particles_, stencils_, grid_, v_grid, dt, NeoHookeanLanes{neo_hookean_}, sizes_, targets);
+  } else {
+    const RecordRates<Dim> rates{grad_v_, hoop_rate_, axisymmetric_};
+    fault = g2p<what>(particles_, stencils_, grid_, v_grid, dt, rates, sizes_, targets);
+    if constexpr (what.deformation) {
+      const ParticleFault stress = update_stress(dt);
+      fault.index = std::min(fault.index, stress.index);
+    }
+  }
+  check(fault, dt);
+  if constexpr (what.position) {
+    stencils_current_ = true;
+    tiles_changed_ = tiles_changed_ || next.tile_changed.load();
+  }
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::account_load_power() {
+  // Grouped by the tiles of the step's start, whose particles one rank held, in id order.
+  const ParticleSet<Dim>& p = particles_;
+  load_power_ = sum_by_tile<1>([&](std::size_t i) { return start_tile_[i]; }, [&](std::size_t i) {
+    const Vec<Dim> load = body_accel_.empty() ? spec_.gravity : Vec<Dim>(spec_.gravity + body_accel_[i]);
+    return std::array<Real, 1>{p.m[i] * load.dot(0.5 * (v_start_[i] + p.v[i]))};
+  })[0];
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::evaluate_body_force() {
+  if (!spec_.body_force) return;
+  body_accel_.resize(particles_.size());
+  parallel_for(static_cast<std::ptrdiff_t>(particles_.size()),
+               [&](std::ptrdiff_t i) { body_accel_[i] = spec_.body_force(particles_.X[i], time_); });
+}
+
+template <int Dim, class Kernel>
+std::string Simulation<Dim, Kernel>::failure_message(std::size_t i, Real dt) const {
+  const ParticleSet<Dim>& p = particles_;
+  const Real J = p.F[i].determinant();
+  std::string cause;
+  if (!p.x[i].allFinite() || !p.v[i].allFinite() || !std::isfinite(J))
+    cause = "non-finite position, velocity or deformation gradient";
+  else if (!grid_.geometry.contains(p.x[i]))
+    cause = "left the grid at " + detail::format<Dim>(p.x[i]);
+  else if (!(J > 0))
+    cause = "det F = " + std::to_string(J) + " <= 0 (material inverted)";
+  else if (!p.state.empty() && !(p.state.stretch3[i] > 0 && p.V[i] > 0))
+    cause = "volume V / V0 = " + std::to_string(p.V[i] / p.V0[i]) + " with out-of-plane stretch " +
+            std::to_string(p.state.stretch3[i]) + " (material inverted)";
+  else if (!p.state.empty() && !p.state.sigma[i].full().allFinite())
+    cause = "non-finite stress from the material update";
+  else
+    cause = "cpGIMP half-lengths " + detail::format<Dim>(p.l[i]) + " left (0, h/2] (deformation too large)";
+  std::ostringstream os;
+  os.precision(9);
+  os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << p.id[i] << ": " << cause;
+  return os.str();
+}
+
+template <int Dim, class Kernel>
+double Simulation<Dim, Kernel>::bytes_per_particle() const {
+  const double n = static_cast<double>(particles_.size());
+  return static_cast<double>(particles_.bytes_per_particle()) + sizeof(StencilT) +
+         static_cast<double>(order_.bytes() + tile_.capacity() * sizeof(std::int32_t) +
+                             body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes() +
+                             (particles_.state.empty() ? 0 : particles_.size() * MaterialState::bytes_per_particle()) +
+                             grad_v_.capacity() * sizeof(Mat<Dim>) + hoop_rate_.capacity() * sizeof(Real)) /
+             n;
+}
+
+}  // namespace mpm
