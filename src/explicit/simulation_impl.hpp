@@ -182,7 +182,10 @@ void Simulation<Dim, Kernel>::step(Real max_dt) {
   rigid_.advance(time_, dt);
   time_ += dt;
   ++steps_;
-  if (box_halo_.divided()) migrate();
+  if (box_halo_.divided()) {
+    migrate();
+    rebalance();
+  }
   settle();  // between steps the particles are in scatter order, each on the rank that owns its tile
 }
 

@@ -24,6 +24,37 @@ IVec<Dim> base_layer(const GridGeometry<Dim>& whole, const Vec<Dim>& x, const Ve
   return s;
 }
 
+/// The particles in each tile of the whole grid (flat, axis 0 fastest); particles outside the grid count nowhere.
+template <int Dim, class Kernel>
+std::vector<std::int64_t> tile_weights(const GridGeometry<Dim>& whole, const ParticleSet<Dim>& p) {
+  std::vector<std::int64_t> weight(whole.tile_count(), 0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!whole.contains(p.x[i])) continue;  // refused by the constructor, with its index
+    const IVec<Dim> s = base_layer<Dim, Kernel>(whole, p.x[i], p.l[i]);
+    std::int64_t flat = 0;
+    bool inside = true;
+    for (int d = Dim - 1; d >= 0; --d) {
+      const int t = s[d] >> GridGeometry<Dim>::tile_shift;
+      inside = inside && t >= 0 && t < whole.tiles_along(d);
+      flat = flat * whole.tiles_along(d) + t;
+    }
+    if (inside) ++weight[static_cast<std::size_t>(flat)];
+  }
+  return weight;
+}
+
+/// Rank comm.rank()'s box of the bisection weighted by `weight`, cut where the symmetry planes allow (cut_limit).
+template <int Dim, class Kernel>
+BoxHalo<Dim> boxes_for(const SimulationSpec<Dim>& spec, const GridGeometry<Dim>& whole,
+                       const std::vector<std::int64_t>& weight, const Communicator& comm) {
+  IVec<Dim> tiles;
+  for (int d = 0; d < Dim; ++d) tiles[d] = whole.tiles_along(d);
+  std::array<bool, Dim> symmetric_high;
+  for (int d = 0; d < Dim; ++d) symmetric_high[d] = spec.boundary.faces[2 * d + 1].type == FaceType::symmetry;
+  return BoxHalo<Dim>(whole, bisect<Dim>(tiles, weight, comm.size(), cut_limit<Dim>(whole, symmetric_high, Kernel::width)),
+                      comm.rank(), Kernel::width);
+}
+
 /// The division of the grid between the ranks of comm: bisection of the tiles weighted by the particles in
 /// them, cut where the symmetry planes allow (cut_limit).
 template <int Dim, class Kernel>
@@ -39,25 +70,7 @@ BoxHalo<Dim> divide(const SimulationSpec<Dim>& spec, const ParticleSet<Dim>& p, 
   }
   if (Dim == 2 && spec.geometry == Geometry::axisymmetric) refuse("axisymmetric runs");
   if (!spec.rigid_bodies.empty()) refuse("rigid bodies");
-  IVec<Dim> tiles;
-  for (int d = 0; d < Dim; ++d) tiles[d] = whole.tiles_along(d);
-  std::vector<std::int64_t> weight(whole.tile_count(), 0);
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (!whole.contains(p.x[i])) continue;  // refused by the constructor, with its index
-    const IVec<Dim> s = base_layer<Dim, Kernel>(whole, p.x[i], p.l[i]);
-    std::int64_t flat = 0;
-    bool inside = true;
-    for (int d = Dim - 1; d >= 0; --d) {
-      const int t = s[d] >> GridGeometry<Dim>::tile_shift;
-      inside = inside && t >= 0 && t < tiles[d];
-      flat = flat * tiles[d] + t;
-    }
-    if (inside) ++weight[static_cast<std::size_t>(flat)];
-  }
-  std::array<bool, Dim> symmetric_high;
-  for (int d = 0; d < Dim; ++d) symmetric_high[d] = spec.boundary.faces[2 * d + 1].type == FaceType::symmetry;
-  return BoxHalo<Dim>(whole, bisect<Dim>(tiles, weight, comm.size(), cut_limit<Dim>(whole, symmetric_high, Kernel::width)),
-                      comm.rank(), Kernel::width);
+  return boxes_for<Dim, Kernel>(spec, whole, tile_weights<Dim, Kernel>(whole, p), comm);
 }
 
 }  // namespace detail
@@ -135,6 +148,42 @@ void Simulation<Dim, Kernel>::check(ParticleFault fault, Real dt) const {
   std::string text;
   for (std::byte b : message) text.push_back(static_cast<char>(b));
   throw SimulationFailure(text);
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::rebalance() {
+  std::vector<std::int64_t> counts(static_cast<std::size_t>(comm_->size()), 0);
+  counts[static_cast<std::size_t>(comm_->rank())] = static_cast<std::int64_t>(particles_.size());
+  comm_->sum(counts);
+  std::int64_t total = 0, largest = 0;
+  for (std::int64_t n : counts) total += n, largest = std::max(largest, n);
+  const double measured = total > 0 ? static_cast<double>(largest) * static_cast<double>(counts.size()) /
+                                          static_cast<double>(total)
+                                    : 1.0;
+  if (measured <= spec_.rebalance_above || steps_ - last_rebalance_step_ < spec_.rebalance_interval) return;
+  last_rebalance_step_ = steps_;
+  std::vector<std::int64_t> weight = detail::tile_weights<Dim, Kernel>(box_halo_.whole(), particles_);
+  comm_->sum(weight);
+  BoxHalo<Dim> next = detail::boxes_for<Dim, Kernel>(spec_, box_halo_.whole(), weight, *comm_);
+  if (next.boxes() == box_halo_.boxes()) return;  // the bisection finds no better division
+  use_box(std::move(next));
+  migrate();  // to the new boxes' owners
+  ++rebalances_;
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::use_box(BoxHalo<Dim> box) {
+  box_halo_ = std::move(box);
+  grid_ = Grid<Dim>(box_halo_.box());
+  halo_ = Halo<Dim>(grid_.geometry);
+  constraints_ = KinematicConstraints<Dim>(spec_.boundary, grid_.geometry, box_halo_.owned_layers());
+  order_ = ScatterOrder<Dim>(grid_.geometry, Kernel::width);
+  stencils_current_ = false;  // located again in the new box, and sorted into its scatter order
+  tiles_changed_ = true;
+  if (!mirror_copies_.empty()) {
+    mirror_copies_.assign(grid_.size(), 1);
+    constraints_.count_mirror_copies(mirror_copies_);
+  }
 }
 
 }  // namespace mpm

@@ -68,6 +68,8 @@ void validate(const SimulationSpec<Dim>& s) {
     require(s.dt == 0, "dt: must be positive (or 0 to use the CFL number)");
     require(s.cfl > 0 && s.cfl <= 1, "cfl: expected a number in (0, 1]");
   }
+  require(s.rebalance_above >= 1, "rebalance_above: expected a ratio of at least 1");
+  require(s.rebalance_interval >= 1, "rebalance_interval: expected at least 1 step");
   require(!s.half_step_velocity_given || s.integrator == Integrator::cd || s.integrator == Integrator::musl,
           "half_step_velocity_given: only CD and UVF-MPM (musl) start from half-step velocities");
   require(s.gravity.allFinite(), "gravity: must be finite");

@@ -62,6 +62,8 @@ class Simulation {
   /// The ranks the run is divided between, and this rank's box of the grid.
   const Communicator& communicator() const { return *comm_; }
   const BoxHalo<Dim>& boxes() const { return box_halo_; }
+  /// Times the grid was divided again since the start (rebalance()).
+  int rebalances() const { return rebalances_; }
   /// Mutable particles (restarts, scene set-up): settle() or the next step recomputes their stencils and their
   /// scatter order.
   ParticleSet<Dim>& particles() {
@@ -189,6 +191,10 @@ class Simulation {
   std::vector<std::size_t> not_owned(std::vector<int>* owner = nullptr) const;
   /// Send the particles that moved into another rank's box there, and take in those that moved into this one.
   void migrate();
+  /// Divide the grid again when the particles per rank have grown uneven (SimulationSpec::rebalance_above).
+  void rebalance();
+  /// Take `box` as this rank's box: the grid and what is compiled for it (constraints, scatter order).
+  void use_box(BoxHalo<Dim> box);
 
   SimulationSpec<Dim> spec_;
   ParticleSet<Dim> particles_;
@@ -221,6 +227,8 @@ class Simulation {
   std::vector<Vec<Dim>> v_start_;
   std::vector<std::int32_t> start_tile_;
   Real load_power_ = 0;
+  int rebalances_ = 0;
+  std::int64_t last_rebalance_step_ = 0;
   Outflow<Dim> outflow_;
   Real time_ = 0;
   std::int64_t steps_ = 0;

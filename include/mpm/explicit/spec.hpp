@@ -50,6 +50,10 @@ struct SimulationSpec {
   /// carry less than a quarter of the lightest particle's mass (Sulsky & Kaul 2004, Eq. (3.2.7)); false runs
   /// the papers' algorithms unchanged (Wallstedt & Guilkey 2008, Eq. (37), Eq. (38), Eq. (39)). Scenes default to true.
   bool reproject_light_nodes = false;
+  /// Divided between ranks: the grid is divided again when the rank holding the most particles holds more than
+  /// this many times the mean (checked after every step, at most once every rebalance_interval steps).
+  Real rebalance_above = 1.2;
+  int rebalance_interval = 10;
 };
 
 /// Parse a name; throws InputError naming `key` and the expected values.
