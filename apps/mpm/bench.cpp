@@ -11,6 +11,7 @@
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
 #include "mpm/explicit/simulation.hpp"
+#include "mpm/distributed/communicator.hpp"
 #include "mpm/particles/generate.hpp"
 
 namespace mpm::app {
@@ -29,7 +30,7 @@ struct BenchOptions {
 
 /// The reference problem: a 1 m elastic block (E = 1 MPa, nu = 0.3, rho = 1000 kg/m^3) under gravity on
 /// fixed nodes (all nodes at or below the block's base), 2 particles per cell per axis, 0.05 m of grid around
-/// it, dt = 5e-5 s.
+/// it, dt = 5e-5 s. particle_steps_per_second is the whole run's: all ranks' particles over the slowest rank's time.
 template <int Dim, class Kernel>
 nlohmann::json run_block(const BenchOptions& o, KernelKind kind, Integrator integrator) {
   const int ppc = 2;
@@ -53,23 +54,39 @@ nlohmann::json run_block(const BenchOptions& o, KernelKind kind, Integrator inte
   ParticleSet<Dim> particles;
   fill_box<Dim>(particles, Vec<Dim>::Zero(), Vec<Dim>::Ones(), h / ppc, 1000, 0);
 
-  std::vector<double> seconds;
+  // Under mpirun the ranks divide the block (Simulation with world()): a run's time is the slowest rank's, from
+  // a common start, and its time in communication the largest of the ranks' (waiting for the others included).
+  const Communicator& comm = world();
+  std::vector<double> seconds, communication;
+  std::int64_t sent = 0;
   double bytes = 0;
   for (int r = 0; r < o.repeat; ++r) {
-    Simulation<Dim, Kernel> sim(spec, particles);
+    Simulation<Dim, Kernel> sim(spec, particles, comm);
+    comm.min(0);
+    const double c0 = comm.seconds();
+    const std::int64_t b0 = comm.bytes_sent();
     const auto t0 = std::chrono::steady_clock::now();
     for (int s = 0; s < o.steps; ++s) sim.step();
-    seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    const double mine = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double talk = comm.seconds() - c0;
+    seconds.push_back(comm.max(mine));
+    communication.push_back(comm.max(talk));
+    sent = static_cast<std::int64_t>(comm.max(static_cast<double>(comm.bytes_sent() - b0)));
     bytes = sim.bytes_per_particle();
   }
-  std::vector<double> sorted = seconds;
-  std::sort(sorted.begin(), sorted.end());
-  const double median = sorted[sorted.size() / 2];
+  std::vector<std::size_t> runs(seconds.size());
+  for (std::size_t k = 0; k < runs.size(); ++k) runs[k] = k;
+  std::sort(runs.begin(), runs.end(), [&](std::size_t a, std::size_t b) { return seconds[a] < seconds[b]; });
+  const std::size_t mid = runs[runs.size() / 2];
+  const double median = seconds[mid];
   const auto count = static_cast<double>(particles.size());
   return {{"dim", Dim},
           {"kernel", to_string(kind)},
           {"integrator", to_string(integrator)},
+          {"ranks", comm.size()},
           {"threads", num_threads()},
+          {"communication_seconds", communication[mid]},
+          {"bytes_sent_per_step", static_cast<double>(sent) / o.steps},  // the most any rank sent
           {"particles", particles.size()},
           {"cells_per_axis", n + 2 * pad},
           {"steps", o.steps},
@@ -100,14 +117,17 @@ Action add_bench(CLI::App& app) {
       return with_kernel(kind, [&]<class K>() { return run_block<Dim, K>(*o, kind, integrator); });
     };
     const nlohmann::json result = o->dim == 2 ? run.operator()<2>() : run.operator()<3>();
+    if (world().rank() != 0) return 0;
     if (o->json) {
       std::cout << result.dump() << '\n';
     } else {
       std::cout << result["dim"] << "-D " << o->kernel << " " << o->integrator << ", " << result["particles"]
-                << " particles, " << result["threads"] << " threads: " << result["seconds"].get<double>()
+                << " particles, " << result["ranks"] << " ranks x " << result["threads"]
+                << " threads: " << result["seconds"].get<double>()
                 << " s median of " << o->repeat << ", "
                 << result["particle_steps_per_second"].get<double>() / 1e6 << " M particle-steps/s, "
-                << result["bytes_per_particle"].get<double>() << " B/particle\n";
+                << result["bytes_per_particle"].get<double>() << " B/particle, "
+                << result["communication_seconds"].get<double>() << " s communicating\n";
     }
     return 0;
   };

@@ -1,5 +1,6 @@
 #include "mpm/distributed/communicator.hpp"
 
+#include <chrono>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
@@ -38,6 +39,8 @@ class OneProcess final : public Communicator {
     return to;
   }
   std::vector<std::byte> broadcast(std::vector<std::byte> bytes, int) const override { return bytes; }
+  double seconds() const override { return 0; }
+  std::int64_t bytes_sent() const override { return 0; }
 };
 
 #ifdef MPM_WITH_MPI
@@ -48,7 +51,18 @@ void check(int status, const char* call) {
 }
 
 class MpiWorld final : public Communicator {
+  /// Adds the seconds of its lifetime to the world's time in communication.
+  struct Timer {
+    double& total;
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+    ~Timer() { total += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); }
+  };
+  mutable double seconds_ = 0;
+  mutable std::int64_t bytes_ = 0;
+
  public:
+  double seconds() const override { return seconds_; }
+  std::int64_t bytes_sent() const override { return bytes_; }
   int rank() const override {
     int r = 0;
     MPI_Comm_rank(MPI_COMM_WORLD, &r);
@@ -60,23 +74,31 @@ class MpiWorld final : public Communicator {
     return s;
   }
   double max(double x) const override {
+    const Timer timer{seconds_};
     double out = x;
     check(MPI_Allreduce(&x, &out, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce");
     return out;
   }
   std::int64_t min(std::int64_t n) const override {
+    const Timer timer{seconds_};
     std::int64_t out = n;
     check(MPI_Allreduce(&n, &out, 1, MPI_INT64_T, MPI_MIN, MPI_COMM_WORLD), "MPI_Allreduce");
     return out;
   }
   void sum(std::vector<std::int64_t>& a) const override {
+    const Timer timer{seconds_};
     check(MPI_Allreduce(MPI_IN_PLACE, a.data(), static_cast<int>(a.size()), MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD),
           "MPI_Allreduce");
   }
   std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& to) const override {
+    const Timer timer{seconds_};
     const int n = size();
     std::vector<int> send_count(n), recv_count(n), send_at(n), recv_at(n);
-    for (int r = 0; r < n; ++r) send_count[r] = static_cast<int>(to[r].size());
+    const int me = rank();
+    for (int r = 0; r < n; ++r) {
+      send_count[r] = static_cast<int>(to[r].size());
+      if (r != me) bytes_ += send_count[r];
+    }
     check(MPI_Alltoall(send_count.data(), 1, MPI_INT, recv_count.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Alltoall");
     std::vector<std::byte> send, recv;
     int s = 0, q = 0;
@@ -96,6 +118,7 @@ class MpiWorld final : public Communicator {
     return from;
   }
   std::vector<std::byte> broadcast(std::vector<std::byte> bytes, int root) const override {
+    const Timer timer{seconds_};
     std::int64_t length = static_cast<std::int64_t>(bytes.size());
     check(MPI_Bcast(&length, 1, MPI_INT64_T, root, MPI_COMM_WORLD), "MPI_Bcast");
     bytes.resize(static_cast<std::size_t>(length));

@@ -176,7 +176,9 @@ void Simulation<Dim, Kernel>::use_box(BoxHalo<Dim> box) {
   box_halo_ = std::move(box);
   grid_ = Grid<Dim>(box_halo_.box());
   halo_ = Halo<Dim>(grid_.geometry);
-  constraints_ = KinematicConstraints<Dim>(spec_.boundary, grid_.geometry, box_halo_.owned_layers());
+  KinematicConstraints<Dim> constraints(spec_.boundary, grid_.geometry, box_halo_.owned_layers());
+  constraints.keep_reactions(constraints_);  // the step's, not yet reported
+  constraints_ = std::move(constraints);
   order_ = ScatterOrder<Dim>(grid_.geometry, Kernel::width);
   stencils_current_ = false;  // located again in the new box, and sorted into its scatter order
   tiles_changed_ = true;

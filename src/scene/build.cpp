@@ -197,6 +197,7 @@ SimulationSpec<Dim> make_spec(const Scene& sc) {
   spec.dt = sc.dt;
   spec.cfl = sc.cfl;
   spec.reproject_light_nodes = sc.reproject_light_nodes;
+  spec.account_load_power = true;  // history.csv's external work
 
   spec.body_force = body_force_of<Dim>(sc);
   validate(spec);

@@ -185,7 +185,7 @@ TEST(Cli, BenchRejectsBadKernelAndDimension) {
 TEST(Cli, BenchPrintsTheRequiredJsonFields) {
   const Outcome o = run_mpm("bench --particles 400 --steps 3 --repeat 1 --json");
   ASSERT_EQ(o.status, 0) << o.err;
-  for (const char* key : {"\"particles\":400", "\"steps\":3",
+  for (const char* key : {"\"particles\":400", "\"steps\":3", "\"ranks\":1", "\"communication_seconds\":0.0",
                           "\"seconds\":", "\"particle_steps_per_second\":", "\"bytes_per_particle\":"})
     EXPECT_NE(o.out.find(key), std::string::npos) << key << " missing in " << o.out;
 }

@@ -133,6 +133,27 @@ TEST(DistributedRun, AxisAlignedSameBitsOnOneToFourRanks) {
                                    "--set simulation.end_time=0.01 --set output.every=0.005");
 }
 
+TEST(DistributedRun, BenchReportsRanksThreadsAndCommunication) {
+  if (std::string(MPM_MPIEXEC).empty()) GTEST_SKIP() << "built without MPI";
+  const fs::path dir = scratch("distributed", "bench");
+  const std::string cmd = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + std::string(MPM_MPIEXEC) +
+                          " -np 2 --oversubscribe " + MPM_BINARY +
+                          " bench --particles 40000 --steps 3 --repeat 1 --threads 1 --json >" + (dir / "out.json").string() +
+                          " 2>" + (dir / "err.txt").string();
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(dir / "err.txt");
+  const std::string out = slurp(dir / "out.json");
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << "one object, from rank 0: " << out;
+  const nlohmann::json j = nlohmann::json::parse(out);
+  EXPECT_EQ(j["ranks"], 2);
+  EXPECT_EQ(j["threads"], 1);
+  EXPECT_EQ(j["particles"], 40000);  // the whole block: 100 x 100 cells at 2 x 2 per cell
+  const double seconds = j["seconds"], talk = j["communication_seconds"];
+  EXPECT_GT(talk, 0.0);
+  EXPECT_LT(talk, seconds);
+  EXPECT_DOUBLE_EQ(j["particle_steps_per_second"].get<double>(), 40000.0 * 3 / seconds);
+  fs::remove_all(dir);
+}
+
 TEST(DistributedRun, ImplicitAndCheckpointsSayTheyRunInOneProcess) {
   if (std::string(MPM_MPIEXEC).empty()) GTEST_SKIP() << "built without MPI";
   const fs::path dir = scratch("distributed", "refusals");

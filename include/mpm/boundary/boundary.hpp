@@ -118,6 +118,12 @@ class KinematicConstraints {
   const std::vector<Vec<Dim>>& reactions() const { return reactions_; }
   /// The same as exact sums over the owned nodes, to be added over the boxes of a divided grid.
   const std::vector<std::array<ExactSum, Dim>>& reaction_sums() const { return reaction_sums_; }
+  /// Take the last step's reactions of `other`, the same constraints compiled for another box (a rebalance
+  /// between the step and its report).
+  void keep_reactions(const KinematicConstraints& other) {
+    reactions_ = other.reactions_;
+    reaction_sums_ = other.reaction_sums_;
+  }
   /// Prescribed velocity of each constraint at time t (zero on symmetry planes).
   std::vector<Vec<Dim>> velocities(Real t) const;
 

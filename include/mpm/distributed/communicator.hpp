@@ -24,6 +24,10 @@ class Communicator {
   virtual std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& to) const = 0;
   /// Rank root's bytes, on every rank.
   virtual std::vector<std::byte> broadcast(std::vector<std::byte> bytes, int root) const = 0;
+  /// Wall-clock seconds this rank has spent in the operations above (waiting for the others included).
+  virtual double seconds() const = 0;
+  /// Bytes this rank has sent to other ranks in exchange() (the halo sums and the migrating particles).
+  virtual std::int64_t bytes_sent() const = 0;
 };
 
 /// One process: rank 0 of 1.

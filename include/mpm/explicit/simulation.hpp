@@ -75,7 +75,7 @@ class Simulation {
   void settle();
   /// The power of gravity and the body force over the last step, sum_p m_p (g + b_p) . (v_p^n + v_p^{n+1}) / 2
   /// over every rank's particles (each particle's load and velocities, however the particles moved between
-  /// ranks after it) [W]; zero without loads.
+  /// ranks after it) [W]; zero without loads or unless SimulationSpec::account_load_power.
   Real load_power() const { return load_power_; }
   /// The sums over all the particles, every rank's, of the N values fn(i) gives particle i, the same bits
   /// whatever the division of the grid and the thread count: each tile's particles are added in id order from

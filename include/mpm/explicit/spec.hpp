@@ -50,6 +50,9 @@ struct SimulationSpec {
   /// carry less than a quarter of the lightest particle's mass (Sulsky & Kaul 2004, Eq. (3.2.7)); false runs
   /// the papers' algorithms unchanged (Wallstedt & Guilkey 2008, Eq. (37), Eq. (38), Eq. (39)). Scenes default to true.
   bool reproject_light_nodes = false;
+  /// Account the power of gravity and the body force in each step (Simulation::load_power), for an energy
+  /// balance; scenes do, the benchmark does not.
+  bool account_load_power = false;
   /// Divided between ranks: the grid is divided again when the rank holding the most particles holds more than
   /// this many times the mean (checked after every step, at most once every rebalance_interval steps).
   Real rebalance_above = 1.2;
