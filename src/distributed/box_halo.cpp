@@ -53,6 +53,13 @@ BoxHalo<Dim>::BoxHalo(const GridGeometry<Dim>& whole, std::vector<TileBox<Dim>> 
       rank_(rank) {
   IVec<Dim> tiles;
   for (int d = 0; d < Dim; ++d) tiles[d] = whole.tiles_along(d);
+  const TileBox<Dim>& mine = boxes_[static_cast<std::size_t>(rank)];
+  for (int d = 0; d < Dim; ++d) {  // node index = storage layer - ghost
+    const int first = mine.lo[d] * GridGeometry<Dim>::tile_width - whole.ghost;
+    const int end = mine.hi[d] * GridGeometry<Dim>::tile_width - whole.ghost;
+    inner_lo_[d] = whole.lo[d] + whole.h * (first + 3);
+    inner_hi_[d] = whole.lo[d] + whole.h * (end - 1);
+  }
   owner_.assign(whole.tile_count(), -1);
   for (std::size_t b = 0; b < boxes_.size(); ++b) {
     const GridGeometry<Dim> g = box_geometry(whole, boxes_[b], width);

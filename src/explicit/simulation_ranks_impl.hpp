@@ -98,6 +98,7 @@ std::vector<std::size_t> Simulation<Dim, Kernel>::not_owned(std::vector<int>* ow
   std::vector<std::size_t> out;
   const ParticleSet<Dim>& p = particles_;
   for (std::size_t i = 0; i < p.size(); ++i) {
+    if (box_halo_.surely_owned(p.x[i])) continue;
     const int r = box_halo_.owner(detail::base_layer<Dim, Kernel>(box_halo_.whole(), p.x[i], p.l[i]));
     if (r == comm_->rank()) continue;
     out.push_back(i);
@@ -116,14 +117,20 @@ void Simulation<Dim, Kernel>::migrate() {
     pack_particle(particles_, leaving[k], with_state, to[static_cast<std::size_t>(owner[k])]);
   if (!leaving.empty()) erase(leaving);
   const std::vector<std::vector<std::byte>> from = comm_->exchange(to);
-  bool arrived = false;
-  for (const std::vector<std::byte>& bytes : from) {
-    arrived = arrived || !bytes.empty();
-    unpack_particles(bytes, with_state, particles_);
-  }
-  if (!arrived) return;
+  const std::size_t first = particles_.size();
+  for (const std::vector<std::byte>& bytes : from) unpack_particles(bytes, with_state, particles_);
+  if (particles_.size() == first) return;
   size_rates();
-  stencils_current_ = false;  // the next step locates them and sorts them into the scatter order
+  tiles_changed_ = true;  // settle() sorts them into the scatter order
+  if (!stencils_current_) return;
+  // The particles that stayed keep their stencils; those that arrived are located here.
+  const NodeLayout<Dim> layout(grid_.geometry);
+  stencils_.resize(particles_.size());
+  tile_.resize(particles_.size());
+  for (std::size_t i = first; i < particles_.size(); ++i) {
+    stencils_[i] = make_stencil<Dim, Kernel>(grid_.geometry, layout, particles_.x[i], particles_.l[i]);
+    tile_[i] = stencils_[i].tile_slot >> GridGeometry<Dim>::slot_bits;
+  }
 }
 
 template <int Dim, class Kernel>

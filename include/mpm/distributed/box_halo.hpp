@@ -47,6 +47,15 @@ class BoxHalo {
     return owner_[static_cast<std::size_t>(flat)];
   }
 
+  /// Whether a particle at x certainly has its stencil's base node in this box's own tiles: x lies at least three
+  /// cells inside the nodes of those tiles along every axis (a base node lies at most two cells below the
+  /// particle's cell for every kernel). Only the particles near the box's faces need locating to find their owner.
+  bool surely_owned(const Vec<Dim>& x) const {
+    for (int d = 0; d < Dim; ++d)
+      if (!(x[d] >= inner_lo_[d] && x[d] < inner_hi_[d])) return false;
+    return true;
+  }
+
   /// After a P2G pass of the fields `mass_momentum` (m, momentum) and/or `force` onto cleared fields, with the
   /// sums of this box's face tiles `kept`: the halo sum over `comm`.
   void sum(Grid<Dim>& grid, std::vector<TileSums<Dim>> kept, bool mass_momentum, bool force,
@@ -57,6 +66,7 @@ class BoxHalo {
   std::vector<TileBox<Dim>> boxes_;
   std::vector<IVec<Dim>> first_, end_;  ///< each box's grid: global storage layers [first, end) per axis
   std::vector<std::int32_t> owner_;     ///< rank of each tile of the whole grid (flat, axis 0 fastest)
+  Vec<Dim> inner_lo_ = Vec<Dim>::Zero(), inner_hi_ = Vec<Dim>::Zero();  ///< surely_owned's bounds [m]
   int rank_ = 0;
 };
 
