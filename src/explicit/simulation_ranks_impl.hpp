@@ -69,7 +69,6 @@ BoxHalo<Dim> divide(const SimulationSpec<Dim>& spec, const ParticleSet<Dim>& p, 
     if (f.type == FaceType::outflow) refuse("outflow faces");
   }
   if (Dim == 2 && spec.geometry == Geometry::axisymmetric) refuse("axisymmetric runs");
-  if (!spec.rigid_bodies.empty()) refuse("rigid bodies");
   return boxes_for<Dim, Kernel>(spec, whole, tile_weights<Dim, Kernel>(whole, p), comm);
 }
 
@@ -78,19 +77,13 @@ BoxHalo<Dim> divide(const SimulationSpec<Dim>& spec, const ParticleSet<Dim>& p, 
 template <int Dim, class Kernel>
 std::vector<Vec<Dim>> Simulation<Dim, Kernel>::face_reactions() const {
   if (!box_halo_.divided()) return constraints_.reactions();
-  std::vector<std::int64_t> integers;
-  for (const std::array<ExactSum, Dim>& r : constraints_.reaction_sums())
-    for (const ExactSum& e : r) {
-      const std::vector<std::int64_t> mine = e.integers();
-      integers.insert(integers.end(), mine.begin(), mine.end());
-    }
-  comm_->sum(integers);
-  std::vector<Vec<Dim>> out(constraints_.reaction_sums().size());
-  auto at = integers.begin();
-  for (Vec<Dim>& r : out)
-    for (int d = 0; d < Dim; ++d, at += ExactSum::integer_count)
-      r[d] = ExactSum::from_integers({at, at + ExactSum::integer_count}).value();
-  return out;
+  return sum_over_ranks<Dim>(constraints_.reaction_sums(), *comm_);
+}
+
+template <int Dim, class Kernel>
+std::vector<Vec<Dim>> Simulation<Dim, Kernel>::rigid_reactions() const {
+  if (!box_halo_.divided() || rigid_.empty()) return rigid_.reactions();
+  return sum_over_ranks<Dim>(rigid_.reaction_sums(), *comm_);
 }
 
 template <int Dim, class Kernel>

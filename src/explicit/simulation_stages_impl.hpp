@@ -44,7 +44,7 @@ void Simulation<Dim, Kernel>::build_stencils() {
     std::ostringstream when;
     when.precision(9);
     when << "step " << steps_ + 1 << ", t = " << time_;
-    rigid_.template locate<Kernel>(grid_.geometry, when.str());
+    rigid_.template locate<Kernel>(grid_.geometry, when.str(), box_halo_.owned_layers());
   }
 }
 

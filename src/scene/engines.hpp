@@ -54,8 +54,8 @@ std::vector<std::string> constraint_names(const KinematicConstraints<Dim>& faces
   return names;
 }
 template <int Dim>
-std::vector<Vec<Dim>> constraint_forces(std::vector<Vec<Dim>> faces, const RigidBodies<Dim>& rigid) {
-  faces.insert(faces.end(), rigid.reactions().begin(), rigid.reactions().end());
+std::vector<Vec<Dim>> constraint_forces(std::vector<Vec<Dim>> faces, const std::vector<Vec<Dim>>& bodies) {
+  faces.insert(faces.end(), bodies.begin(), bodies.end());
   return faces;
 }
 template <int Dim>
@@ -115,7 +115,7 @@ class Explicit {
   const Simulation<Dim, Kernel>& sim() const { return sim_; }
   std::vector<std::string> reaction_names() const { return constraint_names(sim_.constraints(), sim_.rigid_bodies()); }
   std::vector<Vec<Dim>> reactions() const {
-    return constraint_forces(sim_.face_reactions(), sim_.rigid_bodies());
+    return constraint_forces(sim_.face_reactions(), sim_.rigid_reactions());
   }
   std::vector<Vec<Dim>> reaction_velocities(Real t) const {
     return constraint_velocities(sim_.constraints(), sim_.rigid_bodies(), t);
@@ -212,7 +212,7 @@ class Implicit {
   ImplicitSimulation<Dim, Kernel>& sim() { return sim_; }
   const ImplicitSimulation<Dim, Kernel>& sim() const { return sim_; }
   std::vector<std::string> reaction_names() const { return constraint_names(sim_.constraints(), sim_.rigid_bodies()); }
-  std::vector<Vec<Dim>> reactions() const { return constraint_forces(sim_.face_reactions(), sim_.rigid_bodies()); }
+  std::vector<Vec<Dim>> reactions() const { return constraint_forces(sim_.face_reactions(), sim_.rigid_reactions()); }
   std::vector<Vec<Dim>> reaction_velocities(Real t) const {
     return constraint_velocities(sim_.constraints(), sim_.rigid_bodies(), t);
   }

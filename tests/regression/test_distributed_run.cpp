@@ -1,8 +1,9 @@
 // `mpirun -np N mpm run SCENE` on 1 to 4 ranks (oversubscribed) writes the same history.csv, byte for byte, the
 // same summary figures and the same particle fields (by id, to the bit) as one process, with the frames as one
 // .pvtp of N pieces listed in particles.pvd. Cases: the colliding-disks example (particles cross between ranks;
-// energies and momenta) and the 2-D axis-aligned scene (symmetry-plane reactions, body-force work, [check]
-// error norms). Skipped when the build has no MPI.
+// energies and momenta), the 2-D axis-aligned scene (symmetry-plane reactions, body-force work, [check] error
+// norms) and the upsetting example made explicit (a rigid platen's reaction, von Mises state). Skipped when the
+// build has no MPI.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -131,6 +132,14 @@ TEST(DistributedRun, CollidingDisksSameBitsOnOneToFourRanks) {
 TEST(DistributedRun, AxisAlignedSameBitsOnOneToFourRanks) {
   expect_same_on_one_to_four_ranks("axis_aligned", (source_dir / "examples/axis-aligned/scene.toml").string(),
                                    "--set simulation.end_time=0.01 --set output.every=0.005");
+}
+
+TEST(DistributedRun, RigidPlatenReactionSameBitsOnOneToFourRanks) {
+  // The upsetting example made explicit and plane strain: the platen's reaction in history.csv, summed over the
+  // nodes each rank owns, is the same bits on every division.
+  expect_same_on_one_to_four_ranks("platen", (source_dir / "examples/implicit/upsetting.toml").string(),
+                                   "--set simulation.integrator=musl --set simulation.geometry=plane-strain "
+                                   "--set simulation.end_time=2e-5 --set output.every=1e-5");
 }
 
 TEST(DistributedRun, BenchReportsRanksThreadsAndCommunication) {

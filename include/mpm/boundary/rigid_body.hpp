@@ -41,7 +41,8 @@ class RigidBodies {
       : bodies_(std::move(bodies)),
         nodes_(bodies_.size()),
         displacement_(bodies_.size(), Vec<Dim>::Zero()),
-        reactions_(bodies_.size(), Vec<Dim>::Zero()) {
+        reactions_(bodies_.size(), Vec<Dim>::Zero()),
+        reaction_sums_(bodies_.size()) {
     for (const RigidBody<Dim>& body : bodies_)
       for (const Vec<Dim>& x : body.points)
         if (!g.contains(x)) throw InputError("rigid body '" + body.name + "': a point lies outside the grid");
@@ -65,24 +66,59 @@ class RigidBodies {
   }
 
   /// Find the nodes each body touches at its current position. Throws SimulationFailure, naming `when` (the
-  /// step and time), when a body left the grid.
+  /// step and time), when a body left the grid. On a box of a divided grid only the nodes the box holds count,
+  /// and the reactions count those of the first owned[d] storage layers along each axis (the box's own tiles).
   template <class Kernel>
   void locate(const GridGeometry<Dim>& g, const std::string& when) {
-    const NodeLayout<Dim> layout(g);
+    IVec<Dim> all;
+    for (int d = 0; d < Dim; ++d) all[d] = g.nodes_along(d);
+    locate<Kernel>(g, when, all);
+  }
+  template <class Kernel>
+  void locate(const GridGeometry<Dim>& g, const std::string& when, const IVec<Dim>& owned) {
+    const Real inv_h = 1 / g.h;
+    owned_.resize(bodies_.size());
     for (std::size_t b = 0; b < bodies_.size(); ++b) {
       const RigidBody<Dim>& body = bodies_[b];
-      std::vector<std::int32_t>& touched = nodes_[b];
-      touched.clear();
+      std::vector<std::pair<std::int32_t, bool>> touched;
       for (const Vec<Dim>& x0 : body.points) {
         const Vec<Dim> x = x0 + displacement_[b];
         if (!g.contains(x)) throw SimulationFailure(when + ": rigid body '" + body.name + "' left the grid");
-        for_each_node(make_stencil<Dim, Kernel>(g, layout, x, body.half_length), layout,
-                      [&](std::int32_t n, Real S, const Vec<Dim>&) {
-                        if (S > 0) touched.push_back(n);
-                      });
+        // The point's stencil as make_stencil locates it, its weights as for_each_node multiplies them.
+        constexpr int N = Kernel::width;
+        IVec<Dim> first;
+        Real w[Dim][N], dw[Dim][N];
+        for (int d = 0; d < Dim; ++d) {
+          typename Kernel::Axis axis;
+          first[d] = Kernel::locate((x[d] - g.lo[d]) * inv_h, body.half_length[d] * inv_h, axis) + g.ghost - g.offset[d];
+          Kernel::weights_at(axis, w[d], dw[d]);
+        }
+        std::array<int, 3> k{};
+        for (k[2] = 0; k[2] < (Dim > 2 ? N : 1); ++k[2])
+          for (k[1] = 0; k[1] < (Dim > 1 ? N : 1); ++k[1])
+            for (k[0] = 0; k[0] < N; ++k[0]) {
+              Real S = w[0][k[0]];
+              if constexpr (Dim == 2) S = w[0][k[0]] * w[1][k[1]];
+              if constexpr (Dim == 3) S = w[0][k[0]] * (w[1][k[1]] * w[2][k[2]]);
+              bool inside = S > 0, mine = true;
+              std::int32_t flat = 0;
+              for (int d = Dim - 1; d >= 0; --d) {
+                const int layer = first[d] + k[d];
+                inside = inside && layer >= 0 && layer < g.nodes_along(d);
+                mine = mine && layer < owned[d];
+                flat = flat * g.nodes_along(d) + layer;
+              }
+              if (inside) touched.emplace_back(flat, mine);
+            }
       }
       std::sort(touched.begin(), touched.end());
       touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+      nodes_[b].clear();
+      owned_[b].clear();
+      for (const auto& [n, mine] : touched) {
+        nodes_[b].push_back(n);
+        owned_[b].push_back(mine);
+      }
     }
   }
 
@@ -99,23 +135,27 @@ class RigidBodies {
   /// Impose the bodies' velocities at t_new on v_new, with the acceleration that brings the projected velocity
   /// to them, a_i = (v_body - v_i) / dt (the particles take the body's velocity change, as in Sulsky & Kaul 2004,
   /// Eq. (3.2.6)); record each body's reaction sum_i m_i (a_i - a_i^free).
+  /// The reaction is summed exactly over the nodes the box owns (reaction_sums, to add over the boxes).
   void constrain_update(Grid<Dim>& grid, Real t_new, Real dt) {
     for (std::size_t b = 0; b < bodies_.size(); ++b) {
       const Vec<Dim> v = bodies_[b].velocity(t_new);
-      Vec<Dim> reaction = Vec<Dim>::Zero();
-      for (std::int32_t n : nodes_[b]) {
-        GridNode<Dim>& node = grid.nodes[n];
+      std::array<ExactSum, Dim>& reaction = reaction_sums_[b];
+      reaction = {};
+      for (std::size_t k = 0; k < nodes_[b].size(); ++k) {
+        GridNode<Dim>& node = grid.nodes[nodes_[b][k]];
         for (int c = 0; c < Dim; ++c) {
           if (!bodies_[b].imposes[c]) continue;
           const Real a = (v[c] - node.v[c]) / dt;
-          reaction[c] += node.m * (a - node.a[c]);
+          if (owned_[b][k]) reaction[c].add(node.m * (a - node.a[c]));
           node.a[c] = a;
           node.v_new[c] = v[c];
         }
       }
-      reactions_[b] = reaction;
+      for (int c = 0; c < Dim; ++c) reactions_[b][c] = reaction[c].value();
     }
   }
+  /// The last constrain_update's reactions as exact sums over the owned nodes.
+  const std::vector<std::array<ExactSum, Dim>>& reaction_sums() const { return reaction_sums_; }
 
   /// Move the bodies over a step from t: displacement += dt v(t + dt/2).
   void advance(Real t, Real dt) {
@@ -125,7 +165,9 @@ class RigidBodies {
  private:
   std::vector<RigidBody<Dim>> bodies_;
   std::vector<std::vector<std::int32_t>> nodes_;
+  std::vector<std::vector<std::uint8_t>> owned_;  ///< per touched node: the box owns it
   std::vector<Vec<Dim>> displacement_, reactions_;
+  std::vector<std::array<ExactSum, Dim>> reaction_sums_;
 };
 
 }  // namespace mpm

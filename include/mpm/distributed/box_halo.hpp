@@ -7,9 +7,11 @@
 /// the boxes then hold the same bits on the nodes they share, and the grid update, the boundary conditions and
 /// G2P need no second exchange.
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <vector>
 
+#include "mpm/core/exact_sum.hpp"
 #include "mpm/distributed/communicator.hpp"
 #include "mpm/distributed/decomposition.hpp"
 #include "mpm/distributed/tile_halo.hpp"
@@ -69,6 +71,25 @@ class BoxHalo {
   Vec<Dim> inner_lo_ = Vec<Dim>::Zero(), inner_hi_ = Vec<Dim>::Zero();  ///< surely_owned's bounds [m]
   int rank_ = 0;
 };
+
+/// Vectors summed exactly on each rank (a reaction per constraint), added over the ranks and rounded once: the
+/// same bits whatever the division.
+template <int Dim>
+std::vector<Vec<Dim>> sum_over_ranks(const std::vector<std::array<ExactSum, Dim>>& sums, const Communicator& comm) {
+  std::vector<std::int64_t> integers;
+  for (const std::array<ExactSum, Dim>& r : sums)
+    for (const ExactSum& e : r) {
+      const std::vector<std::int64_t> mine = e.integers();
+      integers.insert(integers.end(), mine.begin(), mine.end());
+    }
+  comm.sum(integers);
+  std::vector<Vec<Dim>> out(sums.size());
+  auto at = integers.begin();
+  for (Vec<Dim>& r : out)
+    for (int d = 0; d < Dim; ++d, at += ExactSum::integer_count)
+      r[d] = ExactSum::from_integers({at, at + ExactSum::integer_count}).value();
+  return out;
+}
 
 /// The largest tile layer along each axis a cut between boxes may lie at (bisect's `cut_limit`): below a
 /// symmetry plane on a high face, so that a box that holds any node the plane's fold pairs holds them all

@@ -31,7 +31,7 @@ class Simulation {
   /// Validate the spec and the particles (InputError on bad input) and set up the grid. Among several ranks
   /// (`comm`), every rank passes all the particles: the grid is divided into one box per rank by bisection
   /// weighted by the particles (BoxHalo), and each rank keeps the particles of its box; periodic and outflow
-  /// faces, axisymmetry and rigid bodies are refused there for now.
+  /// faces and axisymmetry are refused there for now.
   Simulation(const SimulationSpec<Dim>& spec, ParticleSet<Dim> particles, const Communicator& comm = one_process());
 
   /// Advance one time step of min(next_dt(), max_dt). Throws SimulationFailure (naming step, time, particle
@@ -122,6 +122,8 @@ class Simulation {
   const KinematicConstraints<Dim>& constraints() const { return constraints_; }
   /// The reaction of each face and region constraint (constraints().names()) in the last step, over all ranks [N].
   std::vector<Vec<Dim>> face_reactions() const;
+  /// The reaction of each rigid body in the last step, over all ranks [N].
+  std::vector<Vec<Dim>> rigid_reactions() const;
   const RigidBodies<Dim>& rigid_bodies() const { return rigid_; }
   /// The Cauchy stress of particle i with its out-of-plane components [Pa] (a Neo-Hookean particle's from its
   /// in-plane stress and F).
