@@ -64,10 +64,8 @@ BoxHalo<Dim> divide(const SimulationSpec<Dim>& spec, const ParticleSet<Dim>& p, 
   const auto refuse = [&](const std::string& what) {
     throw InputError(what + " run in one process for now (docs/scaling.md); start mpm without mpirun or srun");
   };
-  for (const FaceCondition<Dim>& f : spec.boundary.faces) {
+  for (const FaceCondition<Dim>& f : spec.boundary.faces)
     if (f.type == FaceType::periodic) refuse("periodic faces");
-    if (f.type == FaceType::outflow) refuse("outflow faces");
-  }
   if (Dim == 2 && spec.geometry == Geometry::axisymmetric) refuse("axisymmetric runs");
   return boxes_for<Dim, Kernel>(spec, whole, tile_weights<Dim, Kernel>(whole, p), comm);
 }
@@ -91,7 +89,8 @@ std::vector<std::size_t> Simulation<Dim, Kernel>::not_owned(std::vector<int>* ow
   std::vector<std::size_t> out;
   const ParticleSet<Dim>& p = particles_;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    if (box_halo_.surely_owned(p.x[i])) continue;
+    // Particles beyond an outflow face stay until the next removal counts and erases them (remove_outflow).
+    if (box_halo_.surely_owned(p.x[i]) || grid_.geometry.beyond_outflow(p.x[i])) continue;
     const int r = box_halo_.owner(detail::base_layer<Dim, Kernel>(box_halo_.whole(), p.x[i], p.l[i]));
     if (r == comm_->rank()) continue;
     out.push_back(i);

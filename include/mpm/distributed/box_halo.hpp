@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "mpm/core/exact_sum.hpp"
+#include "mpm/core/types.hpp"
 #include "mpm/distributed/communicator.hpp"
 #include "mpm/distributed/decomposition.hpp"
 #include "mpm/distributed/tile_halo.hpp"
@@ -72,22 +73,33 @@ class BoxHalo {
   int rank_ = 0;
 };
 
-/// Vectors summed exactly on each rank (a reaction per constraint), added over the ranks and rounded once: the
-/// same bits whatever the division.
+/// Numbers summed exactly on each rank, added over the ranks and rounded once: the same bits whatever the
+/// division.
+inline std::vector<Real> sum_over_ranks(const std::vector<ExactSum>& sums, const Communicator& comm) {
+  std::vector<std::int64_t> integers;
+  for (const ExactSum& e : sums) {
+    const std::vector<std::int64_t> mine = e.integers();
+    integers.insert(integers.end(), mine.begin(), mine.end());
+  }
+  comm.sum(integers);
+  std::vector<Real> out(sums.size());
+  auto at = integers.begin();
+  for (Real& r : out) {
+    r = ExactSum::from_integers({at, at + ExactSum::integer_count}).value();
+    at += ExactSum::integer_count;
+  }
+  return out;
+}
+
+/// The same for vectors (a reaction per constraint).
 template <int Dim>
 std::vector<Vec<Dim>> sum_over_ranks(const std::vector<std::array<ExactSum, Dim>>& sums, const Communicator& comm) {
-  std::vector<std::int64_t> integers;
-  for (const std::array<ExactSum, Dim>& r : sums)
-    for (const ExactSum& e : r) {
-      const std::vector<std::int64_t> mine = e.integers();
-      integers.insert(integers.end(), mine.begin(), mine.end());
-    }
-  comm.sum(integers);
+  std::vector<ExactSum> flat;
+  for (const std::array<ExactSum, Dim>& r : sums) flat.insert(flat.end(), r.begin(), r.end());
+  const std::vector<Real> total = sum_over_ranks(flat, comm);
   std::vector<Vec<Dim>> out(sums.size());
-  auto at = integers.begin();
-  for (Vec<Dim>& r : out)
-    for (int d = 0; d < Dim; ++d, at += ExactSum::integer_count)
-      r[d] = ExactSum::from_integers({at, at + ExactSum::integer_count}).value();
+  for (std::size_t k = 0; k < out.size(); ++k)
+    for (int d = 0; d < Dim; ++d) out[k][d] = total[k * Dim + static_cast<std::size_t>(d)];
   return out;
 }
 

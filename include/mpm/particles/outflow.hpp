@@ -27,6 +27,14 @@ struct Outflow {
     kinetic_energy += 0.5 * p.m[i] * p.v[i].squaredNorm();
     strain_energy += strain;
   }
+  /// Count the particles of one removal, their sums given (over every rank, summed exactly).
+  void add_sums(std::int64_t count, Real m, const Vec<Dim>& mv, Real kinetic, Real strain) {
+    particles += count;
+    mass += m;
+    momentum += mv;
+    kinetic_energy += kinetic;
+    strain_energy += strain;
+  }
 };
 
 /// The particles (ascending) that lie beyond an outflow face of g.
