@@ -25,13 +25,17 @@ using mpm::testing::vtp_array;
 
 const fs::path source_dir = fs::path(__FILE__).parent_path().parent_path().parent_path();
 
+/// `mpirun -np ranks mpm`, as root too; under AddressSanitizer with leak checks off, as OpenMPI's own allocations
+/// at start-up are reported as leaks.
+std::string mpirun(int ranks) {
+  const std::string sanitizer = MPM_SANITIZED ? "ASAN_OPTIONS=halt_on_error=1:detect_leaks=0 " : "";
+  return sanitizer + "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + std::string(MPM_MPIEXEC) + " -np " +
+         std::to_string(ranks) + " --oversubscribe " + MPM_BINARY;
+}
+
 /// `mpirun -np ranks mpm run SCENE --quiet ARGS`, its output in log; the exit status.
 int run_on(int ranks, const std::string& scene, const std::string& args, const fs::path& log) {
-  // Under AddressSanitizer, OpenMPI's own allocations at start-up are reported as leaks: leak checks off.
-  const std::string sanitizer = MPM_SANITIZED ? "ASAN_OPTIONS=halt_on_error=1:detect_leaks=0 " : "";
-  const std::string cmd = sanitizer + "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + std::string(MPM_MPIEXEC) +
-                          " -np " + std::to_string(ranks) + " --oversubscribe " + MPM_BINARY + " run " + scene +
-                          " --quiet " + args + " >" + log.string() + " 2>&1";
+  const std::string cmd = mpirun(ranks) + " run " + scene + " --quiet " + args + " >" + log.string() + " 2>&1";
   const int raw = std::system(cmd.c_str());
   return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
 }
@@ -190,10 +194,8 @@ velocity = ["0.5 * (x - 0.2)", -1.0]
 TEST(DistributedRun, BenchReportsRanksThreadsAndCommunication) {
   if (std::string(MPM_MPIEXEC).empty()) GTEST_SKIP() << "built without MPI";
   const fs::path dir = scratch("distributed", "bench");
-  const std::string cmd = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + std::string(MPM_MPIEXEC) +
-                          " -np 2 --oversubscribe " + MPM_BINARY +
-                          " bench --particles 40000 --steps 3 --repeat 1 --threads 1 --json >" + (dir / "out.json").string() +
-                          " 2>" + (dir / "err.txt").string();
+  const std::string cmd = mpirun(2) + " bench --particles 40000 --steps 3 --repeat 1 --threads 1 --json >" +
+                          (dir / "out.json").string() + " 2>" + (dir / "err.txt").string();
   ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(dir / "err.txt");
   const std::string out = slurp(dir / "out.json");
   EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << "one object, from rank 0: " << out;
