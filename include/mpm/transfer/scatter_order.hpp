@@ -83,8 +83,8 @@ class ScatterOrder {
         tiles,
         [&](std::ptrdiff_t t) {
           const auto by_id = [&](std::int32_t a, std::int32_t b) { return id[a] < id[b]; };
-          std::int32_t* first = &order_[0] + tile_begin_[t];
-          std::int32_t* last = &order_[0] + tile_begin_[t + 1];
+          std::int32_t* first = order_.data() + tile_begin_[t];  // data(): a rank may hold no particles
+          std::int32_t* last = order_.data() + tile_begin_[t + 1];
           if (!std::is_sorted(first, last, by_id)) std::sort(first, last, by_id);
         },
         particles_ >= 1024 ? 2 : PTRDIFF_MAX);
