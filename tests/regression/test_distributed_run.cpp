@@ -158,34 +158,10 @@ TEST(DistributedRun, RigidPlatenReactionSameBitsOnOneToFourRanks) {
 
 TEST(DistributedRun, OutflowSameBitsOnOneToFourRanks) {
   if (std::string(MPM_MPIEXEC).empty()) GTEST_SKIP() << "built without MPI";
-  // A block thrown down under gravity through the outflow face y = 0 (the scene of OutflowRun.*): what has left,
+  // A block thrown down under gravity through the outflow face y = 0 (support.hpp, as OutflowRun.*): what has left,
   // counted on whichever rank held each particle, is the same bits on every division.
   const fs::path dir = scratch("distributed", "outflow_scene");
-  std::ofstream(dir / "outflow.toml") << R"toml([simulation]
-end_time = 0.2
-cfl = 0.4
-integrator = "usl"
-kernel = "cpgimp"
-[output]
-every = 0.05
-[loads]
-gravity = [0.0, -9.81]
-[grid]
-lo = [0.0, 0.0]
-hi = [0.4, 0.6]
-cells = [8, 12]
-faces = { y-min = "outflow" }
-[[materials]]
-name = "m"
-E = 1e5
-nu = 0.3
-density = 1000
-[[bodies]]
-shape = "box"
-lo = [0.1, 0.05]
-hi = [0.3, 0.45]
-velocity = ["0.5 * (x - 0.2)", -1.0]
-)toml";
+  std::ofstream(dir / "outflow.toml") << mpm::testing::outflow_scene();
   const nlohmann::json one = expect_same_on_one_to_four_ranks("outflow", (dir / "outflow.toml").string(), "");
   EXPECT_EQ(one["outflow"]["particles"].get<int>(), 112);  // measured: 112 of the 128 particles leave by t = 0.2 s
   fs::remove_all(dir);

@@ -22,33 +22,7 @@ using mpm::testing::csv_columns;
 using mpm::testing::slurp;
 const auto run = mpm::testing::run_mpm;
 
-/// An elastic block 0.2 x 0.4 m (80 kg per metre of thickness) thrown down at 1 m/s under gravity, spreading
-/// sideways as it goes, through the outflow face y = 0 of a 0.4 x 0.6 m grid.
-constexpr const char* scene = R"toml([simulation]
-end_time = 0.2
-cfl = 0.4
-integrator = "usl"
-kernel = "cpgimp"
-[output]
-every = 0.05
-[loads]
-gravity = [0.0, -9.81]
-[grid]
-lo = [0.0, 0.0]
-hi = [0.4, 0.6]
-cells = [8, 12]
-faces = { y-min = "outflow" }
-[[materials]]
-name = "m"
-E = 1e5
-nu = 0.3
-density = 1000
-[[bodies]]
-shape = "box"
-lo = [0.1, 0.05]
-hi = [0.3, 0.45]
-velocity = ["0.5 * (x - 0.2)", -1.0]
-)toml";
+const std::string scene = mpm::testing::outflow_scene();
 constexpr double mass = 80, g = -9.81;
 
 /// An engine, with the settings the test gives it.
