@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -131,6 +132,18 @@ class MpiWorld final : public Communicator {
 bool mpi_active = false;
 
 }  // namespace
+
+std::string broadcast_text(const Communicator& comm, const std::string& text, int root) {
+  std::vector<std::byte> bytes(text.size());
+  std::memcpy(bytes.data(), text.data(), text.size());
+  bytes = comm.broadcast(std::move(bytes), root);
+  return std::string(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+}
+
+std::string first_failure(const Communicator& comm, const std::string& failure) {
+  const std::int64_t first = comm.min(failure.empty() ? comm.size() : comm.rank());
+  return first == comm.size() ? std::string() : broadcast_text(comm, failure, static_cast<int>(first));
+}
 
 const Communicator& one_process() {
   static const OneProcess one;

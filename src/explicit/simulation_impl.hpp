@@ -214,12 +214,6 @@ void Simulation<Dim, Kernel>::remove_outflow() {
 }
 
 template <int Dim, class Kernel>
-void Simulation<Dim, Kernel>::restore_outflow(std::size_t n, const Outflow<Dim>& out) {
-  erase(indices_from(n, particles_.size()));
-  outflow_ = out;
-}
-
-template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::erase(const std::vector<std::size_t>& gone) {
   const std::size_t n = particles_.size();
   erase_particles(particles_, gone);

@@ -138,15 +138,8 @@ void Simulation<Dim, Kernel>::check(ParticleFault fault, Real dt) const {
   const std::int64_t first = comm_->min(mine);
   if (first == none) return;
   const int root = static_cast<int>(comm_->min(mine == first ? comm_->rank() : comm_->size()));
-  std::vector<std::byte> message;
-  if (mine == first) {
-    const std::string text = failure_message(static_cast<std::size_t>(fault.index), dt);
-    for (char c : text) message.push_back(static_cast<std::byte>(c));
-  }
-  message = comm_->broadcast(std::move(message), root);
-  std::string text;
-  for (std::byte b : message) text.push_back(static_cast<char>(b));
-  throw SimulationFailure(text);
+  const std::string mine_text = mine == first ? failure_message(static_cast<std::size_t>(fault.index), dt) : "";
+  throw SimulationFailure(broadcast_text(*comm_, mine_text, root));
 }
 
 template <int Dim, class Kernel>
@@ -161,13 +154,30 @@ void Simulation<Dim, Kernel>::rebalance() {
                                     : 1.0;
   if (measured <= spec_.rebalance_above || steps_ - last_rebalance_step_ < spec_.rebalance_interval) return;
   last_rebalance_step_ = steps_;
-  std::vector<std::int64_t> weight = detail::tile_weights<Dim, Kernel>(box_halo_.whole(), particles_);
-  comm_->sum(weight);
-  BoxHalo<Dim> next = detail::boxes_for<Dim, Kernel>(spec_, box_halo_.whole(), weight, *comm_);
+  BoxHalo<Dim> next = divide_by_particles();
   if (next.boxes() == box_halo_.boxes()) return;  // the bisection finds no better division
   use_box(std::move(next));
   migrate();  // to the new boxes' owners
   ++rebalances_;
+}
+
+template <int Dim, class Kernel>
+BoxHalo<Dim> Simulation<Dim, Kernel>::divide_by_particles() const {
+  std::vector<std::int64_t> weight = detail::tile_weights<Dim, Kernel>(box_halo_.whole(), particles_);
+  comm_->sum(weight);
+  return detail::boxes_for<Dim, Kernel>(spec_, box_halo_.whole(), weight, *comm_);
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::adopt_particles() {
+  size_rates();
+  stencils_current_ = false;
+  tiles_changed_ = true;
+  if (box_halo_.divided()) {
+    use_box(divide_by_particles());
+    migrate();
+  }
+  settle();
 }
 
 template <int Dim, class Kernel>

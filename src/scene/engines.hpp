@@ -85,10 +85,12 @@ void save_state(const ParticleSet<Dim>& p, io::CheckpointData& c) {
   c.reals["energy"] = s.energy;
   c.reals["stretch3"] = s.stretch3;
   c.reals["V"] = p.V;
+  c.row_widths.insert({{"sigma", 6}, {"eps_bar", 1}, {"temperature", 1}, {"energy", 1}, {"stretch3", 1}, {"V", 1}});
 }
 template <int Dim>
 void load_state(const io::CheckpointData& c, const std::string& where, ParticleSet<Dim>& p) {
   MaterialState& s = p.state;
+  s.resize(p.size());
   const auto real = [&](const std::string& k) -> const std::vector<double>& { return entry(c.reals, k, where); };
   const std::vector<double>& sigma = real("sigma");
   if (sigma.size() != 6 * s.sigma.size()) throw InputError(where + ": array 'sigma' has the wrong size");
@@ -155,25 +157,21 @@ class Explicit {
   std::vector<std::string> counter_names() const { return {}; }
   std::vector<std::int64_t> counters() const { return {}; }
   void save(io::CheckpointData& c) const {
-    if (!sim_.particles().state.empty()) save_state(sim_.particles(), c);
+    if (sim_.has_material_state()) save_state(sim_.particles(), c);
     if (!spec_.rigid_bodies.empty()) c.reals["rigid_displacement"] = flat(sim_.rigid_bodies().displacements());
   }
   /// Without rate-form materials, volume and stress follow from F exactly as the step computes them
   /// (Wallstedt & Guilkey 2008, Eq. (13), Eq. (55)); with them, the checkpoint holds the state and the
   /// volumes.
   void load(const io::CheckpointData& c, const std::string& where) {
-    load_particles(c, where);
-    sim_.settle();
-  }
-
- private:
-  void load_particles(const io::CheckpointData& c, const std::string& where) {
     ParticleSet<Dim>& p = sim_.particles();
-    if (!p.state.empty()) load_state(c, where, p);
+    const bool state = sim_.has_material_state();
+    if (state) load_state(c, where, p);
     for (std::size_t i = 0; i < p.size(); ++i) {
-      const Material& m = spec_.materials.at(p.material[i]);
+      if (p.material[i] >= spec_.materials.size()) throw InputError(where + ": a particle's material has no entry");
+      const Material& m = spec_.materials[p.material[i]];
       const Real J = p.F[i].determinant();
-      if (p.state.empty()) p.V[i] = p.V0[i] * J;
+      if (!state) p.V[i] = p.V0[i] * J;
       if (is_rate_form(m)) {
         for (int a = 0; a < Dim; ++a)
           for (int b = a; b < Dim; ++b) p.sigma[i](a, b) = p.state.sigma[i](a, b);
@@ -188,7 +186,10 @@ class Explicit {
     }
     sim_.restore_clock(entry(c.real_scalars, "time", where), entry(c.integer_scalars, "steps", where));
   }
+  /// After every rank loaded its share: divide the grid by the particles and send each to its tile's owner.
+  void take_particles() { sim_.adopt_particles(); }
 
+ private:
   SimulationSpec<Dim> spec_;
   Simulation<Dim, Kernel> sim_;
 };
@@ -295,6 +296,8 @@ class Implicit {
                              integer("residual_evaluations"), integer("backtracks"), integer("retries"), integer("preconditioner_builds")};
     sim_.restore(entry(c.real_scalars, "time", where), integer("steps"), entry(c.real_scalars, "dt", where), n, rigid);
   }
+  /// The implicit step runs in one process and locates its particles at every step: nothing to do.
+  void take_particles() {}
 
  private:
   ImplicitSpec<Dim> spec_;

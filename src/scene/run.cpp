@@ -44,13 +44,13 @@ class SceneRun {
  public:
   SceneRun(const Scene& sc, const RunOptions& o)
       : sc_(sc), o_(o), engine_(sc), sim_(engine_.sim()), comm_(engine_.communicator()), root_(comm_.rank() == 0) {
-    if (comm_.size() > 1 && (o.checkpoint_every > 0 || !o.restart.empty()))
-      throw InputError(std::string(o.restart.empty() ? "--checkpoint-every" : "--restart") +
-                       ": checkpoints of runs divided between ranks are a later step (docs/scaling.md); run in one "
-                       "process to checkpoint");
+    if (comm_.size() > 1 && o.checkpoint_every > 0 && !io::collective_checkpoints())
+      throw InputError("--checkpoint-every: this mpm was built without parallel HDF5 (libhdf5-openmpi-dev), which "
+                       "the checkpoints of a run divided between ranks need; run in one process to checkpoint");
     if (o.restart.empty()) return;
     try {
-      scene_checkpoint::restore<Dim>(io::read_checkpoint(o.restart), engine_, acc_, "--restart " + o.restart.string());
+      scene_checkpoint::restore<Dim>(io::read_checkpoint(o.restart, comm_), engine_, acc_,
+                                     "--restart " + o.restart.string());
       previous_time_ = sim_.time();
     } catch (const InputError& e) {  // name the option: "checkpoint FILE: not an HDF5 file" alone is unclear
       const std::string what = e.what();
@@ -101,14 +101,15 @@ class SceneRun {
         failure = "out of memory at step " + std::to_string(sim_.steps() + 1) + " (estimated need " +
                   std::to_string(budget_.memory_bytes / 1e6) + " MB)";
         // Steps of the explicit engine allocate nothing: memory ran out in the outputs, after a good step.
-        if (!in_step_ || Engine::failure_keeps_state) write_checkpoint();
+        // Among several ranks the others are elsewhere in the step: no checkpoint they would have to join.
+        if (comm_.size() == 1 && (!in_step_ || Engine::failure_keeps_state)) write_checkpoint();
       }
       const bool unfinished = sim_.time() < sc_.end_time * (1 - 1e-14);
       signal = failure.empty() && unfinished ? static_cast<int>(comm_.max(interrupt_requested())) : 0;
       stopped = failure.empty() && unfinished && !signal;
       if (failure.empty()) {
         if (!unfinished && (acc_.frames == 0 || acc_.last_frame_time < sim_.time())) write_frame();
-        if (o_.checkpoint_every > 0 || (unfinished && comm_.size() == 1)) write_checkpoint();
+        if (o_.checkpoint_every > 0 || (unfinished && can_checkpoint())) write_checkpoint();
       }
       if (root_) history_.flush();
       if (newton_log_.is_open()) newton_log_.flush();
@@ -130,8 +131,8 @@ class SceneRun {
       if (root_)
         std::cerr << "mpm: interrupted by " << signal_name(signal) << " after step " << sim_.steps() << ", t = "
                   << sim_.time() << " s; "
-                  << (comm_.size() == 1 ? "continue with --restart " + (o_.out_dir / "checkpoint.h5").string()
-                                        : std::string("a run divided between ranks writes no checkpoint yet"))
+                  << (can_checkpoint() ? "continue with --restart " + (o_.out_dir / "checkpoint.h5").string()
+                                       : std::string("this mpm writes no checkpoint of a divided run (no parallel HDF5)"))
                   << '\n';
       return exit_interrupted(signal);
     }
@@ -140,6 +141,8 @@ class SceneRun {
 
  private:
   bool has_check() const { return !sc_.exact_displacement.empty(); }
+  /// Whether this run can write a checkpoint: in one process, or among several with parallel HDF5.
+  bool can_checkpoint() const { return comm_.size() == 1 || io::collective_checkpoints(); }
   /// A signal on any rank stops every rank after the same step.
   bool interrupted() const { return comm_.max(interrupt_requested()) > 0; }
   /// The [check] error of this step's particles (Wallstedt & Guilkey 2008, Eq. (64)), over every rank.
@@ -167,7 +170,7 @@ class SceneRun {
   void prepare_outputs() {
     std::error_code ec;
     if (!root_) {  // rank 0 makes the folder and clears an earlier run's files; the others then write pieces there
-      comm_.min(0);
+      agree_on_frames();
       return;
     }
     fs::create_directories(o_.out_dir, ec);
@@ -195,7 +198,14 @@ class SceneRun {
       newton_log_.open(o_.out_dir / "newton.csv", restart, sim_.steps());
     else if (restart && fs::exists(o_.out_dir / "newton.csv"))
       NewtonLog::trim(o_.out_dir / "newton.csv", sim_.steps());  // an earlier run's log ends at the checkpoint
-    comm_.min(0);
+    agree_on_frames();
+  }
+  /// Every rank takes rank 0's count of the frames written (after a restart, those its particles.pvd lists),
+  /// so that all write the next one at the same step.
+  void agree_on_frames() {
+    std::vector<std::int64_t> frames{root_ ? acc_.frames : 0};
+    comm_.sum(frames);
+    acc_.frames = frames[0];
   }
 
   std::string history_header() const {
@@ -312,10 +322,9 @@ class SceneRun {
 
   /// The per-step files are flushed first, so that a restart from this checkpoint finds every row before it.
   void write_checkpoint() {
-    if (comm_.size() > 1) return;  // not yet among several ranks (refused up front when asked for)
-    history_.flush();
+    if (root_) history_.flush();
     if (newton_log_.is_open()) newton_log_.flush();
-    io::write_checkpoint(o_.out_dir / "checkpoint.h5", scene_checkpoint::save<Dim>(sc_, engine_, acc_));
+    io::write_checkpoint(o_.out_dir / "checkpoint.h5", scene_checkpoint::save<Dim>(sc_, engine_, acc_), comm_);
   }
 
   /// Over every rank's particles, the same bits whatever the division (Simulation::particle_sum).

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mpm/core/errors.hpp"
+#include "mpm/distributed/communicator.hpp"
 #include "mpm/io/checkpoint.hpp"
 #include "mpm/scene/scene.hpp"
 #include "mpm/verification/error_norms.hpp"
@@ -53,7 +54,7 @@ io::CheckpointData save(const Scene& sc, const Engine& engine, const Accumulator
   const ParticleSet<Dim>& p = engine.sim().particles();
   io::CheckpointData c;
   c.texts["scene"] = sc.text;
-  c.integer_scalars = {{"dim", Dim}, {"particles", static_cast<std::int64_t>(p.size())}, {"steps", engine.sim().steps()},
+  c.integer_scalars = {{"dim", Dim}, {"particles", engine.particle_count()}, {"steps", engine.sim().steps()},
                        {"frames", a.frames}, {"error_samples", a.error.samples}};
   c.real_scalars = {{"time", engine.sim().time()}, {"external_work", a.external_work},
                     {"last_frame_time", a.last_frame_time}, {"error_linf", a.error.linf},
@@ -62,29 +63,44 @@ io::CheckpointData save(const Scene& sc, const Engine& engine, const Accumulator
              {"l0", flat(p.l0)}, {"l", flat(p.l)}};
   c.integers["material"] = std::vector<std::int64_t>(p.material.begin(), p.material.end());
   c.integers["id"] = p.id;
+  // Divided between ranks, each rank's particles are its rows of these.
+  c.row_widths = {{"x", Dim}, {"X", Dim}, {"v", Dim}, {"F", Dim * Dim}, {"m", 1}, {"V0", 1}, {"l0", Dim}, {"l", Dim},
+                  {"material", 1}, {"id", 1}};
   save_outflow(engine.sim().outflow(), c);
   engine.save(c);
   return c;
 }
 
-/// Set the engine's particles and state and the accumulators from `c`; InputError prefixed with `where` when `c`
-/// is not a checkpoint of this scene.
+namespace detail {
+template <class Map>
+const auto& scalar(const Map& map, const std::string& key, const std::string& where) {
+  auto it = map.find(key);
+  if (it == map.end()) throw InputError(where + ": not a checkpoint of a scene run (no '" + key + "')");
+  return it->second;
+}
+
+/// What restore() sets from this rank's share alone, with no other rank: its particles, the engine's state of
+/// them and the accumulators.
 template <int Dim, class Engine>
-void restore(const io::CheckpointData& c, Engine& engine, Accumulators& a, const std::string& where) {
+void load_share(const io::CheckpointData& c, Engine& engine, Accumulators& a, std::int64_t seeded,
+                const std::string& where) {
   using scene_engines::unflat;
-  auto scalar = [&](const auto& map, const std::string& key) -> const auto& {
-    auto it = map.find(key);
-    if (it == map.end()) throw InputError(where + ": not a checkpoint of a scene run (no '" + key + "')");
-    return it->second;
+  const auto other_scene = [&] {
+    return InputError(where + ": the checkpoint holds a different scene (dimension or particle count differ)");
   };
-  ParticleSet<Dim>& p = engine.sim().particles();
-  const std::int64_t particles = scalar(c.integer_scalars, "particles");
+  if (scalar(c.integer_scalars, "dim", where) != Dim) throw other_scene();
+  const std::int64_t particles = scalar(c.integer_scalars, "particles", where);
   const Outflow<Dim> out = load_outflow<Dim>(c, where);
-  if (scalar(c.integer_scalars, "dim") != Dim || particles < 0 || out.particles < 0 ||
-      particles + out.particles != static_cast<std::int64_t>(p.size()))
-    throw InputError(where + ": the checkpoint holds a different scene (dimension or particle count differ)");
-  engine.sim().restore_outflow(static_cast<std::size_t>(particles), out);
-  auto array = [&](const std::string& key) -> const std::vector<double>& { return scalar(c.reals, key); };
+  if (particles < 0 || out.particles < 0 || particles + out.particles != seeded) throw other_scene();
+  engine.sim().restore_outflow(out);
+  // A checkpoint of an mpm older than divided runs marks no rows, and each rank would hold them all.
+  if (c.row_widths.empty() && engine.communicator().size() > 1)
+    throw InputError(where + ": a checkpoint written before runs could be divided between ranks; restart it in one "
+                     "process");
+  auto array = [&](const std::string& key) -> const std::vector<double>& { return scalar(c.reals, key, where); };
+  const std::size_t rows = array("x").size() / Dim;
+  ParticleSet<Dim>& p = engine.sim().particles();
+  p.for_each_field([&](auto& field) { field.resize(rows); });
   unflat(array("x"), p.x, "x");
   unflat(array("X"), p.X, "X");
   unflat(array("v"), p.v, "v");
@@ -93,8 +109,10 @@ void restore(const io::CheckpointData& c, Engine& engine, Accumulators& a, const
   unflat(array("l"), p.l, "l");
   p.m = array("m");
   p.V0 = array("V0");
-  const std::vector<std::int64_t>& mat = scalar(c.integers, "material");
-  for (std::size_t i = 0; i < p.size(); ++i) p.material[i] = static_cast<std::uint16_t>(mat.at(i));
+  const std::vector<std::int64_t>& material = scalar(c.integers, "material", where);
+  for (const auto& [key, size] : {std::pair{"m", p.m.size()}, std::pair{"V0", p.V0.size()}, std::pair{"material", material.size()}})
+    if (size != rows) throw InputError(where + ": array '" + key + "' has the wrong size");
+  for (std::size_t i = 0; i < rows; ++i) p.material[i] = static_cast<std::uint16_t>(material[i]);
   // A checkpoint written before particles had ids holds the first particles seeded when none had left.
   const auto id = c.integers.find("id");
   if (id != c.integers.end()) {
@@ -104,12 +122,35 @@ void restore(const io::CheckpointData& c, Engine& engine, Accumulators& a, const
     throw InputError(where + ": a checkpoint without particle ids, taken after particles left; rerun from t = 0");
   }
   engine.load(c, where);
-  a.external_work = scalar(c.real_scalars, "external_work");
-  a.last_frame_time = scalar(c.real_scalars, "last_frame_time");
-  a.error.linf = scalar(c.real_scalars, "error_linf");
-  a.error.sum = scalar(c.real_scalars, "error_sum");
-  a.error.sum_sq = scalar(c.real_scalars, "error_sum_sq");
-  a.error.samples = scalar(c.integer_scalars, "error_samples");
+  a.external_work = scalar(c.real_scalars, "external_work", where);
+  a.last_frame_time = scalar(c.real_scalars, "last_frame_time", where);
+  a.error.linf = scalar(c.real_scalars, "error_linf", where);
+  a.error.sum = scalar(c.real_scalars, "error_sum", where);
+  a.error.sum_sq = scalar(c.real_scalars, "error_sum_sq", where);
+  a.error.samples = scalar(c.integer_scalars, "error_samples", where);
+}
+}  // namespace detail
+
+/// Set the engine's particles and state and the accumulators from `c`, this rank's share of a checkpoint
+/// (io::read_checkpoint), on every rank; InputError prefixed with `where`, the same on every rank, when `c` is
+/// not a checkpoint of this scene.
+template <int Dim, class Engine>
+void restore(const io::CheckpointData& c, Engine& engine, Accumulators& a, const std::string& where) {
+  const Communicator& comm = engine.communicator();
+  const std::int64_t seeded = engine.particle_count();
+  std::string failure;
+  try {
+    detail::load_share<Dim>(c, engine, a, seeded, where);
+  } catch (const InputError& e) {
+    failure = e.what();
+  }
+  if (const std::string first = first_failure(comm, failure); !first.empty()) throw InputError(first);
+  std::vector<std::int64_t> rows{static_cast<std::int64_t>(engine.sim().particles().size())};
+  comm.sum(rows);
+  if (rows[0] != c.integer_scalars.at("particles"))
+    throw InputError(where + ": the checkpoint holds " + std::to_string(rows[0]) + " particles' rows, not the " +
+                     std::to_string(c.integer_scalars.at("particles")) + " it says");
+  engine.take_particles();
 }
 
 }  // namespace mpm::scene_checkpoint

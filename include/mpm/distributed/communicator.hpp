@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace mpm {
@@ -29,6 +30,12 @@ class Communicator {
   /// Bytes this rank has sent to other ranks in exchange() (the halo sums and the migrating particles).
   virtual std::int64_t bytes_sent() const = 0;
 };
+
+/// Rank root's text, on every rank.
+std::string broadcast_text(const Communicator& comm, const std::string& text, int root);
+
+/// The failure (a message, empty for none) of the lowest rank that failed, on every rank; empty when none did.
+std::string first_failure(const Communicator& comm, const std::string& failure);
 
 /// One process: rank 0 of 1.
 const Communicator& one_process();

@@ -43,9 +43,11 @@ class Simulation {
   void remove_outflow();
   /// What has left through the outflow faces since t = 0.
   const Outflow<Dim>& outflow() const { return outflow_; }
-  /// Continue from a checkpoint taken after particles left: keep the first n particles (the restart overwrites
-  /// their fields) and what had left.
-  void restore_outflow(std::size_t n, const Outflow<Dim>& out);
+  /// Continue from a checkpoint: what had left through the outflow faces.
+  void restore_outflow(const Outflow<Dim>& out) { outflow_ = out; }
+  /// Continue from particles set from a checkpoint, each rank holding any share of the whole set: the grid is
+  /// divided again by them (as at the start), each goes to the rank that owns its tile, and they are settled.
+  void adopt_particles();
   /// Stored energy of particle i: V0 W(F) of a Neo-Hookean particle (Wallstedt & Guilkey 2008, Eq. (54)), the
   /// internal energy of a rate-form one (Sulsky & Kaul 2004, Eq. (2.2.16)) [J].
   Real strain_energy(std::size_t i) const;
@@ -71,6 +73,8 @@ class Simulation {
     tiles_changed_ = true;
     return particles_;
   }
+  /// Whether the particles carry a rate-form material state (ParticleSet::state): some material is rate-form.
+  bool has_material_state() const { return neo_hookean_.empty(); }
   /// Locate the particles and store them in scatter order (by tile, then id), as every step leaves them.
   void settle();
   /// The power of gravity and the body force over the last step, sum_p m_p (g + b_p) . (v_p^n + v_p^{n+1}) / 2
@@ -195,6 +199,8 @@ class Simulation {
   void migrate();
   /// Divide the grid again when the particles per rank have grown uneven (SimulationSpec::rebalance_above).
   void rebalance();
+  /// The bisection of the grid weighted by every rank's particles, cut where the symmetry planes allow.
+  BoxHalo<Dim> divide_by_particles() const;
   /// Take `box` as this rank's box: the grid and what is compiled for it (constraints, scatter order).
   void use_box(BoxHalo<Dim> box);
 

@@ -54,12 +54,8 @@ class ImplicitSimulation {
   void remove_outflow();
   /// What has left through the outflow faces since t = 0.
   const Outflow<Dim>& outflow() const { return outflow_; }
-  /// Continue from a checkpoint taken after particles left: keep the first n particles (the restart overwrites
-  /// their fields) and what had left.
-  void restore_outflow(std::size_t n, const Outflow<Dim>& out) {
-    erase_particles(particles_, indices_from(n, particles_.size()));
-    outflow_ = out;
-  }
+  /// Continue from a checkpoint: what had left through the outflow faces.
+  void restore_outflow(const Outflow<Dim>& out) { outflow_ = out; }
   void run_until(Real t_end);
   /// The bytes a simulation will hold: particles with their material and trial states and stencils; per node
   /// the force fields, the unknowns' maps and the Krylov workspace (GMRES(restart): restart + 1 basis vectors

@@ -73,12 +73,4 @@ void erase_particles(ParticleSet<Dim>& p, const std::vector<std::size_t>& gone) 
   p.for_each_array([&](auto& a) { erase_at(a, gone, n); });
 }
 
-/// The indices n, ..., size - 1: the particles a restart drops when its checkpoint holds n of the size seeded
-/// (the others had left; the restart overwrites the fields of the first n).
-inline std::vector<std::size_t> indices_from(std::size_t n, std::size_t size) {
-  std::vector<std::size_t> gone;
-  for (std::size_t i = n; i < size; ++i) gone.push_back(i);
-  return gone;
-}
-
 }  // namespace mpm
