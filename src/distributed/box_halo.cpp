@@ -77,7 +77,7 @@ BoxHalo<Dim>::BoxHalo(const GridGeometry<Dim>& whole, std::vector<TileBox<Dim>> 
 
 template <int Dim>
 void BoxHalo<Dim>::sum(Grid<Dim>& grid, std::vector<TileSums<Dim>> kept, bool mass_momentum, bool force,
-                       const Communicator& comm) const {
+                       const Communicator& comm, const std::vector<Vec<Dim>>* force_base) const {
   const GridGeometry<Dim>& g = grid.geometry;
   const auto local = [&](const IVec<Dim>& s) {
     std::int64_t f = 0;
@@ -142,25 +142,23 @@ void BoxHalo<Dim>::sum(Grid<Dim>& grid, std::vector<TileSums<Dim>> kept, bool ma
       ++k;
     });
   }
-  // Each shared node: its fields of this pass from zero, plus every tile's sum in colour order (one tile per
-  // colour reaches a node).
+  // Each shared node: its fields of this pass from zero (or the force base), plus every tile's sum in colour
+  // order (one tile per colour reaches a node).
   std::sort(parts.begin(), parts.end(), [](const Part<Dim>& a, const Part<Dim>& b) {
     return a.node != b.node ? a.node < b.node : a.colour < b.colour;
   });
   using S = NodeSlots<Dim>;
-  const auto add = [&](GridNode<Dim>& to_node, const GridNode<Dim>* part, bool clear) {
-    Real* t = &to_node.m;
+  const auto add = [&](std::int64_t at, const GridNode<Dim>* part, bool first) {
+    Real* t = &grid.nodes[static_cast<std::size_t>(at)].m;
     const Real* f = &part->m;
-    const auto field = [&](int first, int count) {
-      for (int c = first; c < first + count; ++c) t[c] = (clear ? Real(0) : t[c]) + f[c];
+    const auto field = [&](int slot, int count, const Real* base) {
+      for (int c = 0; c < count; ++c) t[slot + c] = (first ? (base ? base[c] : Real(0)) : t[slot + c]) + f[slot + c];
     };
-    if (mass_momentum) field(S::m, 1), field(S::v, Dim);
-    if (force) field(S::a, Dim);
+    if (mass_momentum) field(S::m, 1, nullptr), field(S::v, Dim, nullptr);
+    if (force) field(S::a, Dim, force_base ? (*force_base)[static_cast<std::size_t>(at)].data() : nullptr);
   };
-  for (std::size_t k = 0; k < parts.size(); ++k) {
-    GridNode<Dim>& node = grid.nodes[static_cast<std::size_t>(parts[k].node)];
-    add(node, parts[k].record, k == 0 || parts[k - 1].node != parts[k].node);
-  }
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    add(parts[k].node, parts[k].record, k == 0 || parts[k - 1].node != parts[k].node);
 }
 
 template class BoxHalo<1>;

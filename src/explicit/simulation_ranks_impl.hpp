@@ -61,12 +61,9 @@ template <int Dim, class Kernel>
 BoxHalo<Dim> divide(const SimulationSpec<Dim>& spec, const ParticleSet<Dim>& p, const Communicator& comm) {
   const GridGeometry<Dim> whole = make_geometry<Dim, Kernel>(spec);
   if (comm.size() == 1) return BoxHalo<Dim>(whole);
-  const auto refuse = [&](const std::string& what) {
-    throw InputError(what + " run in one process for now (docs/scaling.md); start mpm without mpirun or srun");
-  };
   for (const FaceCondition<Dim>& f : spec.boundary.faces)
-    if (f.type == FaceType::periodic) refuse("periodic faces");
-  if (Dim == 2 && spec.geometry == Geometry::axisymmetric) refuse("axisymmetric runs");
+    if (f.type == FaceType::periodic)
+      throw InputError("periodic faces run in one process for now (docs/scaling.md); start mpm without mpirun or srun");
   return boxes_for<Dim, Kernel>(spec, whole, tile_weights<Dim, Kernel>(whole, p), comm);
 }
 

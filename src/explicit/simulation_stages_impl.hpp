@@ -59,11 +59,26 @@ void Simulation<Dim, Kernel>::scatter() {
     p2g<what>(particles_, stencils_, order_, body_accel_, grid_);
   }
   if constexpr (what.force && Dim == 2)  // the hoop force in a pass of its own, as in the implicit step
-    if (axisymmetric_) p2g_add(stencils_, order_, grid_, HoopForce{particles_.V, particles_.state.sigma, particles_.x});
+    if (axisymmetric_) scatter_hoop_force();
   if constexpr (what.mass_momentum) halo_.sum_into_owners(grid_, NodeFields::mass_momentum);
   if constexpr (what.force) halo_.sum_into_owners(grid_, NodeFields::force);
   if constexpr (what.mass_momentum) constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   if constexpr (what.force) constraints_.fold_and_mirror(grid_, NodeFields::force);
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::scatter_hoop_force() requires(Dim == 2) {
+  const HoopForce hoop{particles_.V, particles_.state.sigma, particles_.x};
+  if (!box_halo_.divided()) {
+    p2g_add(stencils_, order_, grid_, hoop);
+    return;
+  }
+  // Onto the forces the halo sum just agreed: a shared node starts from them again, as one process's pass does.
+  hoop_base_.resize(grid_.size());
+  for (std::size_t n = 0; n < grid_.size(); ++n) hoop_base_[n] = grid_.nodes[n].a;
+  const FaceTileSums<Dim> kept(grid_.geometry, order_);
+  p2g_add_keeping(kept, stencils_, order_, grid_, hoop);
+  box_halo_.sum(grid_, kept.take(), false, true, *comm_, &hoop_base_);
 }
 
 template <int Dim, class Kernel>

@@ -5,11 +5,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <iomanip>
 #include <optional>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <utility>
 
 #include "mpm/core/errors.hpp"
@@ -22,7 +20,7 @@
 #include "run_progress.hpp"
 #include "run_checkpoint.hpp"
 #include "run_frame.hpp"
-#include "run_newton_log.hpp"
+#include "run_files.hpp"
 #include "engines.hpp"
 #include "mpm/verification/error_norms.hpp"
 
@@ -87,7 +85,7 @@ class SceneRun {
           sim_.remove_outflow();
           if (has_check()) record_error();
           write_history_row();
-          if (newton_log_.is_open()) newton_log_.write(sim_.steps(), engine_.newton_attempts());
+          if (files_.newton_log().is_open()) files_.newton_log().write(sim_.steps(), engine_.newton_attempts());
           if (sc_.output_every > 0 && sim_.time() >= next_output_time() * (1 - 1e-12)) write_frame();
           if (o_.checkpoint_every > 0 && sim_.steps() % o_.checkpoint_every == 0) write_checkpoint();
           progress.update(sim_.steps(), sim_.time());
@@ -96,7 +94,7 @@ class SceneRun {
         failure = e.what();
         // The implicit engine fails before it touches the particles: checkpoint the last good state to restart from.
         if (Engine::failure_keeps_state) write_checkpoint();
-        if (newton_log_.is_open()) newton_log_.write(sim_.steps() + 1, engine_.newton_attempts());
+        if (files_.newton_log().is_open()) files_.newton_log().write(sim_.steps() + 1, engine_.newton_attempts());
       } catch (const std::bad_alloc&) {
         failure = "out of memory at step " + std::to_string(sim_.steps() + 1) + " (estimated need " +
                   std::to_string(budget_.memory_bytes / 1e6) + " MB)";
@@ -111,8 +109,7 @@ class SceneRun {
         if (!unfinished && (acc_.frames == 0 || acc_.last_frame_time < sim_.time())) write_frame();
         if (o_.checkpoint_every > 0 || (unfinished && can_checkpoint())) write_checkpoint();
       }
-      if (root_) history_.flush();
-      if (newton_log_.is_open()) newton_log_.flush();
+      files_.flush();
     } catch (const OutputError& e) {
       // The checkpoint written last (atomically) stays readable; say what failed, if the summary can be written.
       try {
@@ -165,47 +162,9 @@ class SceneRun {
   }
   Real next_output_time() const { return static_cast<Real>(acc_.frames) * sc_.output_every; }
 
-  /// Create the output folder; a fresh run clears the outputs of an earlier one, a restart keeps what came
-  /// before its checkpoint.
+  /// The output folder; a restart keeps what came before its checkpoint.
   void prepare_outputs() {
-    std::error_code ec;
-    if (!root_) {  // rank 0 makes the folder and clears an earlier run's files; the others then write pieces there
-      agree_on_frames();
-      return;
-    }
-    fs::create_directories(o_.out_dir, ec);
-    if (ec || !fs::is_directory(o_.out_dir))
-      throw InputError("--out " + o_.out_dir.string() + ": cannot make the output folder" +
-                       (ec ? ": " + ec.message() : " (a file of that name exists)"));
-    const fs::path pvd = o_.out_dir / "particles.pvd";
-    if (o_.restart.empty()) {
-      for (const fs::directory_entry& e : fs::directory_iterator(o_.out_dir)) {
-        const std::string name = e.path().filename().string();
-        if ((name.rfind("particles_", 0) == 0 && (e.path().extension() == ".vtp" || e.path().extension() == ".pvtp")) ||
-            name == "particles.pvd" ||
-            name == "history.csv" || name == "newton.csv" || name == "summary.json")
-          fs::remove(e.path(), ec);
-      }
-      series_ = io::PvdSeries(pvd);
-    } else {
-      series_ = fs::exists(pvd) ? io::PvdSeries::resume(pvd, sim_.time()) : io::PvdSeries(pvd);
-      acc_.frames = static_cast<std::int64_t>(series_.entries().size());
-    }
-    // After a restart, history.csv and newton.csv keep the rows up to the checkpoint's step and go on from there.
-    const bool restart = !o_.restart.empty();
-    history_.open(o_.out_dir / "history.csv", history_header(), restart, sim_.steps());
-    if (sc_.newton_log)
-      newton_log_.open(o_.out_dir / "newton.csv", restart, sim_.steps());
-    else if (restart && fs::exists(o_.out_dir / "newton.csv"))
-      NewtonLog::trim(o_.out_dir / "newton.csv", sim_.steps());  // an earlier run's log ends at the checkpoint
-    agree_on_frames();
-  }
-  /// Every rank takes rank 0's count of the frames written (after a restart, those its particles.pvd lists),
-  /// so that all write the next one at the same step.
-  void agree_on_frames() {
-    std::vector<std::int64_t> frames{root_ ? acc_.frames : 0};
-    comm_.sum(frames);
-    acc_.frames = frames[0];
+    acc_.frames = files_.prepare(!o_.restart.empty(), sim_.time(), sim_.steps(), history_header(), sc_.newton_log);
   }
 
   std::string history_header() const {
@@ -226,7 +185,7 @@ class SceneRun {
     const Totals<Dim> t = totals();
     const std::vector<Vec<Dim>> reactions = engine_.reactions();
     if (!root_) return;
-    std::ostream& history = history_.row();
+    std::ostream& history = files_.history().row();
     history << sim_.steps() << ',' << sim_.time() << ',' << t.kinetic << ',' << t.strain << ','
              << t.kinetic + t.strain << ',' << acc_.external_work;
     for (int d = 0; d < Dim; ++d) history << ',' << t.momentum[d];
@@ -238,7 +197,7 @@ class SceneRun {
       history << ',' << out.mass << ',' << out.kinetic_energy + out.strain_energy;
       for (int d = 0; d < Dim; ++d) history << ',' << out.momentum[d];
     }
-    history_.end_row();
+    files_.history().end_row();
   }
 
   /// Work of gravity, body forces and tractions over the step (force at t^n times the mean of the old and new
@@ -253,28 +212,12 @@ class SceneRun {
     acc_.external_work += dt * power;
   }
 
-  /// One frame: particles_NNNN.vtp, or divided between ranks one piece per rank, particles_NNNN_R.vtp, gathered
-  /// by rank 0's particles_NNNN.pvtp.
+  /// One frame of every rank's particles (RunFiles::frame).
   void write_frame() {
     std::vector<double> points;
     std::vector<io::PointField> fields;
     frame_fields<Dim>(engine_, sc_.exact_displacement, sim_.time(), points, fields);
-    std::ostringstream name;
-    name << "particles_" << std::setw(4) << std::setfill('0') << acc_.frames;
-    if (comm_.size() == 1) {
-      io::write_vtp(o_.out_dir / (name.str() + ".vtp"), points, fields);
-      series_.add(sim_.time(), name.str() + ".vtp");
-    } else {
-      const auto piece = [&](int r) { return name.str() + "_" + std::to_string(r) + ".vtp"; };
-      io::write_vtp(o_.out_dir / piece(comm_.rank()), points, fields);
-      comm_.min(0);  // every piece is written before the set that lists them
-      if (root_) {
-        std::vector<std::string> pieces;
-        for (int r = 0; r < comm_.size(); ++r) pieces.push_back(piece(r));
-        io::write_pvtp(o_.out_dir / (name.str() + ".pvtp"), fields, pieces);
-        series_.add(sim_.time(), name.str() + ".pvtp");
-      }
-    }
+    files_.frame(acc_.frames, sim_.time(), points, fields);
     ++acc_.frames;
     acc_.last_frame_time = sim_.time();
   }
@@ -322,8 +265,7 @@ class SceneRun {
 
   /// The per-step files are flushed first, so that a restart from this checkpoint finds every row before it.
   void write_checkpoint() {
-    if (root_) history_.flush();
-    if (newton_log_.is_open()) newton_log_.flush();
+    files_.flush();
     io::write_checkpoint(o_.out_dir / "checkpoint.h5", scene_checkpoint::save<Dim>(sc_, engine_, acc_), comm_);
   }
 
@@ -351,9 +293,7 @@ class SceneRun {
   decltype(engine_.sim())& sim_;
   const Communicator& comm_;
   const bool root_;  // rank 0 writes history.csv, summary.json and the frames' .pvtp and .pvd
-  io::PvdSeries series_{""};
-  CsvFile history_;
-  NewtonLog newton_log_;  // newton.csv, with [output] newton_log = "on"
+  RunFiles files_{o_.out_dir, comm_};
   scene_checkpoint::Accumulators acc_;  // what a checkpoint carries beside the particles
   Real previous_time_ = 0;
   std::vector<Vec<Dim>> v_before_;  // particle velocities before the step, for the work of the loads

@@ -30,8 +30,8 @@ class Simulation {
  public:
   /// Validate the spec and the particles (InputError on bad input) and set up the grid. Among several ranks
   /// (`comm`), every rank passes all the particles: the grid is divided into one box per rank by bisection
-  /// weighted by the particles (BoxHalo), and each rank keeps the particles of its box; periodic and outflow
-  /// faces and axisymmetry are refused there for now.
+  /// weighted by the particles (BoxHalo), and each rank keeps the particles of its box; periodic faces are
+  /// refused there for now.
   Simulation(const SimulationSpec<Dim>& spec, ParticleSet<Dim> particles, const Communicator& comm = one_process());
 
   /// Advance one time step of min(next_dt(), max_dt). Throws SimulationFailure (naming step, time, particle
@@ -177,6 +177,8 @@ class Simulation {
   /// A P2G pass with its hoop force in axisymmetry, the halo sum and the symmetry folds.
   template <Scatter what>
   void scatter();
+  /// The hoop force's pass in axisymmetry (HoopForce), after the main force pass and its halo sum.
+  void scatter_hoop_force() requires(Dim == 2);
   /// A G2P pass after the halo copy; one that moves the particles also computes their stencils at the new positions.
   template <Gather what>
   void gather(NodeVelocity<Dim> v_grid, Real dt);
@@ -222,6 +224,7 @@ class Simulation {
   Real min_node_mass_;
   /// Nodes with less mass get the re-projected velocity for positions and gradients (USL, CD); none when unset.
   LightMass<Dim> light_node_mass_;
+  std::vector<Vec<Dim>> hoop_base_;  ///< divided axisymmetric runs: the node forces before the hoop pass
   std::vector<std::uint8_t> mirror_copies_;  ///< per node, with light nodes: KinematicConstraints::count_mirror_copies
   std::vector<StencilT> stencils_;
   std::vector<std::int32_t> tile_;
