@@ -5,11 +5,10 @@
 /// its particles' stencils reach. Its P2G gives every node the sums of the box's own tiles. A node near the box's
 /// lower faces is also reached by tiles of the boxes below, and the node above the box's upper faces belong to
 /// other boxes: there the value of one process, the tiles' sums added in colour order (ScatterOrder), needs the
-/// sums of each tile apart. So each box keeps the sums of its face tiles (TileSums), and the owner of a node that
-/// tiles of several boxes reach adds all their sums in colour order. The same messages carry them between ranks.
+/// sums of each tile apart. So each box keeps the sums of its face tiles (TileSums), and every box that holds a
+/// node that tiles of several boxes reach adds all their sums in colour order (BoxHalo::sum exchanges them).
 #include <algorithm>
 #include <cstdint>
-#include <map>
 #include <vector>
 
 #include "mpm/distributed/decomposition.hpp"
@@ -106,61 +105,5 @@ class FaceTileSums {
   const ScatterOrder<Dim>* order_;
   mutable std::vector<TileSums<Dim>> sums_;
 };
-
-/// The box (index into `boxes`) that owns global storage node layer s (per axis): the box of its tile.
-template <int Dim>
-int owner_of(const IVec<Dim>& s, const std::vector<TileBox<Dim>>& boxes) {
-  IVec<Dim> t;
-  for (int d = 0; d < Dim; ++d) t[d] = s[d] >> GridGeometry<Dim>::tile_shift;
-  for (std::size_t b = 0; b < boxes.size(); ++b)
-    if (boxes[b].contains(t)) return static_cast<int>(b);
-  return -1;
-}
-
-/// After a P2G pass onto cleared fields in every box: give each node that tiles of several boxes reach its
-/// owner's value, the sums of all those tiles added in colour order from zero. `grids[b]` is box b's grid
-/// (box_geometry), `kept[b]` the sums of box b's face tiles. Copies above a box's faces are left as they are
-/// (the copy to them is the halo's other half).
-template <int Dim>
-void sum_into_owners(const std::vector<TileBox<Dim>>& boxes, std::vector<Grid<Dim>*>& grids,
-                     const std::vector<std::vector<TileSums<Dim>>>& kept) {
-  // Every kept sum, by global node: (colour, box, record).
-  struct Part {
-    int colour, box;
-    const GridNode<Dim>* record;
-  };
-  std::map<std::vector<int>, std::vector<Part>> parts;
-  for (std::size_t b = 0; b < kept.size(); ++b)
-    for (const TileSums<Dim>& ts : kept[b]) {
-      std::size_t k = 0;
-      IVec<Dim> i{};
-      for (; k < ts.records.size(); ++k) {
-        std::vector<int> node(Dim);
-        for (int d = 0; d < Dim; ++d) node[d] = ts.first[d] + i[d];
-        parts[node].push_back({ts.colour, static_cast<int>(b), &ts.records[k]});
-        for (int d = 0; d < Dim; ++d) {
-          if (++i[d] < ts.extent[d]) break;
-          i[d] = 0;
-        }
-      }
-    }
-  constexpr int R = static_cast<int>(sizeof(GridNode<Dim>) / sizeof(Real));
-  for (auto& [node, list] : parts) {
-    IVec<Dim> s;
-    for (int d = 0; d < Dim; ++d) s[d] = node[d];
-    const int owner = owner_of<Dim>(s, boxes);
-    bool shared = false;
-    for (const Part& p : list) shared = shared || p.box != owner;
-    if (!shared || owner < 0) continue;
-    std::sort(list.begin(), list.end(), [](const Part& a, const Part& b) { return a.colour < b.colour; });
-    Grid<Dim>& grid = *grids[static_cast<std::size_t>(owner)];
-    IVec<Dim> local;
-    for (int d = 0; d < Dim; ++d) local[d] = s[d] - grid.geometry.offset[d] - grid.geometry.ghost;
-    Real* to = &grid.nodes[static_cast<std::size_t>(grid.geometry.flat(local))].m;
-    for (int c = 0; c < R; ++c) to[c] = 0;
-    for (const Part& p : list)
-      for (int c = 0; c < R; ++c) to[c] += (&p.record->m)[c];
-  }
-}
 
 }  // namespace mpm
