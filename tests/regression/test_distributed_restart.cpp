@@ -3,15 +3,21 @@
 // 4, M != N) the run ends with the same history.csv, byte for byte, the same summary figures, the same last frame
 // and the same final checkpoint (by id, to the bit) as the uninterrupted one-process run. Cases: the colliding
 // disks (Neo-Hookean, particles crossing between ranks), the explicit upsetting (von Mises state, a rigid
-// platen's displacement) and the outflow block (particles leave before the checkpoint). Skipped without MPI.
+// platen's displacement), the outflow block (particles leave before the checkpoint) and a run that a signal to one
+// of its ranks interrupts. Skipped without MPI.
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numeric>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "distributed_support.hpp"
@@ -122,6 +128,49 @@ TEST(DistributedRestart, OutflowFromFourRanksOnOneAndTwo) {
   const fs::path dir = scratch("distributed_restart", "outflow_scene");
   std::ofstream(dir / "outflow.toml") << outflow_scene();
   expect_restarts_same("outflow", (dir / "outflow.toml").string(), "", 60, 4, {1, 2});
+  fs::remove_all(dir);
+}
+
+TEST(DistributedRestart, SignalOnOneRankCheckpointsEveryRankAndTheRestartEndsBitwiseEqual) {
+  if (std::string(MPM_MPIEXEC).empty()) GTEST_SKIP() << "built without MPI";
+  if (!mpm::io::collective_checkpoints()) GTEST_SKIP() << "built without parallel HDF5";
+  // The 129,600-particle block of the Signals tests on 2 ranks: SIGTERM to one rank stops both after the same
+  // step, and they write the checkpoint together; restarted on 3 ranks the run ends as one process's.
+  const fs::path dir = scratch("distributed_restart", "signal");
+  const fs::path scene = dir / "block.toml", out = dir / "out";
+  std::ofstream(scene) << block_scene("4e-3");
+  const std::string rank_command = std::string(MPM_BINARY) + " run " + scene.string() + " --quiet --out " + out.string();
+  const std::string launch = mpirun(2) + " run " + scene.string() + " --quiet --out " + out.string() + " >" +
+                             (dir / "log.txt").string() + " 2>&1";
+  const pid_t shell = fork();
+  if (shell == 0) {
+    execl("/bin/sh", "sh", "-c", launch.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  const auto rows = [&] { const std::string h = slurp(out / "history.csv"); return std::count(h.begin(), h.end(), '\n'); };
+  while (std::chrono::steady_clock::now() < give_up && rows() < 4)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  // One rank, found by its exact command line (mpirun's and the shell's differ).
+  const int killed = std::system(("pkill -TERM -o -f -x '" + rank_command + "'").c_str());
+  ASSERT_EQ(killed, 0) << "no rank found running " << rank_command;
+  int status = 0;
+  waitpid(shell, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 128 + SIGTERM) << status << ": " << slurp(dir / "log.txt");
+  const nlohmann::json s = nlohmann::json::parse(slurp(out / "summary.json"));
+  EXPECT_EQ(s["status"], "interrupted");
+  EXPECT_EQ(s["signal"], "SIGTERM");
+  EXPECT_EQ(mpm::io::read_checkpoint(out / "checkpoint.h5").integer_scalars.at("steps"), s["steps"].get<std::int64_t>());
+  EXPECT_LT(s["time"].get<double>(), 4e-3);
+  const std::string finish = " --checkpoint-every 100000 --out ";
+  ASSERT_EQ(run_on(3, scene.string(), finish + out.string() + " --restart " + (out / "checkpoint.h5").string(),
+                   dir / "log.txt"),
+            0)
+      << slurp(dir / "log.txt");
+  ASSERT_EQ(run_on(1, scene.string(), finish + (dir / "one").string(), dir / "log.txt"), 0) << slurp(dir / "log.txt");
+  EXPECT_EQ(slurp(out / "history.csv"), slurp(dir / "one/history.csv"));
+  expect_same_checkpoints(sorted_by_id(mpm::io::read_checkpoint(out / "checkpoint.h5")),
+                          sorted_by_id(mpm::io::read_checkpoint(dir / "one/checkpoint.h5")), "interrupted on 2, ended on 3");
   fs::remove_all(dir);
 }
 
