@@ -73,6 +73,13 @@ BoxHalo<Dim>::BoxHalo(const GridGeometry<Dim>& whole, std::vector<TileBox<Dim>> 
       owner_[static_cast<std::size_t>(flat)] = static_cast<std::int32_t>(b);
     });
   }
+  for (std::size_t b = 0; b < boxes_.size(); ++b) {
+    bool overlap = static_cast<int>(b) != rank;
+    for (int d = 0; d < Dim; ++d)
+      overlap = overlap && first_[b][d] < end_[static_cast<std::size_t>(rank)][d] &&
+                first_[static_cast<std::size_t>(rank)][d] < end_[b][d];
+    if (overlap) peers_.push_back(static_cast<int>(b));
+  }
 }
 
 template <int Dim>
@@ -84,11 +91,11 @@ void BoxHalo<Dim>::sum(Grid<Dim>& grid, std::vector<TileSums<Dim>> kept, bool ma
     for (int d = Dim - 1; d >= 0; --d) f = f * g.nodes_along(d) + (s[d] - g.offset[d]);
     return f;
   };
-  // To every other box, the part of each kept footprint inside its grid.
-  std::vector<std::vector<std::byte>> to(boxes_.size());
+  // To every peer, the part of each kept footprint inside its grid.
+  std::vector<std::vector<std::byte>> to(peers_.size());
   for (const TileSums<Dim>& ts : kept)
-    for (std::size_t b = 0; b < boxes_.size(); ++b) {
-      if (static_cast<int>(b) == rank_) continue;
+    for (std::size_t k = 0; k < peers_.size(); ++k) {
+      const auto b = static_cast<std::size_t>(peers_[k]);
       Header h{ts.colour, {}, {}};
       bool empty = false;
       for (int d = 0; d < Dim; ++d) {
@@ -97,16 +104,16 @@ void BoxHalo<Dim>::sum(Grid<Dim>& grid, std::vector<TileSums<Dim>> kept, bool ma
         empty = empty || h.end[d] <= h.first[d];
       }
       if (empty) continue;
-      append(to[b], &h, 1);
+      append(to[k], &h, 1);
       IVec<Dim> lo, hi;
       for (int d = 0; d < Dim; ++d) lo[d] = h.first[d], hi[d] = h.end[d];
       for_each_index<Dim>(lo, hi, [&](const IVec<Dim>& s) {
-        std::size_t k = 0;
-        for (int d = Dim - 1; d >= 0; --d) k = k * static_cast<std::size_t>(ts.extent[d]) + static_cast<std::size_t>(s[d] - ts.first[d]);
-        append(to[b], &ts.records[k], 1);
+        std::size_t r = 0;
+        for (int d = Dim - 1; d >= 0; --d) r = r * static_cast<std::size_t>(ts.extent[d]) + static_cast<std::size_t>(s[d] - ts.first[d]);
+        append(to[k], &ts.records[r], 1);
       });
     }
-  const std::vector<std::vector<std::byte>> from = comm.exchange(to);
+  const std::vector<std::vector<std::byte>> from = comm.exchange_with(peers_, to);
   // The sums other boxes sent, by node; the received records are copied out aligned.
   std::vector<GridNode<Dim>> received;
   std::vector<std::pair<std::int64_t, int>> foreign;  // (node, colour) per received record

@@ -39,6 +39,10 @@ class OneProcess final : public Communicator {
   std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& to) const override {
     return to;
   }
+  std::vector<std::vector<std::byte>> exchange_with(const std::vector<int>& peers,
+                                                   const std::vector<std::vector<std::byte>>&) const override {
+    return std::vector<std::vector<std::byte>>(peers.size());  // one rank has no peers
+  }
   std::vector<std::byte> broadcast(std::vector<std::byte> bytes, int) const override { return bytes; }
   double seconds() const override { return 0; }
   std::int64_t bytes_sent() const override { return 0; }
@@ -116,6 +120,35 @@ class MpiWorld final : public Communicator {
           "MPI_Alltoallv");
     std::vector<std::vector<std::byte>> from(static_cast<std::size_t>(n));
     for (int r = 0; r < n; ++r) from[r].assign(recv.begin() + recv_at[r], recv.begin() + recv_at[r] + recv_count[r]);
+    return from;
+  }
+  std::vector<std::vector<std::byte>> exchange_with(const std::vector<int>& peers,
+                                                   const std::vector<std::vector<std::byte>>& to) const override {
+    const Timer timer{seconds_};
+    // The sizes first, then the bytes; each round's tag keeps its messages apart from the other's.
+    constexpr int size_tag = 1, bytes_tag = 2;
+    const std::size_t n = peers.size();
+    std::vector<std::int64_t> send_size(n), recv_size(n);
+    std::vector<MPI_Request> requests(2 * n);
+    for (std::size_t k = 0; k < n; ++k) {
+      send_size[k] = static_cast<std::int64_t>(to[k].size());
+      bytes_ += send_size[k];
+      check(MPI_Irecv(&recv_size[k], 1, MPI_INT64_T, peers[k], size_tag, MPI_COMM_WORLD, &requests[k]), "MPI_Irecv");
+      check(MPI_Isend(&send_size[k], 1, MPI_INT64_T, peers[k], size_tag, MPI_COMM_WORLD, &requests[n + k]),
+            "MPI_Isend");
+    }
+    check(MPI_Waitall(static_cast<int>(2 * n), requests.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
+    std::vector<std::vector<std::byte>> from(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      from[k].resize(static_cast<std::size_t>(recv_size[k]));
+      check(MPI_Irecv(from[k].data(), static_cast<int>(recv_size[k]), MPI_BYTE, peers[k], bytes_tag, MPI_COMM_WORLD,
+                      &requests[k]),
+            "MPI_Irecv");
+      check(MPI_Isend(to[k].data(), static_cast<int>(send_size[k]), MPI_BYTE, peers[k], bytes_tag, MPI_COMM_WORLD,
+                      &requests[n + k]),
+            "MPI_Isend");
+    }
+    check(MPI_Waitall(static_cast<int>(2 * n), requests.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
     return from;
   }
   std::vector<std::byte> broadcast(std::vector<std::byte> bytes, int root) const override {

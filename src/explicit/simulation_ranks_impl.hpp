@@ -2,6 +2,7 @@
 // The parts of Simulation<Dim, Kernel> that divide a run between ranks (mpm/distributed): the division of the
 // grid, the particles a rank owns and their migration, the failures and reactions agreed over all ranks.
 // Included by simulation_impl.hpp.
+#include <algorithm>
 #include <limits>
 #include <string>
 #include <vector>
@@ -100,12 +101,20 @@ template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::migrate() {
   std::vector<int> owner;
   const std::vector<std::size_t> leaving = not_owned(&owner);
-  std::vector<std::vector<std::byte>> to(static_cast<std::size_t>(comm_->size()));
+  // A particle that moved less than a tile goes to a neighbour (BoxHalo::peers), and then every rank exchanges
+  // with its neighbours only; after a new division, or a step longer than a tile, with every rank.
+  const std::vector<int>& peers = box_halo_.peers();
+  bool near = true;
+  for (int r : owner) near = near && std::binary_search(peers.begin(), peers.end(), r);
+  const bool everywhere = comm_->max(near ? 0.0 : 1.0) > 0;
+  std::vector<std::vector<std::byte>> to(everywhere ? static_cast<std::size_t>(comm_->size()) : peers.size());
   const bool with_state = neo_hookean_.empty();
-  for (std::size_t k = 0; k < leaving.size(); ++k)
-    pack_particle(particles_, leaving[k], with_state, to[static_cast<std::size_t>(owner[k])]);
+  for (std::size_t k = 0; k < leaving.size(); ++k) {
+    const auto to_rank = everywhere ? owner[k] : std::lower_bound(peers.begin(), peers.end(), owner[k]) - peers.begin();
+    pack_particle(particles_, leaving[k], with_state, to[static_cast<std::size_t>(to_rank)]);
+  }
   if (!leaving.empty()) erase(leaving);
-  const std::vector<std::vector<std::byte>> from = comm_->exchange(to);
+  const std::vector<std::vector<std::byte>> from = everywhere ? comm_->exchange(to) : comm_->exchange_with(peers, to);
   const std::size_t first = particles_.size();
   for (const std::vector<std::byte>& bytes : from) unpack_particles(bytes, with_state, particles_);
   if (particles_.size() == first) return;

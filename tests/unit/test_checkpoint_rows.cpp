@@ -29,6 +29,10 @@ class LoneRank final : public mpm::Communicator {
   std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& to) const override {
     return to;
   }
+  std::vector<std::vector<std::byte>> exchange_with(const std::vector<int>& peers,
+                                                   const std::vector<std::vector<std::byte>>&) const override {
+    return std::vector<std::vector<std::byte>>(peers.size());
+  }
   std::vector<std::byte> broadcast(std::vector<std::byte> bytes, int) const override { return bytes; }
   double seconds() const override { return 0; }
   std::int64_t bytes_sent() const override { return 0; }

@@ -5,6 +5,7 @@
 // with a thread per rank.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <barrier>
 #include <cstdint>
 #include <random>
@@ -45,8 +46,8 @@ template <class C>
 class TileHalo : public ::testing::Test {};
 TYPED_TEST_SUITE(TileHalo, Cases, CaseName);
 
-/// Ranks played by threads of one process: their exchange() meets at a barrier; the other operations, which
-/// BoxHalo::sum does not call, return this rank's own argument.
+/// Ranks played by threads of one process: their exchange() and exchange_with() meet at a barrier; the other
+/// operations, which BoxHalo::sum does not call, return this rank's own argument.
 class ThreadRanks {
  public:
   explicit ThreadRanks(int size) : mail_(static_cast<std::size_t>(size)), sync_(size) {}
@@ -65,6 +66,15 @@ class ThreadRanks {
       std::vector<std::vector<std::byte>> from;
       for (const auto& sent : all_.mail_) from.push_back(sent[static_cast<std::size_t>(rank_)]);
       all_.sync_.arrive_and_wait();  // every rank has read its mail before the next exchange writes
+      return from;
+    }
+    std::vector<std::vector<std::byte>> exchange_with(const std::vector<int>& peers,
+                                                     const std::vector<std::vector<std::byte>>& to) const override {
+      std::vector<std::vector<std::byte>> all(all_.mail_.size());
+      for (std::size_t k = 0; k < peers.size(); ++k) all[static_cast<std::size_t>(peers[k])] = to[k];
+      const std::vector<std::vector<std::byte>> received = exchange(all);
+      std::vector<std::vector<std::byte>> from;
+      for (int r : peers) from.push_back(received[static_cast<std::size_t>(r)]);
       return from;
     }
     std::vector<std::byte> broadcast(std::vector<std::byte> bytes, int) const override { return bytes; }
@@ -145,10 +155,12 @@ TYPED_TEST(TileHalo, BoxesGiveEveryNodeTheBitsOfOneProcess) {
     const std::vector<mpm::TileBox<Dim>> boxes = mpm::bisect<Dim>(tiles, weight, ranks);
     ThreadRanks world(ranks);
     std::vector<std::size_t> before(boxes.size()), after(boxes.size()), nodes(boxes.size());
+    std::vector<std::vector<int>> peers(boxes.size());
     std::vector<std::thread> threads;
     for (int b = 0; b < ranks; ++b)
       threads.emplace_back([&, b] {
         const mpm::BoxHalo<Dim> halo(geo, boxes, b, Kernel::width);
+        peers[static_cast<std::size_t>(b)] = halo.peers();
         mpm::ParticleSet<Dim> q;  // the box's particles, in id order
         for (std::size_t i = 0; i < p.size(); ++i) {
           mpm::IVec<Dim> t;
@@ -179,6 +191,13 @@ TYPED_TEST(TileHalo, BoxesGiveEveryNodeTheBitsOfOneProcess) {
       EXPECT_EQ(after[k], 0u) << "box " << b << ": nodes unlike one process's after the halo sum";
     }
     EXPECT_GT(missed, 0u) << "the boxes' own sums alone must miss the shared nodes";
+    // Neighbours are mutual, and no box its own.
+    for (int b = 0; b < ranks; ++b)
+      for (int c : peers[static_cast<std::size_t>(b)]) {
+        EXPECT_NE(c, b);
+        const std::vector<int>& back = peers[static_cast<std::size_t>(c)];
+        EXPECT_TRUE(std::find(back.begin(), back.end(), b) != back.end()) << b << " and " << c;
+      }
   }
 }
 

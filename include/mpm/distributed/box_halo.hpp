@@ -3,7 +3,8 @@
 /// node layers and the width - 1 layers above them that its particles' stencils reach (box_geometry). After a
 /// P2G pass every node a tile of another box also reaches gets, on every box that holds it, the sums of all
 /// the tiles that reach it added in colour order from zero: one process's value (ScatterOrder). Each box sends
-/// the kept sums of its face tiles (FaceTileSums) to the boxes whose grids they reach, one exchange per pass;
+/// the kept sums of its face tiles (FaceTileSums) to the boxes whose grids they reach, one exchange with those
+/// neighbours per pass;
 /// the boxes then hold the same bits on the nodes they share, and the grid update, the boundary conditions and
 /// G2P need no second exchange.
 #include <algorithm>
@@ -34,6 +35,9 @@ class BoxHalo {
   /// This rank's box of the grid.
   const GridGeometry<Dim>& box() const { return box_; }
   const std::vector<TileBox<Dim>>& boxes() const { return boxes_; }
+  /// The ranks whose boxes' grids share nodes with this one's (ascending): the halo sum's only partners. A
+  /// particle that moves less than a tile stays in this box or moves to one of theirs.
+  const std::vector<int>& peers() const { return peers_; }
   /// The storage layers per axis of this box's grid that its own tiles hold (the rest are other boxes').
   IVec<Dim> owned_layers() const {
     IVec<Dim> n;
@@ -71,6 +75,7 @@ class BoxHalo {
   std::vector<TileBox<Dim>> boxes_;
   std::vector<IVec<Dim>> first_, end_;  ///< each box's grid: global storage layers [first, end) per axis
   std::vector<std::int32_t> owner_;     ///< rank of each tile of the whole grid (flat, axis 0 fastest)
+  std::vector<int> peers_;
   Vec<Dim> inner_lo_ = Vec<Dim>::Zero(), inner_hi_ = Vec<Dim>::Zero();  ///< surely_owned's bounds [m]
   int rank_ = 0;
 };

@@ -23,11 +23,17 @@ class Communicator {
   virtual void sum(std::vector<std::int64_t>& a) const = 0;
   /// Send to[r] to rank r (to.size() == size()); returns from, from[r] what rank r sent to this one.
   virtual std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& to) const = 0;
+  /// Send to[k] to rank peers[k] and receive one message from each of them: returns from, from[k] what peers[k]
+  /// sent (possibly nothing). Every peer lists this rank among its own peers (the relation is symmetric), and no
+  /// rank lists itself. Messages between the peers only: the cost grows with the peers, not with the ranks.
+  virtual std::vector<std::vector<std::byte>> exchange_with(const std::vector<int>& peers,
+                                                           const std::vector<std::vector<std::byte>>& to) const = 0;
   /// Rank root's bytes, on every rank.
   virtual std::vector<std::byte> broadcast(std::vector<std::byte> bytes, int root) const = 0;
   /// Wall-clock seconds this rank has spent in the operations above (waiting for the others included).
   virtual double seconds() const = 0;
-  /// Bytes this rank has sent to other ranks in exchange() (the halo sums and the migrating particles).
+  /// Bytes this rank has sent to other ranks in exchange() and exchange_with() (the halo sums and the migrating
+  /// particles).
   virtual std::int64_t bytes_sent() const = 0;
 };
 
