@@ -29,25 +29,6 @@ constexpr std::pair<const char*, const char*> launcher_variables[] = {
     {"PMI_SIZE", "PMI_RANK"},
     {"SLURM_STEP_NUM_TASKS", "SLURM_PROCID"}};
 
-class OneProcess final : public Communicator {
- public:
-  int rank() const override { return 0; }
-  int size() const override { return 1; }
-  double max(double x) const override { return x; }
-  std::int64_t min(std::int64_t n) const override { return n; }
-  void sum(std::vector<std::int64_t>&) const override {}
-  std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& to) const override {
-    return to;
-  }
-  std::vector<std::vector<std::byte>> exchange_with(const std::vector<int>& peers,
-                                                   const std::vector<std::vector<std::byte>>&) const override {
-    return std::vector<std::vector<std::byte>>(peers.size());  // one rank has no peers
-  }
-  std::vector<std::byte> broadcast(std::vector<std::byte> bytes, int) const override { return bytes; }
-  double seconds() const override { return 0; }
-  std::int64_t bytes_sent() const override { return 0; }
-};
-
 #ifdef MPM_WITH_MPI
 /// A failed MPI call: MPI's default handler aborts every rank with its message first, so this is not reached
 /// unless the handler was changed.
@@ -179,7 +160,7 @@ std::string first_failure(const Communicator& comm, const std::string& failure) 
 }
 
 const Communicator& one_process() {
-  static const OneProcess one;
+  static const Alone one;
   return one;
 }
 

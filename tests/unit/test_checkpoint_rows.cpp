@@ -1,6 +1,6 @@
 // Arrays of rows in a checkpoint (CheckpointData::row_widths): their widths round-trip, R ranks reading one file
 // each get rows [n r / R, n (r + 1) / R) and together all of them, and inconsistent rows are refused with the
-// file's name. Ranks are played in one process by a communicator that only says which rank it is.
+// file's name. Ranks are played in one process by mpm::Alone, a communicator that only says which rank it is.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -16,30 +16,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using mpm::io::CheckpointData;
-
-/// Rank `rank` of `size`, alone: every collective returns this rank's own argument.
-class LoneRank final : public mpm::Communicator {
- public:
-  LoneRank(int rank, int size) : rank_(rank), size_(size) {}
-  int rank() const override { return rank_; }
-  int size() const override { return size_; }
-  double max(double x) const override { return x; }
-  std::int64_t min(std::int64_t n) const override { return n; }
-  void sum(std::vector<std::int64_t>&) const override {}
-  std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& to) const override {
-    return to;
-  }
-  std::vector<std::vector<std::byte>> exchange_with(const std::vector<int>& peers,
-                                                   const std::vector<std::vector<std::byte>>&) const override {
-    return std::vector<std::vector<std::byte>>(peers.size());
-  }
-  std::vector<std::byte> broadcast(std::vector<std::byte> bytes, int) const override { return bytes; }
-  double seconds() const override { return 0; }
-  std::int64_t bytes_sent() const override { return 0; }
-
- private:
-  int rank_, size_;
-};
 
 fs::path scratch_file(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("mpm_test_checkpoint_rows_" + std::to_string(::getpid()));
@@ -72,7 +48,7 @@ TEST(CheckpointRows, ThreeRanksReadSharesThatTogetherAreAllRows) {
   const std::vector<std::vector<std::int64_t>> ids = {{10}, {11, 12}, {13, 14}};
   const std::vector<std::vector<double>> x = {{0.0, 0.5}, {1.0, 1.5, 2.0, 2.5}, {3.0, 3.5, 4.0, 4.5}};
   for (int r = 0; r < 3; ++r) {
-    const CheckpointData share = mpm::io::read_checkpoint(file, LoneRank(r, 3));
+    const CheckpointData share = mpm::io::read_checkpoint(file, mpm::Alone(r, 3));
     EXPECT_EQ(share.integers.at("id"), ids[static_cast<std::size_t>(r)]) << "rank " << r;
     EXPECT_EQ(share.reals.at("x"), x[static_cast<std::size_t>(r)]) << "rank " << r;
     EXPECT_EQ(share.reals.at("rigid"), (std::vector<double>{7.0, 8.0, 9.0})) << "whole on rank " << r;
@@ -80,8 +56,8 @@ TEST(CheckpointRows, ThreeRanksReadSharesThatTogetherAreAllRows) {
     EXPECT_EQ(share.row_widths, five_rows().row_widths);
   }
   // More ranks than rows: some get none.
-  EXPECT_TRUE(mpm::io::read_checkpoint(file, LoneRank(0, 7)).integers.at("id").empty());
-  EXPECT_EQ(mpm::io::read_checkpoint(file, LoneRank(6, 7)).integers.at("id"), (std::vector<std::int64_t>{14}));
+  EXPECT_TRUE(mpm::io::read_checkpoint(file, mpm::Alone(0, 7)).integers.at("id").empty());
+  EXPECT_EQ(mpm::io::read_checkpoint(file, mpm::Alone(6, 7)).integers.at("id"), (std::vector<std::int64_t>{14}));
   fs::remove_all(file.parent_path());
 }
 

@@ -52,19 +52,14 @@ class ThreadRanks {
  public:
   explicit ThreadRanks(int size) : mail_(static_cast<std::size_t>(size)), sync_(size) {}
 
-  class Rank final : public mpm::Communicator {
+  class Rank final : public mpm::Alone {
    public:
-    Rank(ThreadRanks& all, int rank) : all_(all), rank_(rank) {}
-    int rank() const override { return rank_; }
-    int size() const override { return static_cast<int>(all_.mail_.size()); }
-    double max(double x) const override { return x; }
-    std::int64_t min(std::int64_t n) const override { return n; }
-    void sum(std::vector<std::int64_t>&) const override {}
+    Rank(ThreadRanks& all, int rank) : mpm::Alone(rank, static_cast<int>(all.mail_.size())), all_(all) {}
     std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& to) const override {
-      all_.mail_[static_cast<std::size_t>(rank_)] = to;
+      all_.mail_[static_cast<std::size_t>(rank())] = to;
       all_.sync_.arrive_and_wait();
       std::vector<std::vector<std::byte>> from;
-      for (const auto& sent : all_.mail_) from.push_back(sent[static_cast<std::size_t>(rank_)]);
+      for (const auto& sent : all_.mail_) from.push_back(sent[static_cast<std::size_t>(rank())]);
       all_.sync_.arrive_and_wait();  // every rank has read its mail before the next exchange writes
       return from;
     }
@@ -77,13 +72,9 @@ class ThreadRanks {
       for (int r : peers) from.push_back(received[static_cast<std::size_t>(r)]);
       return from;
     }
-    std::vector<std::byte> broadcast(std::vector<std::byte> bytes, int) const override { return bytes; }
-    double seconds() const override { return 0; }
-    std::int64_t bytes_sent() const override { return 0; }
 
    private:
     ThreadRanks& all_;
-    int rank_;
   };
 
  private:

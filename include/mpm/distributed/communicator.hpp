@@ -37,13 +37,39 @@ class Communicator {
   virtual std::int64_t bytes_sent() const = 0;
 };
 
+/// Rank `rank` of `size` talking to no one: every operation returns this rank's own argument (exchange() hands
+/// back what it was given). One process is rank 0 of 1 (one_process()); tests play the ranks of a division in one
+/// process with others.
+class Alone : public Communicator {
+ public:
+  explicit Alone(int rank = 0, int size = 1) : rank_(rank), size_(size) {}
+  int rank() const override { return rank_; }
+  int size() const override { return size_; }
+  double max(double x) const override { return x; }
+  std::int64_t min(std::int64_t n) const override { return n; }
+  void sum(std::vector<std::int64_t>&) const override {}
+  std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& to) const override {
+    return to;
+  }
+  std::vector<std::vector<std::byte>> exchange_with(const std::vector<int>& peers,
+                                                   const std::vector<std::vector<std::byte>>&) const override {
+    return std::vector<std::vector<std::byte>>(peers.size());
+  }
+  std::vector<std::byte> broadcast(std::vector<std::byte> bytes, int) const override { return bytes; }
+  double seconds() const override { return 0; }
+  std::int64_t bytes_sent() const override { return 0; }
+
+ private:
+  int rank_, size_;
+};
+
 /// Rank root's text, on every rank.
 std::string broadcast_text(const Communicator& comm, const std::string& text, int root);
 
 /// The failure (a message, empty for none) of the lowest rank that failed, on every rank; empty when none did.
 std::string first_failure(const Communicator& comm, const std::string& failure);
 
-/// One process: rank 0 of 1.
+/// One process: Alone, rank 0 of 1.
 const Communicator& one_process();
 
 /// The ranks this process runs among: MPI's world when the build has MPI and a launcher started several
