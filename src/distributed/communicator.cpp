@@ -1,8 +1,8 @@
 #include "mpm/distributed/communicator.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -148,10 +148,11 @@ bool mpi_active = false;
 }  // namespace
 
 std::string broadcast_text(const Communicator& comm, const std::string& text, int root) {
-  std::vector<std::byte> bytes(text.size());
-  std::memcpy(bytes.data(), text.data(), text.size());
-  bytes = comm.broadcast(std::move(bytes), root);
-  return std::string(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  const auto* first = reinterpret_cast<const std::byte*>(text.data());
+  const std::vector<std::byte> bytes = comm.broadcast(std::vector<std::byte>(first, first + text.size()), root);
+  std::string out(bytes.size(), '\0');
+  std::transform(bytes.begin(), bytes.end(), out.begin(), [](std::byte b) { return static_cast<char>(b); });
+  return out;
 }
 
 std::string first_failure(const Communicator& comm, const std::string& failure) {
