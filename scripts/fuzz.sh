@@ -15,7 +15,7 @@ cmake --build build-fuzz -j"$(nproc)" --target fuzz_scene fuzz_checkpoint
 corpus=build-fuzz/corpus
 artifacts=build-fuzz/artifacts/
 rm -rf "$corpus" "$artifacts" && mkdir -p "$corpus/fuzz_scene" "$corpus/fuzz_checkpoint" "$artifacts"
-for scene in examples/*/scene.toml examples/implicit/*.toml; do
+for scene in examples/*/scene.toml examples/implicit/*.toml examples/contact/*.toml; do
   name=$(echo "$scene" | tr '/' '_')
   cp "$scene" "$corpus/fuzz_scene/$name"
   # A checkpoint of the first step (27-390 kB).

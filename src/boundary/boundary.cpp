@@ -1,5 +1,6 @@
 #include "mpm/boundary/boundary.hpp"
 
+#include "mpm/contact/coulomb.hpp"
 #include "mpm/core/errors.hpp"
 
 namespace mpm {
@@ -52,6 +53,8 @@ KinematicConstraints<Dim>::KinematicConstraints(const BoundarySpec<Dim>& spec, c
     const int outward = high ? 1 : -1;
     if (fc.type == FaceType::velocity) {
       Group grp{face_name[face], {}, -1, fc.velocity, {}};
+      grp.friction = fc.friction;
+      grp.normal[axis] = outward;
       for_all_nodes(g, [&](std::int32_t f, const IVec<Dim>& i) {
         if ((i[axis] - plane) * outward >= 0) grp.nodes.push_back(f);
       });
@@ -169,7 +172,9 @@ void KinematicConstraints<Dim>::constrain_velocity(Grid<Dim>& grid, NodeVelocity
     const Vec<Dim> val = value(grp, t);
     for (std::int32_t n : grp.nodes) {
       Vec<Dim>& v = grid.nodes[n].*field;
-      if (grp.component < 0)
+      if (grp.friction >= 0)
+        v += coulomb_contact<Dim>(v - val, grp.normal, grp.friction);
+      else if (grp.component < 0)
         v = val;
       else
         v[grp.component] = val[grp.component];
@@ -180,6 +185,7 @@ void KinematicConstraints<Dim>::constrain_velocity(Grid<Dim>& grid, NodeVelocity
 template <int Dim>
 void KinematicConstraints<Dim>::constrain_update(Grid<Dim>& grid, Real t_new, Real dt) {
   const bool difference = acceleration_ == ConstrainedAcceleration::velocity_difference;
+  friction_power_ = {};
   for (std::size_t g = 0; g < groups_.size(); ++g) {
     const Group& grp = groups_[g];
     const Vec<Dim> val = value(grp, t_new);
@@ -189,6 +195,18 @@ void KinematicConstraints<Dim>::constrain_update(Grid<Dim>& grid, Real t_new, Re
     reaction = {};
     for (std::size_t k = 0; k < grp.nodes.size(); ++k) {
       GridNode<Dim>& node = grid.nodes[grp.nodes[k]];
+      if (grp.friction >= 0) {
+        // A Coulomb wall: the advanced velocity corrected against the wall's, and the particles given the
+        // acceleration that goes with it, a = a_free + dv / dt.
+        const Vec<Dim> change = coulomb_contact<Dim>(node.v_new - val, grp.normal, grp.friction);
+        node.v_new += change;
+        node.a += change / dt;
+        if (!grp.owned[k]) continue;
+        const Vec<Dim> force = node.m * change / dt;
+        for (int c = 0; c < Dim; ++c) reaction[c].add(force[c]);
+        friction_power_.add(-force.dot(node.v_new - val));
+        continue;
+      }
       for (int c = first; c < last; ++c) {
         node.v_new[c] = val[c];
         // Steffen et al. 2008, Eq. (30): the acceleration that brings the projected velocity to the

@@ -77,6 +77,12 @@ std::vector<Vec<Dim>> Simulation<Dim, Kernel>::face_reactions() const {
 }
 
 template <int Dim, class Kernel>
+Real Simulation<Dim, Kernel>::friction_power() const {
+  if (!box_halo_.divided()) return constraints_.friction_power().value();
+  return sum_over_ranks({constraints_.friction_power()}, *comm_)[0];
+}
+
+template <int Dim, class Kernel>
 std::vector<Vec<Dim>> Simulation<Dim, Kernel>::rigid_reactions() const {
   if (!box_halo_.divided() || rigid_.empty()) return rigid_.reactions();
   return sum_over_ranks<Dim>(rigid_.reaction_sums(), *comm_);

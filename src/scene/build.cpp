@@ -106,6 +106,7 @@ BoundarySpec<Dim> boundary_of(const Scene& sc) {
   for (int f = 0; f < 2 * Dim; ++f) {
     const SceneFace& face = sc.faces[f];
     FaceCondition<Dim>& fc = boundary.faces[f];
+    fc.friction = face.friction;
     switch (face.kind) {
       case SceneFace::Kind::free:
         fc.type = FaceType::free;

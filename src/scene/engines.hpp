@@ -119,6 +119,8 @@ class Explicit {
   std::vector<Vec<Dim>> reactions() const {
     return constraint_forces(sim_.face_reactions(), sim_.rigid_reactions());
   }
+  /// The power friction dissipated on the Coulomb walls in the last step [W].
+  Real friction_power() const { return sim_.friction_power(); }
   std::vector<Vec<Dim>> reaction_velocities(Real t) const {
     return constraint_velocities(sim_.constraints(), sim_.rigid_bodies(), t);
   }
@@ -214,6 +216,8 @@ class Implicit {
   const ImplicitSimulation<Dim, Kernel>& sim() const { return sim_; }
   std::vector<std::string> reaction_names() const { return constraint_names(sim_.constraints(), sim_.rigid_bodies()); }
   std::vector<Vec<Dim>> reactions() const { return constraint_forces(sim_.face_reactions(), sim_.rigid_reactions()); }
+  /// Coulomb walls are refused for the implicit step (the scene reader): nothing dissipates there.
+  Real friction_power() const { return 0; }
   std::vector<Vec<Dim>> reaction_velocities(Real t) const {
     return constraint_velocities(sim_.constraints(), sim_.rigid_bodies(), t);
   }

@@ -93,7 +93,7 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
 
 void read_loads(const Section& s, Scene& sc, const Locator& loc) {
   const auto n = static_cast<std::size_t>(sc.dim);
-  sc.gravity = s.has("gravity") ? s.numbers("gravity", n) : std::vector<double>(n, 0.0);
+  sc.gravity = s.has("gravity") ? s.constant_numbers("gravity", n, sc.constants) : std::vector<double>(n, 0.0);
   if (s.has("body_force")) sc.body_force = s.expressions("body_force", n, reference_time_vars[n - 1], sc.constants);
   const std::vector<const toml::table*> tractions = s.tables("traction");
   for (std::size_t k = 0; k < tractions.size(); ++k) {

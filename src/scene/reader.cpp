@@ -150,12 +150,23 @@ void read_grid(const Section& s, Scene& sc, const Locator& loc) {
                   : kind == "periodic" ? SceneFace::Kind::periodic
                                        : SceneFace::Kind::outflow;
     } else if (node->is_table()) {
-      const Section v(*node->as_table(), f.key_of(names[k]), loc, {"velocity"});
-      if (!v.has("velocity")) v.fail("velocity", "missing (an array of prescribed velocity components)");
-      face.kind = SceneFace::Kind::velocity;
-      face.velocity = v.expressions("velocity", n, time_var, sc.constants);
+      // { velocity = [...] }: a moving wall; { friction = mu }: a fixed Coulomb wall; both: a moving one.
+      const Section v(*node->as_table(), f.key_of(names[k]), loc, {"velocity", "friction"});
+      if (!v.has("velocity") && !v.has("friction"))
+        v.fail("velocity", "missing (an array of prescribed velocity components, or a friction coefficient)");
+      face.kind = v.has("velocity") ? SceneFace::Kind::velocity : SceneFace::Kind::fixed;
+      if (v.has("velocity")) face.velocity = v.expressions("velocity", n, time_var, sc.constants);
+      if (v.has("friction")) {
+        if (sc.implicit)
+          v.fail("friction", "Coulomb walls are for the explicit integrators; the implicit one holds every component "
+                             "of a wall (write \"fixed\")");
+        face.friction = v.constant_number("friction", 0.0, sc.constants);
+        if (!(face.friction >= 0) || !std::isfinite(face.friction))
+          v.fail("friction", "expected a friction coefficient >= 0, got " + std::to_string(face.friction));
+      }
     } else {
-      f.fail(names[k], "expected \"free\", \"fixed\", \"symmetry\", \"periodic\", \"outflow\" or { velocity = [...] }");
+      f.fail(names[k], "expected \"free\", \"fixed\", \"symmetry\", \"periodic\", \"outflow\", { velocity = [...] } "
+                       "or { friction = mu }");
     }
   }
   for (std::size_t d = 0; d < n; ++d) {  // Steffen et al. 2008, Sec. 4.3: periodic faces come in pairs

@@ -155,6 +155,11 @@ class SceneRun {
     });
     acc_.error.add_sums(comm_.max(largest), sums[0], sums[1], engine_.particle_count());
   }
+  bool has_friction() const {
+    for (const SceneFace& f : sc_.faces)
+      if (f.friction >= 0) return true;
+    return false;
+  }
   bool has_outflow() const {
     for (const SceneFace& f : sc_.faces)
       if (f.kind == SceneFace::Kind::outflow) return true;
@@ -174,6 +179,7 @@ class SceneRun {
     for (const std::string& name : engine_.reaction_names())
       for (int d = 0; d < Dim; ++d) h += ",reaction_" + name + "_" + axis[d];
     for (const std::string& name : engine_.counter_names()) h += ',' + name;
+    if (has_friction()) h += ",friction_dissipation";
     if (has_outflow()) {
       h += ",outflow_mass,outflow_energy";
       for (int d = 0; d < Dim; ++d) h += std::string(",outflow_momentum_") + axis[d];
@@ -192,6 +198,7 @@ class SceneRun {
     for (const Vec<Dim>& r : reactions)
       for (int d = 0; d < Dim; ++d) history << ',' << r[d];
     for (const std::int64_t n : engine_.counters()) history << ',' << n;
+    if (has_friction()) history << ',' << acc_.friction_dissipation;
     if (has_outflow()) {
       const Outflow<Dim>& out = sim_.outflow();
       history << ',' << out.mass << ',' << out.kinetic_energy + out.strain_energy;
@@ -201,7 +208,8 @@ class SceneRun {
   }
 
   /// Work of gravity, body forces and tractions over the step (force at t^n times the mean of the old and new
-  /// velocities) plus the work of the moving constraints (reaction times prescribed velocity).
+  /// velocities) plus the work of the moving constraints (reaction times prescribed velocity); and the energy
+  /// friction dissipated on the Coulomb walls (their power over the step times the step).
   void account_work() {
     const Real dt = sim_.time() - previous_time_;
     previous_time_ = sim_.time();
@@ -210,6 +218,7 @@ class SceneRun {
     const std::vector<Vec<Dim>> reactions = engine_.reactions();
     for (std::size_t g = 0; g < walls.size(); ++g) power += reactions[g].dot(walls[g]);
     acc_.external_work += dt * power;
+    acc_.friction_dissipation += dt * engine_.friction_power();
   }
 
   /// One frame of every rank's particles (RunFiles::frame).
@@ -252,6 +261,7 @@ class SceneRun {
     if (has_check())
       j["error"] = {{"linf", failure.empty() ? acc_.error.linf : 1.0}, {"l1", acc_.error.l1()}, {"l2", acc_.error.l2()}};
     if (t) j["energy"] = {{"kinetic", t->kinetic}, {"strain", t->strain}, {"external_work", acc_.external_work}};
+    if (t && has_friction()) j["energy"]["friction_dissipation"] = acc_.friction_dissipation;
     if (has_outflow()) {
       const Outflow<Dim>& out = sim_.outflow();
       j["outflow"] = {{"particles", out.particles},

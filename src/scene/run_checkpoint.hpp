@@ -20,6 +20,7 @@ struct Accumulators {
   std::int64_t frames = 0;    ///< particle outputs written
   Real last_frame_time = -1;  ///< time of the last one
   Real external_work = 0;     ///< work of the loads and moving constraints since t = 0 [J]
+  Real friction_dissipation = 0;  ///< energy friction dissipated on the Coulomb walls since t = 0 [J]
   ErrorNorms error;           ///< the [check] error norms so far
 };
 
@@ -57,6 +58,7 @@ io::CheckpointData save(const Scene& sc, const Engine& engine, const Accumulator
   c.integer_scalars = {{"dim", Dim}, {"particles", engine.particle_count()}, {"steps", engine.sim().steps()},
                        {"frames", a.frames}, {"error_samples", a.error.samples}};
   c.real_scalars = {{"time", engine.sim().time()}, {"external_work", a.external_work},
+                    {"friction_dissipation", a.friction_dissipation},
                     {"last_frame_time", a.last_frame_time}, {"error_linf", a.error.linf},
                     {"error_sum", a.error.sum}, {"error_sum_sq", a.error.sum_sq}};
   c.reals = {{"x", flat(p.x)}, {"X", flat(p.X)}, {"v", flat(p.v)}, {"F", flat(p.F)}, {"m", p.m}, {"V0", p.V0},
@@ -123,6 +125,9 @@ void load_share(const io::CheckpointData& c, Engine& engine, Accumulators& a, st
   }
   engine.load(c, where);
   a.external_work = scalar(c.real_scalars, "external_work", where);
+  // A checkpoint written before Coulomb walls existed had none dissipating.
+  const auto dissipated = c.real_scalars.find("friction_dissipation");
+  a.friction_dissipation = dissipated == c.real_scalars.end() ? 0 : dissipated->second;
   a.last_frame_time = scalar(c.real_scalars, "last_frame_time", where);
   a.error.linf = scalar(c.real_scalars, "error_linf", where);
   a.error.sum = scalar(c.real_scalars, "error_sum", where);

@@ -157,6 +157,27 @@ class Section {
     }
     return out;
   }
+  /// An array of n numbers, each written as a number or an expression string of the constants alone (e.g.
+  /// "9.81 * sin(theta * pi / 180)"), evaluated once.
+  std::vector<double> constant_numbers(const std::string& k, std::size_t n,
+                                       const std::map<std::string, double>& constants) const {
+    std::vector<double> out;
+    for (const ExpressionPtr& e : expressions(k, n, {}, constants)) {
+      out.push_back((*e)({}));
+      if (!std::isfinite(out.back())) fail(k, "expected finite values, got " + std::to_string(out.back()));
+    }
+    return out;
+  }
+  /// One number written as a number or an expression string of the constants alone; `fallback` when absent.
+  double constant_number(const std::string& k, double fallback, const std::map<std::string, double>& constants) const {
+    const toml::node* n = get(k);
+    if (!n) return fallback;
+    if (n->is_number()) return number(k, fallback);
+    if (!n->is_string()) fail(k, "expected a number or an expression string of the constants, got " + describe(*n));
+    const double v = Expression(n->value<std::string>().value(), {}, constants, loc_.where(n, key_of(k)))({});
+    if (!std::isfinite(v)) fail(k, "expected a finite value, got " + std::to_string(v));
+    return v;
+  }
   const toml::table* table(const std::string& k) const {
     const toml::node* n = get(k);
     if (!n) return nullptr;

@@ -26,6 +26,9 @@ template <int Dim>
 struct FaceCondition {
   FaceType type = FaceType::free;
   VelocityFn<Dim> velocity;  ///< used when type == velocity
+  /// A velocity face with friction >= 0 is a Coulomb wall moving at `velocity` (coulomb_contact, contact/coulomb.hpp):
+  /// the body may leave it and slides along it against friction. Negative: it holds every component (no slip).
+  Real friction = -1;
 };
 
 /// Every node (ghosts included) whose position lies in the box [lo, hi] gets the prescribed velocity.
@@ -118,11 +121,16 @@ class KinematicConstraints {
   const std::vector<Vec<Dim>>& reactions() const { return reactions_; }
   /// The same as exact sums over the owned nodes, to be added over the boxes of a divided grid.
   const std::vector<std::array<ExactSum, Dim>>& reaction_sums() const { return reaction_sums_; }
+  /// The power friction dissipated on the Coulomb walls in the last constrain_update [W]: minus the force each wall
+  /// applied at a node times the node's velocity relative to the wall after it, summed; as exact sums over the owned
+  /// nodes, to be added over the boxes of a divided grid.
+  const ExactSum& friction_power() const { return friction_power_; }
   /// Take the last step's reactions of `other`, the same constraints compiled for another box (a rebalance
   /// between the step and its report).
   void keep_reactions(const KinematicConstraints& other) {
     reactions_ = other.reactions_;
     reaction_sums_ = other.reaction_sums_;
+    friction_power_ = other.friction_power_;
   }
   /// Prescribed velocity of each constraint at time t (zero on symmetry planes).
   std::vector<Vec<Dim>> velocities(Real t) const;
@@ -134,6 +142,8 @@ class KinematicConstraints {
     int component;             ///< constrained component, or -1 for all
     VelocityFn<Dim> velocity;  ///< empty: zero
     std::vector<std::uint8_t> owned;  ///< per node: its reaction counts here (the box owns it)
+    Real friction = -1;               ///< >= 0: a Coulomb wall (component -1), whose outward normal is `normal`
+    Vec<Dim> normal = Vec<Dim>::Zero();
   };
   struct Mirror {
     int axis;
@@ -144,6 +154,7 @@ class KinematicConstraints {
   std::vector<Group> groups_;
   std::vector<Vec<Dim>> reactions_;
   std::vector<std::array<ExactSum, Dim>> reaction_sums_;
+  ExactSum friction_power_;
   std::vector<Mirror> mirrors_;
   ConstrainedAcceleration acceleration_;
 };

@@ -126,6 +126,9 @@ class Simulation {
   const KinematicConstraints<Dim>& constraints() const { return constraints_; }
   /// The reaction of each face and region constraint (constraints().names()) in the last step, over all ranks [N].
   std::vector<Vec<Dim>> face_reactions() const;
+  /// The power friction dissipated on the Coulomb walls in the last step, over all ranks [W] (friction_power of
+  /// KinematicConstraints).
+  Real friction_power() const;
   /// The reaction of each rigid body in the last step, over all ranks [N].
   std::vector<Vec<Dim>> rigid_reactions() const;
   const RigidBodies<Dim>& rigid_bodies() const { return rigid_; }

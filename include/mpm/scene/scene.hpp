@@ -19,6 +19,7 @@ namespace mpm {
 struct SceneFace {
   enum class Kind { free, fixed, symmetry, velocity, periodic, outflow } kind = Kind::free;
   std::vector<ExpressionPtr> velocity;  ///< one expression of t per component (kind == velocity)
+  double friction = -1;  ///< kind fixed or velocity: >= 0 a Coulomb wall with this coefficient; < 0 no slip
 };
 
 /// A material: Neo-Hookean, a rate-form hypoelastic / von Mises law (Sulsky & Kaul 2004), or a Newtonian fluid.

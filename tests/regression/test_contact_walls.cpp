@@ -1,0 +1,133 @@
+// Coulomb walls (a grid face with `friction`, contact/coulomb.hpp) on examples/contact/inclined-block.toml: an
+// elastic block on a plane inclined by 30 degrees slides with the acceleration g (sin(theta) - mu cos(theta)) for
+// mu < tan(theta) = 0.577 and stays put above it; while it slides the wall's tangential force is mu times its normal
+// force; the energy balance closes with the dissipated energy; the same bits on 1 to 4 ranks and after a restart;
+// bad friction refused.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "distributed_support.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace mpm::testing;
+
+const std::string block = (source_dir / "examples/contact/inclined-block.toml").string();
+constexpr double g = 9.81, theta = 30 * 3.14159265358979323846 / 180, mass = 1000 * 0.4 * 0.2;  // [kg/m]
+
+/// The history of the inclined block with friction mu (and more --set arguments).
+std::map<std::string, std::vector<double>> slide(double mu, const std::string& more = "") {
+  const fs::path dir = scratch("contact_walls", "mu" + std::to_string(mu));
+  const int status = run_mpm(block, "--out " + (dir / "out").string() + " --set constants.mu=" + std::to_string(mu) + " " + more,
+                             dir / "log.txt");
+  EXPECT_EQ(status, 0) << slurp(dir / "log.txt");
+  std::map<std::string, std::vector<double>> h = csv_columns(dir / "out/history.csv");
+  fs::remove_all(dir);
+  return h;
+}
+
+/// The mean acceleration along the plane after the load's ramp (t >= 0.15 s): the change of momentum over mass
+/// and time.
+double acceleration(const std::map<std::string, std::vector<double>>& h) {
+  const std::vector<double>& t = h.at("time");
+  const std::vector<double>& p = h.at("momentum_x");
+  std::size_t first = 0;
+  while (t[first] < 0.15) ++first;
+  return (p.back() - p[first]) / mass / (t.back() - t[first]);
+}
+
+TEST(ContactWalls, InclinedBlockSlidesWithTheCoulombAcceleration) {
+  // Measured: mu = 0: exact to 1e-12 (a one-sided frictionless wall); 0.2: +0.7%; 0.4: -0.1% of the analytic
+  // acceleration; asserted within 2%.
+  for (double mu : {0.0, 0.2, 0.4}) {
+    const auto h = slide(mu);
+    const double expected = g * (std::sin(theta) - mu * std::cos(theta));
+    EXPECT_NEAR(acceleration(h), expected, 0.02 * expected) << "mu = " << mu;
+    // Sliding, every wall node gives mu times its normal force along the plane: so does the whole wall.
+    const double normal = h.at("reaction_y-min_y").back(), tangential = h.at("reaction_y-min_x").back();
+    EXPECT_GT(normal, 0.0);
+    EXPECT_NEAR(tangential, -mu * normal, 1e-9 * normal) << "mu = " << mu;
+    // Energy: kinetic + strain + dissipated = work of the loads (measured within 1.0%; the work and the
+    // dissipation are each accounted to first order in the step).
+    const double work = h.at("external_work").back();
+    EXPECT_NEAR(h.at("total_energy").back() + h.at("friction_dissipation").back(), work, 0.02 * work) << "mu = " << mu;
+    if (mu == 0) {
+      EXPECT_EQ(h.at("friction_dissipation").back(), 0.0);
+    }
+  }
+}
+
+TEST(ContactWalls, InclinedBlockStaysPutAboveTanTheta) {
+  // mu = 0.7 > tan(30 degrees): after the ramp the block does not move (measured |v| = 4e-4 m/s at 0.4 s, where
+  // without friction it would move at 1.7 m/s).
+  const auto h = slide(0.7);
+  EXPECT_LT(std::abs(h.at("momentum_x").back() / mass), 2e-3);
+  EXPECT_LT(std::abs(acceleration(h)), 0.01);
+}
+
+TEST(ContactWalls, TiltedGravityFromConstants) {
+  // gravity as expressions of the constants, unramped: the block released onto the plane bounces on it, but with
+  // mu = 0.2 it slides all the time, and its mean acceleration over the run is still the Coulomb one (measured +0.3%).
+  const auto h = slide(0.2, "--set 'loads.gravity=[\"g * sin(theta * pi / 180)\", \"-g * cos(theta * pi / 180)\"]' "
+                            "--set 'loads.body_force=[0.0, 0.0]'");
+  const double expected = g * (std::sin(theta) - 0.2 * std::cos(theta));
+  EXPECT_NEAR(h.at("momentum_x").back() / mass / h.at("time").back(), expected, 0.02 * expected);
+}
+
+TEST(ContactWalls, SameBitsOnOneToFourRanks) {
+  if (std::string(MPM_MPIEXEC).empty()) GTEST_SKIP() << "built without MPI";
+  std::vector<std::string> histories;
+  for (int ranks = 1; ranks <= 4; ++ranks) {
+    const fs::path dir = scratch("contact_walls", "ranks" + std::to_string(ranks));
+    ASSERT_EQ(run_on(ranks, block, "--set simulation.end_time=0.15 --out " + (dir / "out").string(), dir / "log.txt"), 0)
+        << slurp(dir / "log.txt");
+    histories.push_back(slurp(dir / "out/history.csv"));
+    fs::remove_all(dir);
+  }
+  EXPECT_NE(histories[0].find("friction_dissipation"), std::string::npos);
+  for (int ranks = 2; ranks <= 4; ++ranks) EXPECT_EQ(histories[static_cast<std::size_t>(ranks - 1)], histories[0]) << ranks;
+}
+
+TEST(ContactWalls, RestartKeepsTheDissipation) {
+  // Stopped after 300 steps and restarted from its checkpoint, the run ends with the uninterrupted history, byte
+  // for byte, friction_dissipation included.
+  const fs::path dir = scratch("contact_walls", "restart");
+  const std::string end = "--set simulation.end_time=0.15 ";
+  ASSERT_EQ(run_mpm(block, end + "--out " + (dir / "one").string(), dir / "log.txt"), 0) << slurp(dir / "log.txt");
+  ASSERT_EQ(run_mpm(block, end + "--stop-after 300 --out " + (dir / "two").string(), dir / "log.txt"), 0);
+  ASSERT_EQ(run_mpm(block, end + "--restart " + (dir / "two/checkpoint.h5").string() + " --out " + (dir / "two").string(),
+                    dir / "log.txt"),
+            0)
+      << slurp(dir / "log.txt");
+  const std::string history = slurp(dir / "one/history.csv");
+  EXPECT_GT(csv_columns(dir / "one/history.csv").at("friction_dissipation").back(), 0.0);
+  EXPECT_EQ(slurp(dir / "two/history.csv"), history);
+  fs::remove_all(dir);
+}
+
+TEST(ContactWalls, BadFrictionIsRefusedWithOneLine) {
+  const fs::path dir = scratch("contact_walls", "bad");
+  struct Case {
+    std::string set, expected;
+  };
+  for (const Case& c : std::vector<Case>{
+           {"--set constants.mu=-0.1", "grid.faces.y-min.friction: expected a friction coefficient >= 0"},
+           {"--set simulation.integrator=implicit",
+            "grid.faces.y-min.friction: Coulomb walls are for the explicit integrators"}}) {
+    EXPECT_EQ(run_mpm(block, "--out " + (dir / "out").string() + " " + c.set, dir / "log.txt"), 2) << c.set;
+    const std::string log = slurp(dir / "log.txt");
+    EXPECT_NE(log.find(c.expected), std::string::npos) << log;
+    EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1) << log;
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
