@@ -1,5 +1,7 @@
 #include "mpm/boundary/boundary.hpp"
 
+#include <cmath>
+
 #include "mpm/contact/coulomb.hpp"
 #include "mpm/core/errors.hpp"
 
@@ -26,6 +28,12 @@ Vec<Dim> reflect(Vec<Dim> v, int axis) {
 template <int Dim>
 void validate_faces(const BoundarySpec<Dim>& spec, const IVec<Dim>& cells, Geometry geometry, Real lo0,
                     const std::string& at) {
+  for (int f = 0; f < 2 * Dim; ++f) {
+    const FaceCondition<Dim>& fc = spec.faces[f];
+    if (std::isnan(fc.friction) || (fc.friction >= 0 && (!std::isfinite(fc.friction) || fc.type != FaceType::velocity)))
+      throw InputError(at + "boundary " + face_name[f] + ": friction " + std::to_string(fc.friction) +
+                       " (a Coulomb wall is a velocity face with a finite friction coefficient >= 0)");
+  }
   for (int d = 0; d < Dim; ++d) {
     const bool lo = spec.faces[2 * d].type == FaceType::periodic, hi = spec.faces[2 * d + 1].type == FaceType::periodic;
     if (lo != hi)

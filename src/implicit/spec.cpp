@@ -52,6 +52,8 @@ void validate(const ImplicitSpec<Dim>& s, const std::string& where) {
   require(s.geometry != Geometry::axisymmetric || s.grid_lo[0] >= 0,
           at + "grid.lo: an axisymmetric grid must lie at radius x >= 0");
   validate_faces<Dim>(s.boundary, s.cells, s.geometry, s.grid_lo[0], at);
+  for (const FaceCondition<Dim>& f : s.boundary.faces)
+    require(!(f.friction >= 0), at + "grid.faces: Coulomb walls (friction) are for the explicit integrators");
   require(s.theta >= 0 && s.theta <= 1, at + "implicit.theta: expected a number in [0, 1]");
   require(s.solver != ImplicitSolver::linear_cg || s.formulation == Formulation::velocity,
           at + "implicit.solver: cg (linear) needs the symmetric velocity formulation");
