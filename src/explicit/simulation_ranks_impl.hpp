@@ -78,8 +78,10 @@ std::vector<Vec<Dim>> Simulation<Dim, Kernel>::face_reactions() const {
 
 template <int Dim, class Kernel>
 Real Simulation<Dim, Kernel>::friction_power() const {
-  if (!box_halo_.divided()) return constraints_.friction_power().value();
-  return sum_over_ranks({constraints_.friction_power()}, *comm_)[0];
+  ExactSum power = constraints_.friction_power();
+  power.add(rigid_.friction_power());
+  if (!box_halo_.divided()) return power.value();
+  return sum_over_ranks({power}, *comm_)[0];
 }
 
 template <int Dim, class Kernel>

@@ -61,6 +61,8 @@ void validate(const SimulationSpec<Dim>& s) {
   for (const RigidBody<Dim>& b : s.rigid_bodies) {
     require(!b.points.empty(), "rigid body '" + b.name + "': has no points");
     require(static_cast<bool>(b.velocity), "rigid body '" + b.name + "': needs a velocity");
+    require(b.friction < 0 || std::isfinite(b.friction), "rigid body '" + b.name + "': friction must be finite");
+    require(!std::isnan(b.friction), "rigid body '" + b.name + "': friction must be a number");
   }
   if (s.dt > 0) {
     require(std::isfinite(s.dt), "dt: must be finite");

@@ -90,6 +90,7 @@ void validate(const ImplicitSpec<Dim>& s, const std::string& where) {
   for (const RigidBody<Dim>& b : s.rigid_bodies) {
     require(!b.points.empty(), at + "rigid body '" + b.name + "': has no points");
     require(static_cast<bool>(b.velocity), at + "rigid body '" + b.name + "': needs a velocity");
+    require(!(b.friction >= 0), at + "rigid body '" + b.name + "': Coulomb bodies are for the explicit integrators");
   }
 }
 

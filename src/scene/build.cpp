@@ -176,6 +176,7 @@ std::vector<RigidBody<Dim>> rigid_bodies_of(const Scene& sc) {
     fill_box<Dim>(points, to_vec<Dim>(r.lo), to_vec<Dim>(r.hi), spacing, 1.0, 0);
     RigidBody<Dim> body{r.name, points.x, Vec<Dim>::Constant(0.5 * spacing), velocity_of<Dim>(r.velocity)};
     for (int d = 0; d < Dim; ++d) body.imposes[d] = r.imposes[d];
+    body.friction = r.friction;
     out.push_back(std::move(body));
   }
   return out;

@@ -135,6 +135,14 @@ void read_rigid_body(const Section& s, Scene& sc, std::size_t index) {
       r.imposes[static_cast<std::size_t>(axis - axes.begin())] = true;
     }
   }
+  if (s.has("friction")) {
+    if (s.has("contact_axes")) s.fail("friction", "a Coulomb body's contact follows its surface; drop contact_axes");
+    if (sc.implicit)
+      s.fail("friction", "Coulomb bodies are for the explicit integrators; the implicit one holds every component "
+                         "a rigid body touches");
+    r.friction = s.constant_number("friction", 0.0, sc.constants);
+    if (!(r.friction >= 0)) s.fail("friction", "expected a friction coefficient >= 0, got " + std::to_string(r.friction));
+  }
   sc.rigid_bodies.push_back(std::move(r));
 }
 

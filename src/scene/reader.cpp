@@ -321,7 +321,7 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
   const std::vector<const toml::table*> rigid = top.tables("rigid_bodies");
   for (std::size_t k = 0; k < rigid.size(); ++k)
     read_rigid_body(Section(*rigid[k], "rigid_bodies[" + std::to_string(k) + "]", loc,
-                            {"name", "shape", "lo", "hi", "ppc", "velocity", "contact_axes"}),
+                            {"name", "shape", "lo", "hi", "ppc", "velocity", "contact_axes", "friction"}),
                     sc, k);
   if (const toml::table* loads = top.table("loads"))
     read_loads(Section(*loads, "loads", loc, {"gravity", "body_force", "traction"}), sc, loc);

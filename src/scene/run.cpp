@@ -155,9 +155,12 @@ class SceneRun {
     });
     acc_.error.add_sums(comm_.max(largest), sums[0], sums[1], engine_.particle_count());
   }
+  /// Whether a Coulomb wall or body dissipates energy by friction (history.csv's friction_dissipation).
   bool has_friction() const {
     for (const SceneFace& f : sc_.faces)
       if (f.friction >= 0) return true;
+    for (const SceneRigidBody& r : sc_.rigid_bodies)
+      if (r.friction >= 0) return true;
     return false;
   }
   bool has_outflow() const {

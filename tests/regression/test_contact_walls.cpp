@@ -82,6 +82,42 @@ TEST(ContactWalls, TiltedGravityFromConstants) {
   EXPECT_NEAR(h.at("momentum_x").back() / mass / h.at("time").back(), expected, 0.02 * expected);
 }
 
+TEST(ContactWalls, ACoulombRigidBodyActsAsTheWall) {
+  // The plane made of a rigid body with friction (its normal from its points' shape-function gradients) instead of
+  // the grid face: the block 0.1 m higher on a 0.1 m slab over the whole grid's width. The slab's normal is
+  // vertical, so the block slides as on the face: measured the same acceleration to 1e-15.
+  const fs::path dir = scratch("contact_walls", "rigid");
+  std::string text = slurp(block);
+  const auto replace = [&](const std::string& from, const std::string& to) {
+    const std::size_t at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+  };
+  replace("hi = [2.0, 0.4]", "hi = [2.0, 0.5]");
+  replace("cells = [80, 16]", "cells = [80, 20]");
+  replace("faces = { y-min = { friction = \"mu\" } }", "faces = { y-min = \"fixed\" }");
+  replace("lo = [0.1, 0.0]", "lo = [0.1, 0.1]");
+  replace("hi = [0.5, 0.2]", "hi = [0.5, 0.3]");
+  text += "\n[[rigid_bodies]]\nname = \"plane\"\nlo = [0.0, 0.0]\nhi = [2.0, 0.1]\nvelocity = [0.0, 0.0]\nfriction = \"mu\"\n";
+  std::ofstream(dir / "rigid.toml") << text;
+  ASSERT_EQ(run_mpm(dir / "rigid.toml", "--out " + (dir / "out").string(), dir / "log.txt"), 0) << slurp(dir / "log.txt");
+  const auto h = csv_columns(dir / "out/history.csv");
+  const double face = acceleration(slide(0.2));
+  EXPECT_NEAR(acceleration(h), face, 1e-12 * face);
+  const double normal = h.at("reaction_plane_y").back(), tangential = h.at("reaction_plane_x").back();
+  EXPECT_GT(normal, 0.0);
+  EXPECT_NEAR(tangential, -0.2 * normal, 1e-9 * normal);
+  const double work = h.at("external_work").back();
+  EXPECT_NEAR(h.at("total_energy").back() + h.at("friction_dissipation").back(), work, 0.02 * work);
+  // A Coulomb body's contact follows its surface: contact_axes with it is refused, as is the implicit integrator.
+  for (const std::string& set : {std::string("--set 'rigid_bodies.0.contact_axes=[\"y\"]'"),
+                                 std::string("--set simulation.integrator=implicit")}) {
+    EXPECT_EQ(run_mpm(dir / "rigid.toml", "--out " + (dir / "bad").string() + " " + set, dir / "log.txt"), 2) << set;
+    EXPECT_NE(slurp(dir / "log.txt").find("rigid_bodies[0].friction: "), std::string::npos) << slurp(dir / "log.txt");
+  }
+  fs::remove_all(dir);
+}
+
 TEST(ContactWalls, SameBitsOnOneToFourRanks) {
   if (std::string(MPM_MPIEXEC).empty()) GTEST_SKIP() << "built without MPI";
   std::vector<std::string> histories;

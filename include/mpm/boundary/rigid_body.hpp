@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "mpm/boundary/boundary.hpp"
+#include "mpm/contact/coulomb.hpp"
 #include "mpm/core/errors.hpp"
 #include "mpm/grid/grid.hpp"
 #include "mpm/shape/stencil.hpp"
@@ -30,6 +31,9 @@ struct RigidBody {
   VelocityFn<Dim> velocity;                 ///< v(t) [m/s]
   /// Components the body imposes: all (no-slip contact, the default), or some (free slip along the others).
   std::array<bool, Dim> imposes = filled<Dim>(true);
+  /// >= 0: a Coulomb body instead (coulomb_contact, contact/coulomb.hpp), whose normal at a node is the gradient of
+  /// its points' shape functions there; the material may leave it and slides along it against friction.
+  Real friction = -1;
 };
 
 /// The rigid bodies of a run, where they are, and the nodes they touch.
@@ -40,6 +44,7 @@ class RigidBodies {
   RigidBodies(std::vector<RigidBody<Dim>> bodies, const GridGeometry<Dim>& g)
       : bodies_(std::move(bodies)),
         nodes_(bodies_.size()),
+        normals_(bodies_.size()),
         displacement_(bodies_.size(), Vec<Dim>::Zero()),
         reactions_(bodies_.size(), Vec<Dim>::Zero()),
         reaction_sums_(bodies_.size()) {
@@ -81,6 +86,7 @@ class RigidBodies {
     for (std::size_t b = 0; b < bodies_.size(); ++b) {
       const RigidBody<Dim>& body = bodies_[b];
       std::vector<std::pair<std::int32_t, bool>> touched;
+      std::vector<std::pair<std::int32_t, Vec<Dim>>> gradients;  // a Coulomb body's: sum_p grad S_i(x_p), by node
       for (const Vec<Dim>& x0 : body.points) {
         const Vec<Dim> x = x0 + displacement_[b];
         if (!g.contains(x)) throw SimulationFailure(when + ": rigid body '" + body.name + "' left the grid");
@@ -108,7 +114,16 @@ class RigidBodies {
                 mine = mine && layer < owned[d];
                 flat = flat * g.nodes_along(d) + layer;
               }
-              if (inside) touched.emplace_back(flat, mine);
+              if (!inside) continue;
+              touched.emplace_back(flat, mine);
+              if (body.friction < 0) continue;
+              Vec<Dim> grad;
+              for (int d = 0; d < Dim; ++d) {
+                grad[d] = dw[d][k[d]];
+                for (int e = 0; e < Dim; ++e)
+                  if (e != d) grad[d] *= w[e][k[e]];
+              }
+              gradients.emplace_back(flat, grad);
             }
       }
       std::sort(touched.begin(), touched.end());
@@ -119,6 +134,19 @@ class RigidBodies {
         nodes_[b].push_back(n);
         owned_[b].push_back(mine);
       }
+      normals_[b].assign(nodes_[b].size(), Vec<Dim>::Zero());
+      if (body.friction < 0) continue;
+      // The points' gradient at a node points out of the body; the material meets it along minus that. Added per
+      // node in the points' order, so the normals do not depend on how the grid is divided.
+      std::stable_sort(gradients.begin(), gradients.end(),
+                       [](const auto& a, const auto& c) { return a.first < c.first; });
+      std::size_t at = 0;
+      for (std::size_t k = 0; k < nodes_[b].size(); ++k) {
+        Vec<Dim> sum = Vec<Dim>::Zero();
+        for (; at < gradients.size() && gradients[at].first == nodes_[b][k]; ++at) sum += gradients[at].second;
+        const Real length = sum.norm();
+        if (length > 0) normals_[b][k] = -sum / length;
+      }
     }
   }
 
@@ -126,9 +154,15 @@ class RigidBodies {
   void constrain_velocity(Grid<Dim>& grid, NodeVelocity<Dim> field, Real t) const {
     for (std::size_t b = 0; b < bodies_.size(); ++b) {
       const Vec<Dim> v = bodies_[b].velocity(t);
-      for (std::int32_t n : nodes_[b])
-        for (int c = 0; c < Dim; ++c)
-          if (bodies_[b].imposes[c]) (grid.nodes[n].*field)[c] = v[c];
+      const Real mu = bodies_[b].friction;
+      for (std::size_t k = 0; k < nodes_[b].size(); ++k) {
+        Vec<Dim>& u = grid.nodes[nodes_[b][k]].*field;
+        if (mu >= 0)
+          u += coulomb_contact<Dim>(u - v, normals_[b][k], mu);
+        else
+          for (int c = 0; c < Dim; ++c)
+            if (bodies_[b].imposes[c]) u[c] = v[c];
+      }
     }
   }
 
@@ -137,12 +171,23 @@ class RigidBodies {
   /// Eq. (3.2.6)); record each body's reaction sum_i m_i (a_i - a_i^free).
   /// The reaction is summed exactly over the nodes the box owns (reaction_sums, to add over the boxes).
   void constrain_update(Grid<Dim>& grid, Real t_new, Real dt) {
+    friction_power_ = {};
     for (std::size_t b = 0; b < bodies_.size(); ++b) {
       const Vec<Dim> v = bodies_[b].velocity(t_new);
       std::array<ExactSum, Dim>& reaction = reaction_sums_[b];
       reaction = {};
       for (std::size_t k = 0; k < nodes_[b].size(); ++k) {
         GridNode<Dim>& node = grid.nodes[nodes_[b][k]];
+        if (bodies_[b].friction >= 0) {  // as a Coulomb wall (KinematicConstraints::constrain_update)
+          const Vec<Dim> change = coulomb_contact<Dim>(node.v_new - v, normals_[b][k], bodies_[b].friction);
+          node.v_new += change;
+          node.a += change / dt;
+          if (!owned_[b][k]) continue;
+          const Vec<Dim> force = node.m * change / dt;
+          for (int c = 0; c < Dim; ++c) reaction[c].add(force[c]);
+          friction_power_.add(-force.dot(node.v_new - v));
+          continue;
+        }
         for (int c = 0; c < Dim; ++c) {
           if (!bodies_[b].imposes[c]) continue;
           const Real a = (v[c] - node.v[c]) / dt;
@@ -156,6 +201,9 @@ class RigidBodies {
   }
   /// The last constrain_update's reactions as exact sums over the owned nodes.
   const std::vector<std::array<ExactSum, Dim>>& reaction_sums() const { return reaction_sums_; }
+  /// The power friction dissipated on the Coulomb bodies in the last constrain_update [W], as an exact sum over
+  /// the owned nodes (KinematicConstraints::friction_power).
+  const ExactSum& friction_power() const { return friction_power_; }
 
   /// Move the bodies over a step from t: displacement += dt v(t + dt/2).
   void advance(Real t, Real dt) {
@@ -165,9 +213,11 @@ class RigidBodies {
  private:
   std::vector<RigidBody<Dim>> bodies_;
   std::vector<std::vector<std::int32_t>> nodes_;
+  std::vector<std::vector<Vec<Dim>>> normals_;  ///< a Coulomb body's: per touched node, from the material into it
   std::vector<std::vector<std::uint8_t>> owned_;  ///< per touched node: the box owns it
   std::vector<Vec<Dim>> displacement_, reactions_;
   std::vector<std::array<ExactSum, Dim>> reaction_sums_;
+  ExactSum friction_power_;
 };
 
 }  // namespace mpm

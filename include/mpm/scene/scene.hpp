@@ -36,6 +36,7 @@ struct SceneRigidBody {
   int ppc = 2;                           ///< points per cell per axis
   std::vector<ExpressionPtr> velocity;   ///< expressions of t
   std::vector<bool> imposes;             ///< per axis: the body imposes this velocity component
+  double friction = -1;                  ///< >= 0: a Coulomb body with this coefficient; < 0 no slip
 };
 
 /// The [implicit] table: the theta-blended Newton-Krylov step of Sulsky & Kaul 2004.
