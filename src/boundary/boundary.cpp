@@ -203,16 +203,8 @@ void KinematicConstraints<Dim>::constrain_update(Grid<Dim>& grid, Real t_new, Re
     reaction = {};
     for (std::size_t k = 0; k < grp.nodes.size(); ++k) {
       GridNode<Dim>& node = grid.nodes[grp.nodes[k]];
-      if (grp.friction >= 0) {
-        // A Coulomb wall: the advanced velocity corrected against the wall's, and the particles given the
-        // acceleration that goes with it, a = a_free + dv / dt.
-        const Vec<Dim> change = coulomb_contact<Dim>(node.v_new - val, grp.normal, grp.friction);
-        node.v_new += change;
-        node.a += change / dt;
-        if (!grp.owned[k]) continue;
-        const Vec<Dim> force = node.m * change / dt;
-        for (int c = 0; c < Dim; ++c) reaction[c].add(force[c]);
-        friction_power_.add(-force.dot(node.v_new - val));
+      if (grp.friction >= 0) {  // a Coulomb wall
+        coulomb_partner<Dim>(node, val, grp.normal, grp.friction, dt, grp.owned[k], reaction, friction_power_);
         continue;
       }
       for (int c = first; c < last; ++c) {

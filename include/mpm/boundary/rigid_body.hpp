@@ -178,14 +178,8 @@ class RigidBodies {
       reaction = {};
       for (std::size_t k = 0; k < nodes_[b].size(); ++k) {
         GridNode<Dim>& node = grid.nodes[nodes_[b][k]];
-        if (bodies_[b].friction >= 0) {  // as a Coulomb wall (KinematicConstraints::constrain_update)
-          const Vec<Dim> change = coulomb_contact<Dim>(node.v_new - v, normals_[b][k], bodies_[b].friction);
-          node.v_new += change;
-          node.a += change / dt;
-          if (!owned_[b][k]) continue;
-          const Vec<Dim> force = node.m * change / dt;
-          for (int c = 0; c < Dim; ++c) reaction[c].add(force[c]);
-          friction_power_.add(-force.dot(node.v_new - v));
+        if (bodies_[b].friction >= 0) {  // a Coulomb body
+          coulomb_partner<Dim>(node, v, normals_[b][k], bodies_[b].friction, dt, owned_[b][k], reaction, friction_power_);
           continue;
         }
         for (int c = 0; c < Dim; ++c) {

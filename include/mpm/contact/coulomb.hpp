@@ -5,6 +5,7 @@
 /// (sliding), or removed (sticking). A grid face or a rigid body is a partner of infinite mass, whose velocity the
 /// correction leaves as it is.
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "mpm/core/types.hpp"
@@ -23,6 +24,23 @@ Vec<Dim> coulomb_contact(const Vec<Dim>& v_rel, const Vec<Dim>& n, Real mu) {
   Vec<Dim> change = -approach * n;
   if (slip > 0) change -= (std::min(mu * approach, slip) / slip) * tangential;
   return change;
+}
+
+/// A partner of infinite mass moving at v_partner, met by the material at a grid node after the grid update: the
+/// node's advanced velocity v_new gets the contact change, its acceleration a (what the particles receive) the
+/// change over dt. When the node's force counts here (`owned`), the force the partner applied, m dv / dt, is added
+/// to `force` and the power friction dissipated, minus that force times the velocity relative to the partner
+/// after it, to `power`.
+template <int Dim, class Node, class Sum>
+void coulomb_partner(Node& node, const Vec<Dim>& v_partner, const Vec<Dim>& n, Real mu, Real dt, bool owned,
+                     std::array<Sum, Dim>& force, Sum& power) {
+  const Vec<Dim> change = coulomb_contact<Dim>(node.v_new - v_partner, n, mu);
+  node.v_new += change;
+  node.a += change / dt;
+  if (!owned) return;
+  const Vec<Dim> f = node.m * change / dt;
+  for (int c = 0; c < Dim; ++c) force[c].add(f[c]);
+  power.add(-f.dot(node.v_new - v_partner));
 }
 
 }  // namespace mpm
