@@ -191,16 +191,16 @@ void KinematicConstraints<Dim>::constrain_velocity(Grid<Dim>& grid, NodeVelocity
 }
 
 template <int Dim>
-void KinematicConstraints<Dim>::constrain_update(Grid<Dim>& grid, Real t_new, Real dt) {
+void KinematicConstraints<Dim>::constrain_update(Grid<Dim>& grid, Real t_new, Real dt, bool add_to_last) {
   const bool difference = acceleration_ == ConstrainedAcceleration::velocity_difference;
-  friction_power_ = {};
+  if (!add_to_last) friction_power_ = {};
   for (std::size_t g = 0; g < groups_.size(); ++g) {
     const Group& grp = groups_[g];
     const Vec<Dim> val = value(grp, t_new);
     const int first = grp.component < 0 ? 0 : grp.component;
     const int last = grp.component < 0 ? Dim : grp.component + 1;
     std::array<ExactSum, Dim>& reaction = reaction_sums_[g];
-    reaction = {};
+    if (!add_to_last) reaction = {};
     for (std::size_t k = 0; k < grp.nodes.size(); ++k) {
       GridNode<Dim>& node = grid.nodes[grp.nodes[k]];
       if (grp.friction >= 0) {  // a Coulomb wall

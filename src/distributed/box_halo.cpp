@@ -84,7 +84,8 @@ BoxHalo<Dim>::BoxHalo(const GridGeometry<Dim>& whole, std::vector<TileBox<Dim>> 
 
 template <int Dim>
 void BoxHalo<Dim>::sum(Grid<Dim>& grid, std::vector<TileSums<Dim>> kept, bool mass_momentum, bool force,
-                       const Communicator& comm, const std::vector<Vec<Dim>>* force_base) const {
+                       const Communicator& comm, const std::vector<Vec<Dim>>* force_base,
+                       bool volume_gradient) const {
   const GridGeometry<Dim>& g = grid.geometry;
   const auto local = [&](const IVec<Dim>& s) {
     std::int64_t f = 0;
@@ -162,6 +163,7 @@ void BoxHalo<Dim>::sum(Grid<Dim>& grid, std::vector<TileSums<Dim>> kept, bool ma
       for (int c = 0; c < count; ++c) t[slot + c] = (first ? (base ? base[c] : Real(0)) : t[slot + c]) + f[slot + c];
     };
     if (mass_momentum) field(S::m, 1, nullptr), field(S::v, Dim, nullptr);
+    if (volume_gradient) field(S::v_new, Dim, nullptr);
     if (force) field(S::a, Dim, force_base ? (*force_base)[static_cast<std::size_t>(at)].data() : nullptr);
   };
   for (std::size_t k = 0; k < parts.size(); ++k)

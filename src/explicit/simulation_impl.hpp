@@ -61,6 +61,8 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
       comm_(&comm),
       box_halo_(detail::divide<Dim, Kernel>(spec, particles_, comm)),
       grid_(box_halo_.box()),
+      contact_fields_(static_cast<std::size_t>(spec.contact.fields - 1), grid_),
+      contact_(spec.contact),
       halo_(grid_.geometry),
       constraints_(spec.boundary, grid_.geometry, box_halo_.owned_layers()),
       rigid_(spec.rigid_bodies, grid_.geometry),
@@ -74,6 +76,7 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
   if (p.size() == 0) throw InputError("particles: the simulation has no particles");
   if (p.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
     throw InputError("particles: more than 2^31 - 1 particles");
+  if (p.field.size() != p.size()) throw InputError("particles: one velocity field index per particle expected");
   Real min_mass = std::numeric_limits<Real>::max();
   for (std::size_t i = 0; i < p.size(); ++i) {
     const std::string at = "particle " + std::to_string(i);
@@ -83,6 +86,9 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
     if (!(p.m[i] > 0) || !(p.V0[i] > 0)) throw InputError(at + ": mass and volume must be positive");
     if (p.material[i] >= spec.materials.size())
       throw InputError(at + ": material index " + std::to_string(p.material[i]) + " has no material");
+    if (p.field[i] >= spec.contact.fields)
+      throw InputError(at + ": velocity field " + std::to_string(p.field[i]) + " of " +
+                       std::to_string(spec.contact.fields));
     if (!p.v[i].allFinite()) throw InputError(at + ": velocity must be finite");
     const Material& material = spec.materials[p.material[i]];
     if (is_rate_form(material) && !(p.F[i] - Mat<Dim>::Identity()).isZero(0))
@@ -246,14 +252,15 @@ void Simulation<Dim, Kernel>::run_until(Real t_end) {
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::step_usf(Real dt) {
   build_stencils();
-  scatter<Scatter{.mass_momentum = true, .force = false}>();
-  grid_velocity(grid_, min_node_mass_);
-  for (GridNode<Dim>& node : grid_.nodes) node.v_new = node.v;
-  constraints_.constrain_velocity(grid_, &GridNode<Dim>::v_new, time_);
-  rigid_.constrain_velocity(grid_, &GridNode<Dim>::v_new, time_);
+  scatter<Scatter{.mass_momentum = true, .force = false, .volume_gradient = true}>();
+  field_velocities(&GridNode<Dim>::v, true);
+  for (Grid<Dim>* field : field_grids())
+    for (GridNode<Dim>& node : field->nodes) node.v_new = node.v;
+  constrain_velocity(&GridNode<Dim>::v_new, time_);
   gather<Gather{.velocity = false, .position = false, .deformation = true}>(&GridNode<Dim>::v_new, dt);
   scatter<Scatter{.mass_momentum = false, .force = true}>();
-  grid_update(grid_, spec_.gravity, dt, 1.0, min_node_mass_);
+  for (Grid<Dim>* field : field_grids()) grid_update(*field, spec_.gravity, dt, 1.0, min_node_mass_);
+  if (contact_.active()) contact_.correct_update(field_grids(), dt);
   constrain_update(time_ + dt, dt);
   gather<Gather{.velocity = true, .position = true, .deformation = false}>(&GridNode<Dim>::v_new, dt);
 }
@@ -264,19 +271,23 @@ void Simulation<Dim, Kernel>::step_usf(Real dt) {
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::step_usl(Real dt, Real accel_scale) {
   build_stencils();
-  scatter<Scatter{.mass_momentum = true, .force = true}>();
-  grid_velocity_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
+  scatter<Scatter{.mass_momentum = true, .force = true, .volume_gradient = true}>();
+  grid_velocity_and_update(dt, accel_scale);
   constrain_update(time_ + dt, dt);
   // Every rank takes the same path: a light node on any decides it.
-  if (!light_node_mass_.any() ||
-      !(comm_->max(any_light(grid_, mirror_copies_, min_node_mass_, light_node_mass_) ? 1.0 : 0.0) > 0)) {
+  bool light = false;
+  if (light_node_mass_.any())
+    for (Grid<Dim>* field : field_grids())
+      light = light || any_light(*field, mirror_copies_, min_node_mass_, light_node_mass_);
+  if (!light_node_mass_.any() || !(comm_->max(light ? 1.0 : 0.0) > 0)) {
     gather<Gather{.velocity = true, .position = true, .deformation = true}>(&GridNode<Dim>::v_new, dt);
     return;
   }
   // Light nodes: move and deform the particles with the velocity re-projected from their updated velocities there.
   gather<Gather{.velocity = true, .position = false, .deformation = false}>(&GridNode<Dim>::v_new, dt);
   reproject_velocity(time_ + dt);
-  reprojected_on_light_nodes(grid_, mirror_copies_, min_node_mass_, light_node_mass_);
+  for (Grid<Dim>* field : field_grids())
+    reprojected_on_light_nodes(*field, mirror_copies_, min_node_mass_, light_node_mass_);
   gather<Gather{.velocity = false, .position = true, .deformation = true}>(&GridNode<Dim>::v_new, dt);
 }
 
@@ -285,28 +296,68 @@ void Simulation<Dim, Kernel>::step_usl(Real dt, Real accel_scale) {
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::step_musl(Real dt, Real accel_scale) {
   build_stencils();
-  scatter<Scatter{.mass_momentum = true, .force = true}>();
-  grid_velocity_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
+  scatter<Scatter{.mass_momentum = true, .force = true, .volume_gradient = true}>();
+  grid_velocity_and_update(dt, accel_scale);
   constrain_update(time_ + dt, dt);
   gather<Gather{.velocity = true, .position = false, .deformation = false}>(&GridNode<Dim>::v_new, dt);
   reproject_velocity(time_ + dt);
   gather<Gather{.velocity = false, .position = true, .deformation = true}>(&GridNode<Dim>::v, dt);
 }
 
-// The grid velocity v re-projected from the updated particle velocities, constrained at t_new (Wallstedt &
-// Guilkey 2008, Eq. (51)); the particles have not moved, so the nodal masses are those of the step.
+// The grid velocity v re-projected from the updated particle velocities, corrected by contact at the nodes the
+// step located (the particles have not moved, so the nodal masses and normals are those of the step) and
+// constrained at t_new (Wallstedt & Guilkey 2008, Eq. (51)).
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::reproject_velocity(Real t_new) {
   scatter<Scatter{.mass_momentum = true, .force = false}>();
-  grid_velocity(grid_, min_node_mass_);
-  constraints_.constrain_velocity(grid_, &GridNode<Dim>::v, t_new);
-  rigid_.constrain_velocity(grid_, &GridNode<Dim>::v, t_new);
+  field_velocities(&GridNode<Dim>::v, false);
+  constrain_velocity(&GridNode<Dim>::v, t_new);
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::field_velocities(NodeVelocity<Dim> v, bool locate) {
+  for (Grid<Dim>* field : field_grids()) grid_velocity(*field, min_node_mass_);
+  if (!contact_.active()) return;
+  if (locate) contact_.locate(field_grids(), min_node_mass_, box_halo_.owned_layers());
+  contact_.correct_velocity(field_grids(), v);
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::grid_velocity_and_update(Real dt, Real accel_scale) {
+  if (!contact_.active()) {  // one pass over the nodes
+    grid_velocity_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
+    return;
+  }
+  // Bardenhagen, Brackbill & Sulsky 2000: the projected velocities are corrected, then the advanced ones, whose
+  // change over dt the accelerations take.
+  field_velocities(&GridNode<Dim>::v, true);
+  for (Grid<Dim>* field : field_grids()) grid_update(*field, spec_.gravity, dt, accel_scale, min_node_mass_);
+  contact_.correct_update(field_grids(), dt);
 }
 
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::constrain_update(Real t_new, Real dt) {
-  constraints_.constrain_update(grid_, t_new, dt);
-  rigid_.constrain_update(grid_, t_new, dt);
+  bool add = false;
+  for (Grid<Dim>* field : field_grids()) {
+    constraints_.constrain_update(*field, t_new, dt, add);
+    rigid_.constrain_update(*field, t_new, dt, add);
+    add = true;
+  }
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::constrain_velocity(NodeVelocity<Dim> v, Real t) {
+  for (Grid<Dim>* field : field_grids()) {
+    constraints_.constrain_velocity(*field, v, t);
+    rigid_.constrain_velocity(*field, v, t);
+  }
+}
+
+template <int Dim, class Kernel>
+std::vector<Grid<Dim>*> Simulation<Dim, Kernel>::field_grids() {
+  std::vector<Grid<Dim>*> out{&grid_};
+  for (Grid<Dim>& g : contact_fields_) out.push_back(&g);
+  return out;
 }
 
 }  // namespace mpm

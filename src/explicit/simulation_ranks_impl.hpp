@@ -80,8 +80,29 @@ template <int Dim, class Kernel>
 Real Simulation<Dim, Kernel>::friction_power() const {
   ExactSum power = constraints_.friction_power();
   power.add(rigid_.friction_power());
+  for (const auto& pair : contact_.pair_sums()) power.add(pair[Dim + 2]);
   if (!box_halo_.divided()) return power.value();
   return sum_over_ranks({power}, *comm_)[0];
+}
+
+template <int Dim, class Kernel>
+std::vector<PairForces<Dim>> Simulation<Dim, Kernel>::contact_forces() const {
+  std::vector<ExactSum> flat;
+  for (const auto& pair : contact_.pair_sums()) flat.insert(flat.end(), pair.begin(), pair.end());
+  const std::vector<Real> total = box_halo_.divided() ? sum_over_ranks(flat, *comm_) : [&] {
+    std::vector<Real> v;
+    for (const ExactSum& e : flat) v.push_back(e.value());
+    return v;
+  }();
+  std::vector<PairForces<Dim>> out(contact_.pair_sums().size());
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    const Real* r = &total[k * (Dim + 3)];
+    for (int d = 0; d < Dim; ++d) out[k].force[d] = r[d];
+    out[k].normal = r[Dim];
+    out[k].tangential = r[Dim + 1];
+    out[k].friction_power = r[Dim + 2];
+  }
+  return out;
 }
 
 template <int Dim, class Kernel>
@@ -198,6 +219,7 @@ template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::use_box(BoxHalo<Dim> box) {
   box_halo_ = std::move(box);
   grid_ = Grid<Dim>(box_halo_.box());
+  contact_fields_.assign(static_cast<std::size_t>(contact_.fields() - 1), grid_);
   halo_ = Halo<Dim>(grid_.geometry);
   KinematicConstraints<Dim> constraints(spec_.boundary, grid_.geometry, box_halo_.owned_layers());
   constraints.keep_reactions(constraints_);  // the step's, not yet reported

@@ -20,7 +20,7 @@ void Simulation<Dim, Kernel>::settle() {
   // The scatter order depends only on the tiles, so it is rebuilt only when a particle changed tile; the
   // particles are then stored in that order, so that the transfers read them in sequence.
   if (tiles_changed_) {
-    order_.build(tile_, particles_.id);
+    order_.build(tile_, particles_.id, particles_.field, contact_.fields());
     if (!order_.identity()) {
       reorder_particles(particles_, order_.order());
       gather_by(stencils_, order_.order());
@@ -51,48 +51,66 @@ void Simulation<Dim, Kernel>::build_stencils() {
 template <int Dim, class Kernel>
 template <Scatter what>
 void Simulation<Dim, Kernel>::scatter() {
-  if (box_halo_.divided()) {  // the halo sum: the sums of tiles of other boxes at the nodes they share
-    const FaceTileSums<Dim> kept(grid_.geometry, order_);
-    p2g<what>(particles_, stencils_, order_, body_accel_, grid_, kept);
-    box_halo_.sum(grid_, kept.take(), what.mass_momentum, what.force, *comm_);
-  } else {
-    p2g<what>(particles_, stencils_, order_, body_accel_, grid_);
+  if constexpr (what.volume_gradient)  // only contact reads it
+    if (!contact_.active()) return scatter<Scatter{.mass_momentum = what.mass_momentum, .force = what.force}>();
+  const std::vector<Grid<Dim>*> fields = field_grids();
+  for (int k = 0; k < contact_.fields(); ++k) {
+    Grid<Dim>& grid = *fields[k];
+    if (box_halo_.divided()) {  // the halo sum: the sums of tiles of other boxes at the nodes they share
+      const FaceTileSums<Dim> kept(grid.geometry, order_);
+      p2g<what>(particles_, stencils_, order_, body_accel_, grid, kept, k);
+      box_halo_.sum(grid, kept.take(), what.mass_momentum, what.force, *comm_, nullptr, what.volume_gradient);
+    } else {
+      p2g<what>(particles_, stencils_, order_, body_accel_, grid, KeepNothing{}, k);
+    }
+    if constexpr (what.force && Dim == 2)  // the hoop force in a pass of its own, as in the implicit step
+      if (axisymmetric_) scatter_hoop_force(grid, k);
+    if constexpr (what.mass_momentum) halo_.sum_into_owners(grid, NodeFields::mass_momentum);
+    if constexpr (what.volume_gradient) halo_.sum_into_owners(grid, &GridNode<Dim>::v_new);
+    if constexpr (what.force) halo_.sum_into_owners(grid, NodeFields::force);
+    if constexpr (what.mass_momentum) constraints_.fold_and_mirror(grid, NodeFields::mass_momentum);
+    if constexpr (what.volume_gradient) constraints_.fold_and_mirror(grid, &GridNode<Dim>::v_new);
+    if constexpr (what.force) constraints_.fold_and_mirror(grid, NodeFields::force);
   }
-  if constexpr (what.force && Dim == 2)  // the hoop force in a pass of its own, as in the implicit step
-    if (axisymmetric_) scatter_hoop_force();
-  if constexpr (what.mass_momentum) halo_.sum_into_owners(grid_, NodeFields::mass_momentum);
-  if constexpr (what.force) halo_.sum_into_owners(grid_, NodeFields::force);
-  if constexpr (what.mass_momentum) constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
-  if constexpr (what.force) constraints_.fold_and_mirror(grid_, NodeFields::force);
 }
 
 template <int Dim, class Kernel>
-void Simulation<Dim, Kernel>::scatter_hoop_force() requires(Dim == 2) {
+void Simulation<Dim, Kernel>::scatter_hoop_force(Grid<Dim>& grid, int field) requires(Dim == 2) {
   const HoopForce hoop{particles_.V, particles_.state.sigma, particles_.x};
   if (!box_halo_.divided()) {
-    p2g_add(stencils_, order_, grid_, hoop);
+    p2g_add_keeping(KeepNothing{}, stencils_, order_, field, grid, hoop);
     return;
   }
   // Onto the forces the halo sum just agreed: a shared node starts from them again, as one process's pass does.
-  hoop_base_.resize(grid_.size());
-  for (std::size_t n = 0; n < grid_.size(); ++n) hoop_base_[n] = grid_.nodes[n].a;
-  const FaceTileSums<Dim> kept(grid_.geometry, order_);
-  p2g_add_keeping(kept, stencils_, order_, grid_, hoop);
-  box_halo_.sum(grid_, kept.take(), false, true, *comm_, &hoop_base_);
+  hoop_base_.resize(grid.size());
+  for (std::size_t n = 0; n < grid.size(); ++n) hoop_base_[n] = grid.nodes[n].a;
+  const FaceTileSums<Dim> kept(grid.geometry, order_);
+  p2g_add_keeping(kept, stencils_, order_, field, grid, hoop);
+  box_halo_.sum(grid, kept.take(), false, true, *comm_, &hoop_base_);
 }
 
 template <int Dim, class Kernel>
 template <Gather what>
 void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
-  halo_.copy_to_ghosts(grid_);
   StencilTargets<Dim, Kernel> next{stencils_, tile_};
   StencilTargets<Dim, Kernel>* targets = what.position ? &next : nullptr;
   ParticleFault fault;
-  if (!neo_hookean_.empty()) {
-    fault = g2p<what>(particles_, stencils_, grid_, v_grid, dt, NeoHookeanLanes{neo_hookean_}, sizes_, targets);
-  } else {
-    const RecordRates<Dim> rates{grad_v_, hoop_rate_, axisymmetric_};
-    fault = g2p<what>(particles_, stencils_, grid_, v_grid, dt, rates, sizes_, targets);
+  const std::vector<Grid<Dim>*> fields = field_grids();
+  for (int k = 0; k < contact_.fields(); ++k) {  // each field's particles from its own grid
+    halo_.copy_to_ghosts(*fields[k]);
+    const std::optional<ParticleRange> range =
+        contact_.active() ? std::optional<ParticleRange>(order_.field_range(k)) : std::nullopt;
+    ParticleFault f;
+    if (!neo_hookean_.empty()) {
+      f = g2p<what>(particles_, stencils_, *fields[k], v_grid, dt, NeoHookeanLanes{neo_hookean_}, sizes_, targets,
+                    range);
+    } else {
+      const RecordRates<Dim> rates{grad_v_, hoop_rate_, axisymmetric_};
+      f = g2p<what>(particles_, stencils_, *fields[k], v_grid, dt, rates, sizes_, targets, range);
+    }
+    fault.index = std::min(fault.index, f.index);
+  }
+  if (neo_hookean_.empty()) {
     if constexpr (what.deformation) {
       const ParticleFault stress = update_stress(dt);
       fault.index = std::min(fault.index, stress.index);

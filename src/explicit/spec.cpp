@@ -58,6 +58,7 @@ void validate(const SimulationSpec<Dim>& s) {
   require(s.geometry != Geometry::axisymmetric || s.grid_lo[0] >= 0,
           "grid.lo: an axisymmetric grid must lie at radius x >= 0");
   validate_faces<Dim>(s.boundary, s.cells, s.geometry, s.grid_lo[0], "");
+  validate(s.contact);
   for (const RigidBody<Dim>& b : s.rigid_bodies) {
     require(!b.points.empty(), "rigid body '" + b.name + "': has no points");
     require(static_cast<bool>(b.velocity), "rigid body '" + b.name + "': needs a velocity");

@@ -93,7 +93,8 @@ MemoryModel engine_memory(const Scene& sc) {
                                                                  sc.implicit_step.solver == ImplicitSolver::newton_direct);
     bool rate_form = false;
     for (const SceneMaterial& m : sc.materials) rate_form = rate_form || is_rate_form(m.law);
-    return Simulation<Dim, Kernel>::memory_model(!sc.body_force.empty() || !sc.tractions.empty(), rate_form);
+    return Simulation<Dim, Kernel>::memory_model(!sc.body_force.empty() || !sc.tractions.empty(), rate_form,
+                                                 sc.fields);
   });
 }
 

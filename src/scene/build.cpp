@@ -200,6 +200,9 @@ SimulationSpec<Dim> make_spec(const Scene& sc) {
   spec.cfl = sc.cfl;
   spec.reproject_light_nodes = sc.reproject_light_nodes;
   spec.account_load_power = true;  // history.csv's external work
+  spec.contact.fields = sc.fields;
+  for (const SceneContact& c : sc.contacts)
+    spec.contact.pairs.push_back({sc.body_field[c.groups[0][0]], sc.body_field[c.groups[1][0]], c.friction, c.normal});
 
   spec.body_force = body_force_of<Dim>(sc);
   validate(spec);
@@ -238,6 +241,9 @@ ParticleSet<Dim> seed_bodies(const Scene& sc) {
     }
     const std::string name = "bodies[" + std::to_string(k) + "] (" + b.name + ")";
     if (p.size() == first) throw InputError(sc.file.string() + ": " + name + ": the body has no particles");
+    if (!sc.body_field.empty())
+      std::fill(p.field.begin() + static_cast<std::ptrdiff_t>(first), p.field.end(),
+                static_cast<std::uint16_t>(sc.body_field[k]));
     if (sc.kernel == KernelKind::ugimp && sc.gimp_length)  // the smoothing length l as half-lengths l/2, both engines
       for (std::size_t i = first; i < p.size(); ++i) p.l[i] = p.l0[i] = Vec<Dim>::Constant(0.5 * *sc.gimp_length);
     for (std::size_t i = first; i < p.size(); ++i) {

@@ -158,6 +158,8 @@ class Explicit {
   /// history.csv's solver columns: none for the explicit step.
   std::vector<std::string> counter_names() const { return {}; }
   std::vector<std::int64_t> counters() const { return {}; }
+  /// What each [[contact]] pair transmitted in the last step (Simulation::contact_forces).
+  std::vector<PairForces<Dim>> contact_forces() const { return sim_.contact_forces(); }
   void save(io::CheckpointData& c) const {
     if (sim_.has_material_state()) save_state(sim_.particles(), c);
     if (!spec_.rigid_bodies.empty()) c.reals["rigid_displacement"] = flat(sim_.rigid_bodies().displacements());
@@ -275,6 +277,8 @@ class Implicit {
   const std::vector<NewtonAttempt>& newton_attempts() const { return sim_.last_step_attempts(); }
   /// history.csv's solver columns: Newton and Krylov iterations since t = 0 (their differences per step draw
   /// Sulsky & Kaul 2004, Fig. 9a).
+  /// The implicit step has one velocity field (the scene reader refuses [[contact]]).
+  std::vector<PairForces<Dim>> contact_forces() const { return {}; }
   std::vector<std::string> counter_names() const { return {"newton_iterations", "krylov_iterations"}; }
   std::vector<std::int64_t> counters() const {
     return {sim_.counters().newton_iterations, sim_.counters().krylov_iterations};

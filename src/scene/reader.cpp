@@ -250,7 +250,7 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
   }
   for (const std::string& o : overrides) loc.overrides.emplace_back(apply_override(doc, o), o);
 
-  const Section top(doc, "", loc, {"simulation", "output", "constants", "grid", "materials", "bodies", "rigid_bodies", "implicit", "loads", "check"});
+  const Section top(doc, "", loc, {"simulation", "output", "constants", "grid", "materials", "bodies", "rigid_bodies", "contact", "implicit", "loads", "check"});
   if (const toml::table* c = top.table("constants")) {
     for (auto&& [k, v] : *c) {
       const std::string name(k.str());
@@ -323,6 +323,11 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
     read_rigid_body(Section(*rigid[k], "rigid_bodies[" + std::to_string(k) + "]", loc,
                             {"name", "shape", "lo", "hi", "ppc", "velocity", "contact_axes", "friction"}),
                     sc, k);
+  const std::vector<const toml::table*> contacts = top.tables("contact");
+  for (std::size_t k = 0; k < contacts.size(); ++k)
+    read_contact(Section(*contacts[k], "contact[" + std::to_string(k) + "]", loc, {"bodies", "friction", "normals"}),
+                 sc);
+  assign_fields(sc);
   if (const toml::table* loads = top.table("loads"))
     read_loads(Section(*loads, "loads", loc, {"gravity", "body_force", "traction"}), sc, loc);
   else

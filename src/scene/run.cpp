@@ -161,7 +161,7 @@ class SceneRun {
       if (f.friction >= 0) return true;
     for (const SceneRigidBody& r : sc_.rigid_bodies)
       if (r.friction >= 0) return true;
-    return false;
+    return !sc_.contacts.empty();
   }
   bool has_outflow() const {
     for (const SceneFace& f : sc_.faces)
@@ -182,6 +182,11 @@ class SceneRun {
     for (const std::string& name : engine_.reaction_names())
       for (int d = 0; d < Dim; ++d) h += ",reaction_" + name + "_" + axis[d];
     for (const std::string& name : engine_.counter_names()) h += ',' + name;
+    for (std::size_t k = 0; k < sc_.contacts.size(); ++k) {  // on the table's first group by its second
+      const std::string pair = ",contact" + std::to_string(k) + "_";
+      for (int d = 0; d < Dim; ++d) h += pair + axis[d];
+      h += pair + "normal" + pair + "tangential";
+    }
     if (has_friction()) h += ",friction_dissipation";
     if (has_outflow()) {
       h += ",outflow_mass,outflow_energy";
@@ -193,6 +198,7 @@ class SceneRun {
   void write_history_row() {
     const Totals<Dim> t = totals();
     const std::vector<Vec<Dim>> reactions = engine_.reactions();
+    const std::vector<PairForces<Dim>> contact = engine_.contact_forces();
     if (!root_) return;
     std::ostream& history = files_.history().row();
     history << sim_.steps() << ',' << sim_.time() << ',' << t.kinetic << ',' << t.strain << ','
@@ -201,6 +207,10 @@ class SceneRun {
     for (const Vec<Dim>& r : reactions)
       for (int d = 0; d < Dim; ++d) history << ',' << r[d];
     for (const std::int64_t n : engine_.counters()) history << ',' << n;
+    for (const PairForces<Dim>& c : contact) {
+      for (int d = 0; d < Dim; ++d) history << ',' << c.force[d];
+      history << ',' << c.normal << ',' << c.tangential;
+    }
     if (has_friction()) history << ',' << acc_.friction_dissipation;
     if (has_outflow()) {
       const Outflow<Dim>& out = sim_.outflow();

@@ -64,10 +64,11 @@ io::CheckpointData save(const Scene& sc, const Engine& engine, const Accumulator
   c.reals = {{"x", flat(p.x)}, {"X", flat(p.X)}, {"v", flat(p.v)}, {"F", flat(p.F)}, {"m", p.m}, {"V0", p.V0},
              {"l0", flat(p.l0)}, {"l", flat(p.l)}};
   c.integers["material"] = std::vector<std::int64_t>(p.material.begin(), p.material.end());
+  c.integers["field"] = std::vector<std::int64_t>(p.field.begin(), p.field.end());
   c.integers["id"] = p.id;
   // Divided between ranks, each rank's particles are its rows of these.
   c.row_widths = {{"x", Dim}, {"X", Dim}, {"v", Dim}, {"F", Dim * Dim}, {"m", 1}, {"V0", 1}, {"l0", Dim}, {"l", Dim},
-                  {"material", 1}, {"id", 1}};
+                  {"material", 1}, {"field", 1}, {"id", 1}};
   save_outflow(engine.sim().outflow(), c);
   engine.save(c);
   return c;
@@ -115,6 +116,18 @@ void load_share(const io::CheckpointData& c, Engine& engine, Accumulators& a, st
   for (const auto& [key, size] : {std::pair{"m", p.m.size()}, std::pair{"V0", p.V0.size()}, std::pair{"material", material.size()}})
     if (size != rows) throw InputError(where + ": array '" + key + "' has the wrong size");
   for (std::size_t i = 0; i < rows; ++i) p.material[i] = static_cast<std::uint16_t>(material[i]);
+  // A checkpoint written before contact fields holds particles of the one field, 0 (resized above).
+  const auto field = c.integers.find("field");
+  if (field != c.integers.end()) {
+    if (field->second.size() != rows) throw InputError(where + ": array 'field' has the wrong size");
+    std::int64_t fields = 1;
+    if constexpr (requires { engine.sim().spec().contact; }) fields = engine.sim().spec().contact.fields;
+    for (std::size_t i = 0; i < rows; ++i) {
+      if (field->second[i] < 0 || field->second[i] >= fields)
+        throw InputError(where + ": array 'field' names a velocity field the scene does not have");
+      p.field[i] = static_cast<std::uint16_t>(field->second[i]);
+    }
+  }
   // A checkpoint written before particles had ids holds the first particles seeded when none had left.
   const auto id = c.integers.find("id");
   if (id != c.integers.end()) {

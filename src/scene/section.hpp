@@ -212,6 +212,10 @@ void read_material(const Section& s, Scene& sc);
 void read_body(const Section& s, Scene& sc, std::size_t index);
 /// Read rigid_bodies[index] into sc.rigid_bodies.
 void read_rigid_body(const Section& s, Scene& sc, std::size_t index);
+/// Read one [[contact]] table into sc.contacts (after the bodies and rigid bodies).
+void read_contact(const Section& s, Scene& sc);
+/// The velocity field of each body from the [[contact]] tables (Scene::body_field, Scene::fields).
+void assign_fields(Scene& sc);
 /// Read the [loads] table.
 void read_loads(const Section& s, Scene& sc, const Locator& loc);
 

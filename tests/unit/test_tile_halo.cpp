@@ -92,7 +92,7 @@ void scatter(const mpm::ParticleSet<Dim>& p, mpm::Grid<Dim>& grid, std::vector<m
   mpm::ScatterOrder<Dim> order(grid.geometry, Kernel::width);
   order.build(tile, p.id);
   const mpm::FaceTileSums<Dim> keep(grid.geometry, order);
-  mpm::p2g_add_keeping(keep, stencils, order, grid, mpm::Momentum<Dim>{p.m, p.v},
+  mpm::p2g_add_keeping(keep, stencils, order, 0, grid, mpm::Momentum<Dim>{p.m, p.v},
                        mpm::InternalForce<Dim, mpm::SymTensor<Dim>>{p.V, p.sigma});
   if (kept) *kept = keep.take();
 }

@@ -169,13 +169,14 @@ class RigidBodies {
   /// Impose the bodies' velocities at t_new on v_new, with the acceleration that brings the projected velocity
   /// to them, a_i = (v_body - v_i) / dt (the particles take the body's velocity change, as in Sulsky & Kaul 2004,
   /// Eq. (3.2.6)); record each body's reaction sum_i m_i (a_i - a_i^free).
-  /// The reaction is summed exactly over the nodes the box owns (reaction_sums, to add over the boxes).
-  void constrain_update(Grid<Dim>& grid, Real t_new, Real dt) {
-    friction_power_ = {};
+  /// The reaction is summed exactly over the nodes the box owns (reaction_sums, to add over the boxes). With
+  /// several velocity fields (contact), each field's call after the first adds to the last (`add_to_last`).
+  void constrain_update(Grid<Dim>& grid, Real t_new, Real dt, bool add_to_last = false) {
+    if (!add_to_last) friction_power_ = {};
     for (std::size_t b = 0; b < bodies_.size(); ++b) {
       const Vec<Dim> v = bodies_[b].velocity(t_new);
       std::array<ExactSum, Dim>& reaction = reaction_sums_[b];
-      reaction = {};
+      if (!add_to_last) reaction = {};
       for (std::size_t k = 0; k < nodes_[b].size(); ++k) {
         GridNode<Dim>& node = grid.nodes[nodes_[b][k]];
         if (bodies_[b].friction >= 0) {  // a Coulomb body

@@ -66,9 +66,11 @@ class BoxHalo {
   /// After a P2G pass of the fields `mass_momentum` (m, momentum) and/or `force` onto cleared fields, with the
   /// sums of this box's face tiles `kept`: the halo sum over `comm`. A force pass that adds onto an earlier pass's
   /// sums instead (the hoop force in axisymmetry) gives `force_base`, every node's force before it: a shared node
-  /// then starts from that rather than zero, as one process's pass adds onto it.
+  /// then starts from that rather than zero, as one process's pass adds onto it. A mass pass that scattered the
+  /// volume gradient into v_new for contact sums it too (`volume_gradient`).
   void sum(Grid<Dim>& grid, std::vector<TileSums<Dim>> kept, bool mass_momentum, bool force,
-           const Communicator& comm, const std::vector<Vec<Dim>>* force_base = nullptr) const;
+           const Communicator& comm, const std::vector<Vec<Dim>>* force_base = nullptr,
+           bool volume_gradient = false) const;
 
  private:
   GridGeometry<Dim> whole_, box_;

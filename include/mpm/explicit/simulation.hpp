@@ -7,6 +7,7 @@
 
 #include "mpm/boundary/boundary.hpp"
 #include "mpm/boundary/rigid_body.hpp"
+#include "mpm/contact/multi_field.hpp"
 #include "mpm/core/exact_sum.hpp"
 #include "mpm/core/memory.hpp"
 #include "mpm/distributed/box_halo.hpp"
@@ -120,14 +121,20 @@ class Simulation {
   }
 
  public:
+  /// The grid of velocity field 0 (the only one without contact).
   const Grid<Dim>& grid() const { return grid_; }
+  /// What each pair of SimulationSpec::contact's pairs transmitted in the last step, over all ranks (the force on
+  /// the pair's first field by its second).
+  std::vector<PairForces<Dim>> contact_forces() const;
+  /// The nodes where velocity fields met in the last step, on this rank.
+  std::size_t contact_nodes() const { return contact_.contact_nodes(); }
   /// Nodes at or below this mass are treated as empty (their acceleration is zero) [kg].
   Real min_node_mass() const { return min_node_mass_; }
   const KinematicConstraints<Dim>& constraints() const { return constraints_; }
   /// The reaction of each face and region constraint (constraints().names()) in the last step, over all ranks [N].
   std::vector<Vec<Dim>> face_reactions() const;
-  /// The power friction dissipated on the Coulomb walls in the last step, over all ranks [W] (friction_power of
-  /// KinematicConstraints).
+  /// The power friction dissipated in the last step, over all ranks [W]: on the Coulomb walls and rigid bodies
+  /// (friction_power of KinematicConstraints) and between the contact fields.
   Real friction_power() const;
   /// The reaction of each rigid body in the last step, over all ranks [N].
   std::vector<Vec<Dim>> rigid_reactions() const;
@@ -148,15 +155,16 @@ class Simulation {
   /// Heap bytes held by the simulation (particles, stencils, scatter order, grid) per particle.
   double bytes_per_particle() const;
   /// The bytes a simulation will hold, from the arrays the constructor sizes (a body force adds one
-  /// acceleration per particle; a rate-form material its state and the rates the stress update reads).
-  static MemoryModel memory_model(bool body_force, bool rate_form) {
+  /// acceleration per particle; a rate-form material its state and the rates the stress update reads; each
+  /// velocity field of contact past the first one node record per node).
+  static MemoryModel memory_model(bool body_force, bool rate_form, int fields = 1) {
     // Particles, their stencils, tiles and scatter order; one node record per node.
     const std::size_t particle =
         ParticleSet<Dim>::bytes_per_particle() + sizeof(Stencil<Dim, Kernel>) + 2 * sizeof(std::int32_t) +
         (body_force ? sizeof(Vec<Dim>) : 0) +
         (rate_form ? MaterialState::bytes_per_particle() + sizeof(Mat<Dim>) + sizeof(Real) : 0) + reorder_bytes(rate_form);
     // A node's mirror copies (1 B) when light nodes are re-projected.
-    return {static_cast<double>(particle), static_cast<double>(sizeof(GridNode<Dim>) + sizeof(std::uint8_t))};
+    return {static_cast<double>(particle), static_cast<double>(fields * sizeof(GridNode<Dim>) + sizeof(std::uint8_t))};
   }
 
  private:
@@ -172,16 +180,26 @@ class Simulation {
   void step_usl(Real dt, Real accel_scale);
   void step_musl(Real dt, Real accel_scale);
   void reproject_velocity(Real t_new);
-  /// Impose the faces' and the rigid bodies' velocities at t_new on the advanced grid velocity.
+  /// Impose the faces' and the rigid bodies' velocities at t_new on the advanced grid velocity of every field.
   void constrain_update(Real t_new, Real dt);
+  /// Impose them at time t on the node velocity `v` of every field (a projected velocity).
+  void constrain_velocity(NodeVelocity<Dim> v, Real t);
+  /// The grid velocity v^n from the scattered momenta, with contact's first correction, and the advanced
+  /// velocity v_new from the forces with its second (Bardenhagen, Brackbill & Sulsky 2000), in every field.
+  void grid_velocity_and_update(Real dt, Real accel_scale);
+  /// v^n in every field, corrected by contact (its nodes located first when `locate`).
+  void field_velocities(NodeVelocity<Dim> v, bool locate);
+  /// Every field's grid: grid_ first, then the contact fields.
+  std::vector<Grid<Dim>*> field_grids();
 
   // Stages shared by the integrators.
   void build_stencils();
   /// A P2G pass with its hoop force in axisymmetry, the halo sum and the symmetry folds.
   template <Scatter what>
   void scatter();
-  /// The hoop force's pass in axisymmetry (HoopForce), after the main force pass and its halo sum.
-  void scatter_hoop_force() requires(Dim == 2);
+  /// The hoop force's pass in axisymmetry (HoopForce) of field `field`'s particles, after the main force pass
+  /// and its halo sum.
+  void scatter_hoop_force(Grid<Dim>& grid, int field) requires(Dim == 2);
   /// A G2P pass after the halo copy; one that moves the particles also computes their stencils at the new positions.
   template <Gather what>
   void gather(NodeVelocity<Dim> v_grid, Real dt);
@@ -214,6 +232,9 @@ class Simulation {
   const Communicator* comm_;
   BoxHalo<Dim> box_halo_;
   Grid<Dim> grid_;
+  /// Contact: the velocity fields past the first (grid_), one grid each, and the corrections where they meet.
+  std::vector<Grid<Dim>> contact_fields_;
+  MultiFieldContact<Dim> contact_;
   Halo<Dim> halo_;
   KinematicConstraints<Dim> constraints_;
   RigidBodies<Dim> rigid_;

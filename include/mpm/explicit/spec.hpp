@@ -7,6 +7,7 @@
 
 #include "mpm/boundary/boundary.hpp"
 #include "mpm/boundary/rigid_body.hpp"
+#include "mpm/contact/multi_field.hpp"
 #include "mpm/core/model_geometry.hpp"
 #include "mpm/core/types.hpp"
 #include "mpm/grid/grid.hpp"
@@ -39,6 +40,9 @@ struct SimulationSpec {
   Geometry geometry = Geometry::plane_strain;
   BoundarySpec<Dim> boundary;
   std::vector<RigidBody<Dim>> rigid_bodies;
+  /// Velocity fields and their contact (one field by default): each particle projects to field
+  /// ParticleSet::field.
+  ContactSpec contact;
   Vec<Dim> gravity = Vec<Dim>::Zero();  ///< [m/s^2]
   BodyForceFn<Dim> body_force;          ///< optional b(X, t), evaluated at the start of each step
   Real dt = 0;                          ///< fixed time step [s], or 0 to use the CFL number

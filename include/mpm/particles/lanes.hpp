@@ -24,6 +24,12 @@ inline constexpr int reals_in = static_cast<int>(sizeof(Record) / sizeof(Real));
 template <class Record>
 using RecordLanes = std::array<RealLanes, reals_in<Record>>;
 
+/// Particles [begin, end) of the arrays: those of one velocity field (ScatterOrder::field_range), or all.
+struct ParticleRange {
+  std::ptrdiff_t begin, end;
+  std::ptrdiff_t size() const { return end - begin; }
+};
+
 /// SIMD lanes of particles: the particles of block b of the particle arrays, or up to `lanes` listed ones.
 /// Lanes past the last particle repeat it (they are read, never written).
 struct LaneBlock {
@@ -33,10 +39,12 @@ struct LaneBlock {
   bool contiguous;       ///< lane k holds particle first + k, for every lane
   IntLanes index;        ///< particle index of each lane
 
-  LaneBlock(std::ptrdiff_t b, std::ptrdiff_t n) : first(b * width) {
-    active = static_cast<int>(std::min<std::ptrdiff_t>(width, n - first));
+  LaneBlock(std::ptrdiff_t b, std::ptrdiff_t n) : LaneBlock(b, ParticleRange{0, n}) {}
+  /// Block b of the particles of `range`, counted from its first.
+  LaneBlock(std::ptrdiff_t b, ParticleRange range) : first(range.begin + b * width) {
+    active = static_cast<int>(std::min<std::ptrdiff_t>(width, range.end - first));
     contiguous = active == width;
-    for (int k = 0; k < width; ++k) index[k] = std::min<std::ptrdiff_t>(first + k, n - 1);
+    for (int k = 0; k < width; ++k) index[k] = std::min<std::ptrdiff_t>(first + k, range.end - 1);
   }
   LaneBlock(const std::int32_t* particles, int count) : first(particles[0]), active(count), contiguous(true) {
     for (int k = 0; k < width; ++k) {
@@ -45,6 +53,7 @@ struct LaneBlock {
     }
   }
   static std::ptrdiff_t count(std::size_t n) { return (static_cast<std::ptrdiff_t>(n) + width - 1) / width; }
+  static std::ptrdiff_t count(ParticleRange r) { return (r.size() + width - 1) / width; }
 
   /// The records f[i] of the block's particles, member by member.
   template <class Record>

@@ -23,6 +23,9 @@ struct ParticleSet {
   std::vector<Vec<Dim>> l;              ///< current GIMP half-lengths l_p [m]
   std::vector<SymTensor<Dim>> sigma;    ///< Cauchy stress [Pa]
   std::vector<std::uint16_t> material;  ///< index into the material table
+  /// The grid velocity field the particle projects to: 0 unless contact gives its body a field of its own
+  /// (ContactSpec; Bardenhagen, Brackbill & Sulsky 2000).
+  std::vector<std::uint16_t> field;
   /// Stable identity: the particle's index in the set as seeded, kept through removals, restarts, the engine's
   /// reordering of the arrays and (in a distributed run) moves between ranks.
   std::vector<std::int64_t> id;
@@ -46,6 +49,7 @@ struct ParticleSet {
     l.push_back(half_length);
     sigma.push_back(SymTensor<Dim>{});
     material.push_back(material_id);
+    field.push_back(0);
     id.push_back(static_cast<std::int64_t>(id.size()));
   }
 
@@ -56,6 +60,7 @@ struct ParticleSet {
     for (auto* a : {&m, &V0, &V}) a->reserve(n);
     sigma.reserve(n);
     material.reserve(n);
+    field.reserve(n);
     id.reserve(n);
   }
 
@@ -68,13 +73,13 @@ struct ParticleSet {
   /// Call fn(array) for every per-particle array but the material state's.
   template <class Fn>
   void for_each_field(Fn&& fn) {
-    fn(x), fn(X), fn(v), fn(F), fn(m), fn(V0), fn(V), fn(l0), fn(l), fn(sigma), fn(material), fn(id);
+    fn(x), fn(X), fn(v), fn(F), fn(m), fn(V0), fn(V), fn(l0), fn(l), fn(sigma), fn(material), fn(field), fn(id);
   }
 
   /// Bytes of one particle's fields, without the rate-form state.
   static constexpr std::size_t bytes_per_particle() {
     return 4 * sizeof(Vec<Dim>) + sizeof(Vec<Dim>) + sizeof(Mat<Dim>) + 3 * sizeof(Real) +
-           sizeof(SymTensor<Dim>) + sizeof(std::uint16_t) + sizeof(std::int64_t);
+           sizeof(SymTensor<Dim>) + 2 * sizeof(std::uint16_t) + sizeof(std::int64_t);
   }
 };
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "mpm/boundary/boundary.hpp"
+#include "mpm/contact/multi_field.hpp"
 #include "mpm/implicit/spec.hpp"
 #include "mpm/explicit/spec.hpp"
 #include "mpm/materials/material.hpp"
@@ -37,6 +38,14 @@ struct SceneRigidBody {
   std::vector<ExpressionPtr> velocity;   ///< expressions of t
   std::vector<bool> imposes;             ///< per axis: the body imposes this velocity component
   double friction = -1;                  ///< >= 0: a Coulomb body with this coefficient; < 0 no slip
+};
+
+/// A [[contact]] table: two groups of bodies (each a body, or several sharing one velocity field) that meet by
+/// the Coulomb law of multi-field contact.
+struct SceneContact {
+  std::array<std::vector<std::size_t>, 2> groups;  ///< body indices of each side
+  double friction = 0;  ///< >= 0; infinity: "no-slip"
+  ContactNormal normal = ContactNormal::average;
 };
 
 /// The [implicit] table: the theta-blended Newton-Krylov step of Sulsky & Kaul 2004.
@@ -113,6 +122,11 @@ struct Scene {
   std::vector<SceneMaterial> materials;
   std::vector<SceneBody> bodies;
   std::vector<SceneRigidBody> rigid_bodies;
+  std::vector<SceneContact> contacts;
+  /// The velocity field of each body (ParticleSet::field): 0 for all without [[contact]]; otherwise the bodies no
+  /// table names share field 0, and each group named has a field of its own.
+  std::vector<int> body_field;
+  int fields = 1;
   SceneImplicit implicit_step;
 
   // [loads]

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,16 +49,15 @@ struct GatheredLanes {
   RealLanes a[Dim] = {}, v[Dim] = {}, grad_v[Dim][Dim] = {};
 };
 
-/// G2P: for the particles in blocks of simd::lanes (in parallel), gather `what` from the nodes of their stencils,
-/// v from the node field `v_grid`, and hand each block's sums to use(block, sums).
+/// G2P: for the particles of `range` in blocks of simd::lanes (in parallel), gather `what` from the nodes of their
+/// stencils, v from the node field `v_grid`, and hand each block's sums to use(block, sums).
 template <Sums what, int Dim, class Kernel, class Use>
 void g2p_gather(const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<Dim>& grid, NodeVelocity<Dim> v_grid,
-                Use&& use) {
+                ParticleRange range, Use&& use) {
   const NodeLayout<Dim> layout(grid.geometry);
   const auto& nodes = grid.nodes;
-  const auto n = static_cast<std::ptrdiff_t>(stencils.size());
-  parallel_for(LaneBlock::count(stencils.size()), [&](std::ptrdiff_t b) {
-    const LaneBlock block(b, n);
+  parallel_for(LaneBlock::count(range), [&](std::ptrdiff_t b) {
+    const LaneBlock block(b, range);
     const LaneStencil<Dim, Kernel> s(stencils, block, layout.inv_h);
     GatheredLanes<Dim> sum;
     for_each_node(s, layout, [&](std::int32_t offset, const RealLanes& S_ip, const RealLanes(&dS_ip)[Dim]) {
@@ -83,7 +83,8 @@ void g2p_interpolate(const std::vector<Stencil<Dim, Kernel>>& stencils, const Gr
                      NodeVelocity<Dim> field, std::vector<Vec<Dim>>& out) {
   out.resize(stencils.size());
   g2p_gather<Sums{.acceleration = false, .velocity = true, .gradient = false}>(
-      stencils, grid, field, [&](const LaneBlock& block, const GatheredLanes<Dim>& sum) {
+      stencils, grid, field, ParticleRange{0, static_cast<std::ptrdiff_t>(stencils.size())},
+      [&](const LaneBlock& block, const GatheredLanes<Dim>& sum) {
         RecordLanes<Vec<Dim>> v;
         for (int d = 0; d < Dim; ++d) v[d] = sum.v[d];
         block.store(out, v);
@@ -97,11 +98,12 @@ void g2p_interpolate(const std::vector<Stencil<Dim, Kernel>>& stencils, const Gr
 /// into `next` when given: the positions are then at hand, and no separate pass over the particles is needed.
 /// A deforming pass hands each block's F, J, velocity gradient, interpolated radial velocity and radius at the
 /// start of the step to `stress` (transfer/g2p_stress.hpp). Returns the lowest-index particle whose new state is
-/// non-finite, has J <= 0 or left the grid.
+/// non-finite, has J <= 0 or left the grid. Only the particles of `range` gather (those of the velocity field
+/// `grid` holds); all of them by default.
 template <Gather what, int Dim, class Kernel, class Stress>
 ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils,
                   const Grid<Dim>& grid, NodeVelocity<Dim> v_grid, Real dt, const Stress& stress, SizeUpdate sizes,
-                  StencilTargets<Dim, Kernel>* next = nullptr) {
+                  StencilTargets<Dim, Kernel>* next = nullptr, std::optional<ParticleRange> range = {}) {
   constexpr bool interpolate_velocity = what.position || (what.deformation && Stress::reads_velocity);
   const GridGeometry<Dim>& geo = grid.geometry;
   const NodeLayout<Dim> layout(geo);
@@ -122,7 +124,8 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
     clamps = clamps || geo.outflow[2 * c] || geo.outflow[2 * c + 1];
   }
   constexpr Sums sums{.acceleration = what.velocity, .velocity = interpolate_velocity, .gradient = what.deformation};
-  g2p_gather<sums>(stencils, grid, v_grid, [&](const LaneBlock& block, const GatheredLanes<Dim>& sum)
+  g2p_gather<sums>(stencils, grid, v_grid, range.value_or(ParticleRange{0, static_cast<std::ptrdiff_t>(p.size())}),
+                   [&](const LaneBlock& block, const GatheredLanes<Dim>& sum)
                                                __attribute__((always_inline)) {
     const auto& a_p = sum.a;
     const auto& v_p = sum.v;

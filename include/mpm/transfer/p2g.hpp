@@ -93,15 +93,30 @@ struct HoopForce {
   }
 };
 
+/// The volume gradient sum_p V_p grad S_ip of a body's particles into the v_new slot, which a pass that scatters
+/// mass leaves free: it points out of the body at its surface nodes, and contact takes its normals from it
+/// (Bardenhagen, Brackbill & Sulsky 2000; Nairn 2013 on volume rather than mass gradients).
+template <int Dim>
+struct VolumeGradient {
+  const std::vector<Real>& V;
+
+  [[gnu::always_inline]] auto operator()(const LaneBlock& block) const {
+    const RealLanes V_p = block.load(V)[0];
+    return [V_p](auto& record, const RealLanes&, const RealLanes(&dS_ip)[Dim]) __attribute__((always_inline)) {
+      for (int d = 0; d < Dim; ++d) record[NodeSlots<Dim>::v_new + d] += V_p * dS_ip[d];
+    };
+  }
+};
+
 /// P2G: the contributions of every particle added to the records of the nodes of its stencil, in ScatterOrder.
 /// Particles go `lanes` at a time: their contributions are computed in lanes and added to their tile's footprint
 /// buffer particle by particle, so each tile's sum receives them in the same order as one particle at a time,
 /// whatever the thread count. The fields the contributions add to are not cleared first. Each tile's sums are
 /// shown to keep(tile, footprint records) before they are added into the grid (the halo keeps those of the tiles
-/// at a box's faces).
+/// at a box's faces). Only the particles of velocity field `field` contribute (ScatterOrder::build).
 template <int Dim, class Kernel, class Keep, class... Contributions>
 void p2g_add_keeping(const Keep& keep, const std::vector<Stencil<Dim, Kernel>>& stencils,
-                     const ScatterOrder<Dim>& order, Grid<Dim>& grid, const Contributions&... contributions) {
+                     const ScatterOrder<Dim>& order, int field, Grid<Dim>& grid, const Contributions&... contributions) {
   constexpr int R = reals_in<GridNode<Dim>>;
   using Lanes = LaneStencil<Dim, Kernel>;
   constexpr std::size_t stencil_nodes = Lanes::node_count;
@@ -126,7 +141,7 @@ void p2g_add_keeping(const Keep& keep, const std::vector<Stencil<Dim, Kernel>>& 
                     }, add);
                   });
     simd::add_stencil_records<R>(buffer, s.slot, offsets, records, block.active);
-  }, keep);
+  }, keep, field);
 }
 
 /// The `keep` of a pass that does not look at the tiles' sums (one process).
@@ -135,26 +150,29 @@ struct KeepNothing {
   void operator()(std::int32_t, const GridNode<Dim>*) const {}
 };
 
-/// p2g_add_keeping without a look at the tiles' sums.
+/// p2g_add_keeping of every particle (one velocity field) without a look at the tiles' sums.
 template <int Dim, class Kernel, class... Contributions>
 void p2g_add(const std::vector<Stencil<Dim, Kernel>>& stencils, const ScatterOrder<Dim>& order, Grid<Dim>& grid,
              const Contributions&... contributions) {
-  p2g_add_keeping(KeepNothing{}, stencils, order, grid, contributions...);
+  p2g_add_keeping(KeepNothing{}, stencils, order, 0, grid, contributions...);
 }
 
 /// What a P2G pass of the explicit step scatters.
 struct Scatter {
   bool mass_momentum;
   bool force;
+  bool volume_gradient = false;  ///< with mass_momentum: VolumeGradient into v_new (contact normals)
 };
 
-/// The explicit step's P2G: clear the fields it scatters, then add mass and momentum (Wallstedt & Guilkey 2008,
-/// Eq. (8), Eq. (9)), and the internal force plus, when per-particle body accelerations are given, the body
-/// force (Wallstedt & Guilkey 2008, Eq. (14), Eq. (15)). Each tile's sums are shown to keep (p2g_add_keeping).
+/// The explicit step's P2G of velocity field `field`'s particles: clear the fields it scatters, then add mass and
+/// momentum (Wallstedt & Guilkey 2008, Eq. (8), Eq. (9)) with, for contact, the volume gradient, and the internal
+/// force plus, when per-particle body accelerations are given, the body force (Wallstedt & Guilkey 2008,
+/// Eq. (14), Eq. (15)). Each tile's sums are shown to keep (p2g_add_keeping).
 template <Scatter what, int Dim, class Kernel, class Keep = KeepNothing>
 void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils,
          const ScatterOrder<Dim>& order, const std::vector<Vec<Dim>>& body_accel, Grid<Dim>& grid,
-         const Keep& keep = {}) {
+         const Keep& keep = {}, int field = 0) {
+  static_assert(!what.volume_gradient || what.mass_momentum, "the volume gradient comes with the mass");
   parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) {
     GridNode<Dim>& node = grid.nodes[n];
     if constexpr (what.mass_momentum && what.force) {  // v_new is recomputed from these, so clear all at once
@@ -165,22 +183,32 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
       node.m = 0;
       node.v.setZero();
     }
+    if constexpr (what.volume_gradient) node.v_new.setZero();
     if constexpr (what.force) node.a.setZero();
   });
   const Momentum<Dim> momentum{p.m, p.v};
   const InternalForce<Dim, SymTensor<Dim>> internal{p.V, p.sigma};
   const bool body = what.force && !body_accel.empty();
+  const auto add = [&](const auto&... contributions) {
+    p2g_add_keeping(keep, stencils, order, field, grid, contributions...);
+  };
+  const auto with_gradient = [&](const auto&... contributions) {
+    if constexpr (what.volume_gradient)
+      add(contributions..., VolumeGradient<Dim>{p.V});
+    else
+      add(contributions...);
+  };
   if constexpr (what.mass_momentum && what.force) {
     if (body)
-      p2g_add_keeping(keep, stencils, order, grid, momentum, internal, BodyForce<Dim>{p.m, body_accel});
+      with_gradient(momentum, internal, BodyForce<Dim>{p.m, body_accel});
     else
-      p2g_add_keeping(keep, stencils, order, grid, momentum, internal);
+      with_gradient(momentum, internal);
   } else if constexpr (what.mass_momentum) {
-    p2g_add_keeping(keep, stencils, order, grid, momentum);
+    with_gradient(momentum);
   } else if (body) {
-    p2g_add_keeping(keep, stencils, order, grid, internal, BodyForce<Dim>{p.m, body_accel});
+    add(internal, BodyForce<Dim>{p.m, body_accel});
   } else {
-    p2g_add_keeping(keep, stencils, order, grid, internal);
+    add(internal);
   }
 }
 

@@ -21,6 +21,7 @@
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
 #include "mpm/grid/grid.hpp"
+#include "mpm/particles/lanes.hpp"
 
 namespace mpm {
 
@@ -40,72 +41,91 @@ class ScatterOrder {
                        std::to_string(GridGeometry<Dim>::max_tiles) + " one process can index; use fewer cells");
   }
 
-  /// Sort the particles by tile (`tile[p]`: flat tile index of particle p's stencil base node, StencilTargets),
-  /// each tile's by id: a stable counting sort, then a sort by id of the tiles whose particles were not stored
-  /// in id order. The result is unique, so computing it in parallel gives the same order for any thread count.
-  void build(const std::vector<std::int32_t>& tile, const std::vector<std::int64_t>& id) {
+  /// Sort the particles by field, then tile (`tile[p]`: flat tile index of particle p's stencil base node,
+  /// StencilTargets), each tile's by id: a stable counting sort, then a sort by id of the runs whose particles
+  /// were not stored in id order. `field[p]` < `fields` is the velocity field particle p projects to (contact,
+  /// ParticleSet::field); each field's particles come out as one run, scattered by their own passes. The result
+  /// is unique, so computing it in parallel gives the same order for any thread count.
+  void build(const std::vector<std::int32_t>& tile, const std::vector<std::int64_t>& id,
+             const std::vector<std::uint16_t>& field, int fields) {
     const int tiles = static_cast<int>(geometry_.tile_count());
+    const int keys = tiles * fields;  // key = field * tiles + tile
+    const auto key = [&](std::ptrdiff_t p) { return fields == 1 ? tile[p] : field[p] * tiles + tile[p]; };
     const auto n = static_cast<std::ptrdiff_t>(tile.size());
     const std::ptrdiff_t chunks =
         std::max<std::ptrdiff_t>(1, std::min<std::ptrdiff_t>(4 * num_threads(), n / 1024));
     const std::ptrdiff_t chunk = (n + chunks - 1) / chunks;
-    count_.assign(static_cast<std::size_t>(chunks * tiles), 0);
+    count_.assign(static_cast<std::size_t>(chunks * keys), 0);
     parallel_for(
         chunks,
         [&](std::ptrdiff_t c) {
-          std::int32_t* cnt = &count_[c * tiles];
-          for (std::ptrdiff_t p = c * chunk; p < std::min(n, (c + 1) * chunk); ++p) ++cnt[tile[p]];
+          std::int32_t* cnt = &count_[c * keys];
+          for (std::ptrdiff_t p = c * chunk; p < std::min(n, (c + 1) * chunk); ++p) ++cnt[key(p)];
         },
         2);
-    // Exclusive prefix over (tile, chunk): chunk c's particles of tile t start at count_[c*tiles + t].
-    tile_begin_.assign(tiles + 1, 0);
+    // Exclusive prefix over (key, chunk): chunk c's particles of key k start at count_[c*keys + k].
+    tile_begin_.assign(keys + 1, 0);
     std::int32_t total = 0;
-    for (int t = 0; t < tiles; ++t) {
-      tile_begin_[t] = total;
+    for (int k = 0; k < keys; ++k) {
+      tile_begin_[k] = total;
       for (std::ptrdiff_t c = 0; c < chunks; ++c) {
-        const std::int32_t k = count_[c * tiles + t];
-        count_[c * tiles + t] = total;
-        total += k;
+        const std::int32_t j = count_[c * keys + k];
+        count_[c * keys + k] = total;
+        total += j;
       }
     }
-    tile_begin_[tiles] = total;
+    tile_begin_[keys] = total;
     particles_ = n;
     order_.resize(tile.size());
     parallel_for(
         chunks,
         [&](std::ptrdiff_t c) {
-          std::int32_t* cursor = &count_[c * tiles];
+          std::int32_t* cursor = &count_[c * keys];
           for (std::ptrdiff_t p = c * chunk; p < std::min(n, (c + 1) * chunk); ++p)
-            order_[cursor[tile[p]]++] = static_cast<std::int32_t>(p);
+            order_[cursor[key(p)]++] = static_cast<std::int32_t>(p);
         },
         2);
     parallel_for(
-        tiles,
-        [&](std::ptrdiff_t t) {
+        keys,
+        [&](std::ptrdiff_t k) {
           const auto by_id = [&](std::int32_t a, std::int32_t b) { return id[a] < id[b]; };
-          std::int32_t* first = order_.data() + tile_begin_[t];  // data(): a rank may hold no particles
-          std::int32_t* last = order_.data() + tile_begin_[t + 1];
+          std::int32_t* first = order_.data() + tile_begin_[k];  // data(): a rank may hold no particles
+          std::int32_t* last = order_.data() + tile_begin_[k + 1];
           if (!std::is_sorted(first, last, by_id)) std::sort(first, last, by_id);
         },
         particles_ >= 1024 ? 2 : PTRDIFF_MAX);
     identity_ = true;
     for (std::ptrdiff_t k = 0; k < n && identity_; ++k) identity_ = order_[k] == k;
-    // The tiles that hold particles, by colour, in flat-index order.
-    for (auto& list : colour_) list.clear();
-    for (int t = 0; t < tiles; ++t)
-      if (tile_begin_[t + 1] > tile_begin_[t]) colour_[colour_of(t)].push_back(t);
+    // Each field's tiles that hold particles, by colour, in flat-index order.
+    colour_.resize(static_cast<std::size_t>(fields));
+    for (int f = 0; f < fields; ++f) {
+      for (auto& list : colour_[f]) list.clear();
+      for (int t = 0; t < tiles; ++t)
+        if (tile_begin_[f * tiles + t + 1] > tile_begin_[f * tiles + t]) colour_[f][colour_of(t)].push_back(t);
+    }
+  }
+  /// build for particles that all project to one field.
+  void build(const std::vector<std::int32_t>& tile, const std::vector<std::int64_t>& id) { build(tile, id, {}, 1); }
+
+  /// The velocity fields the particles were sorted by, and the storage range of field f's particles once they
+  /// are stored in this order.
+  int fields() const { return static_cast<int>(colour_.size()); }
+  ParticleRange field_range(int f) const {
+    const std::size_t tiles = geometry_.tile_count();
+    return {tile_begin_[f * tiles], tile_begin_[(f + 1) * tiles]};
   }
 
-  /// One P2G pass: for each tile that holds particles, call add(buffer, particles, count) for them in runs of
-  /// at most `lanes`, each run adding its contributions to the node records of `buffer`, the tile's footprint
-  /// (footprint^Dim records, axis 0 fastest, cleared); then show the tile's sums to keep(tile, buffer) and add
-  /// the buffer into the grid's records. Tiles of one colour run in parallel (their footprints are disjoint), the
-  /// colours one after the other.
+  /// One P2G pass of field f's particles into `grid`: for each tile that holds some, call add(buffer, particles,
+  /// count) for them in runs of at most `lanes`, each run adding its contributions to the node records of
+  /// `buffer`, the tile's footprint (footprint^Dim records, axis 0 fastest, cleared); then show the tile's sums to
+  /// keep(tile, buffer) and add the buffer into the grid's records. Tiles of one colour run in parallel (their
+  /// footprints are disjoint), the colours one after the other.
   template <int lanes, class Add, class Keep>
-  void scatter(Grid<Dim>& grid, Add&& add, Keep&& keep) const {
+  void scatter(Grid<Dim>& grid, Add&& add, Keep&& keep, int f = 0) const {
     std::size_t records = 1;
     for (int d = 0; d < Dim; ++d) records *= static_cast<std::size_t>(footprint_);
-    for (const std::vector<std::int32_t>& tiles : colour_) {
+    const std::int32_t* begin = tile_begin_.data() + static_cast<std::size_t>(f) * geometry_.tile_count();
+    for (const std::vector<std::int32_t>& tiles : colour_[f]) {
       parallel_for(
           static_cast<std::ptrdiff_t>(tiles.size()),
           [&](std::ptrdiff_t k) {
@@ -116,8 +136,8 @@ class ScatterOrder {
               std::memset(static_cast<void*>(buffer.data()), 0, buffer.size() * sizeof(GridNode<Dim>));
             }
             const std::int32_t t = tiles[k];
-            for (std::int32_t i = tile_begin_[t]; i < tile_begin_[t + 1]; i += lanes)
-              add(&buffer[0].m, &order_[i], std::min(lanes, tile_begin_[t + 1] - i));
+            for (std::int32_t i = begin[t]; i < begin[t + 1]; i += lanes)
+              add(&buffer[0].m, &order_[i], std::min(lanes, begin[t + 1] - i));
             keep(t, buffer.data());
             fold(t, buffer, grid);
           },
@@ -184,7 +204,7 @@ class ScatterOrder {
   int footprint_ = 0;  ///< node layers per axis a tile's particles reach
   IVec<Dim> tile_origin_{};  ///< global tile coordinates of this box's first tile
   std::vector<std::int32_t> order_, tile_begin_, count_;
-  std::array<std::vector<std::int32_t>, colours> colour_;
+  std::vector<std::array<std::vector<std::int32_t>, colours>> colour_{1};  ///< per field
   std::ptrdiff_t particles_ = 0;
   bool identity_ = true;
 };
