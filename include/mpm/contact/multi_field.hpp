@@ -17,9 +17,11 @@
 namespace mpm {
 
 /// Which normal a pair of fields uses at a node, from their volume gradients g_a, g_b (each points out of its
-/// body): `average` the direction of g_a - g_b, `larger` that of the body whose gradient is longer (g_a, or
-/// -g_b), `first` the first body's own g_a (the original choice of Bardenhagen, Brackbill & Sulsky 2000). Nairn
-/// 2013 compares them; the average is the default.
+/// body): `average` the direction of g_a - g_b (the default, symmetric in the two bodies), `larger` that of the
+/// body whose gradient is longer (g_a, or -g_b), `first` the first body's own g_a (the original choice of
+/// Bardenhagen, Brackbill & Sulsky 2000). Nairn 2013 compares them. Measured (docs/contact.md): colliding disks
+/// keep their energy best with the average; a block sliding on a flat plate needs `larger`, which keeps the
+/// plate's normal under the block's corners, where the average tilts and the block ploughs.
 enum class ContactNormal { average, larger, first };
 
 /// One pair of fields that meet by the Coulomb law with friction coefficient `friction` (>= 0; infinity: no
