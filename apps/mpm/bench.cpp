@@ -26,11 +26,14 @@ struct BenchOptions {
   int threads = 0;
   int repeat = 3;
   bool json = false;
+  bool contact = false;
 };
 
 /// The reference problem: a 1 m elastic block (E = 1 MPa, nu = 0.3, rho = 1000 kg/m^3) under gravity on
 /// fixed nodes (all nodes at or below the block's base), 2 particles per cell per axis, 0.05 m of grid around
 /// it, dt = 5e-5 s. particle_steps_per_second is the whole run's: all ranks' particles over the slowest rank's time.
+/// With `contact` the block's two halves (x < 1/2 and x >= 1/2) have a velocity field each and meet by
+/// frictionless contact all along their interface.
 template <int Dim, class Kernel>
 nlohmann::json run_block(const BenchOptions& o, KernelKind kind, Integrator integrator) {
   const int ppc = 2;
@@ -53,6 +56,10 @@ nlohmann::json run_block(const BenchOptions& o, KernelKind kind, Integrator inte
   spec.boundary.regions.push_back(floor);
   ParticleSet<Dim> particles;
   fill_box<Dim>(particles, Vec<Dim>::Zero(), Vec<Dim>::Ones(), h / ppc, 1000, 0);
+  if (o.contact) {
+    spec.contact = ContactSpec{2, {ContactPair{0, 1, 0.0}}};
+    for (std::size_t i = 0; i < particles.size(); ++i) particles.field[i] = particles.x[i][0] < 0.5 ? 0 : 1;
+  }
 
   // Under mpirun the ranks divide the block (Simulation with world()): a run's time is the slowest rank's, from
   // a common start, and its time in communication the largest of the ranks' (waiting for the others included).
@@ -84,6 +91,7 @@ nlohmann::json run_block(const BenchOptions& o, KernelKind kind, Integrator inte
           {"kernel", to_string(kind)},
           {"integrator", to_string(integrator)},
           {"ranks", comm.size()},
+          {"fields", spec.contact.fields},
           {"threads", num_threads()},
           {"communication_seconds", communication[mid]},
           {"bytes_sent_per_step", static_cast<double>(sent) / o.steps},  // the most any rank sent
@@ -109,6 +117,7 @@ Action add_bench(CLI::App& app) {
   cmd->add_option("--threads", o->threads, "threads (0: all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--repeat", o->repeat, "runs; the median is reported")->check(CLI::PositiveNumber);
   cmd->add_flag("--json", o->json, "print one JSON object");
+  cmd->add_flag("--contact", o->contact, "split the block into two halves meeting by frictionless contact");
   return [o]() {
     const KernelKind kind = parse_kernel(o->kernel, "--kernel");
     const Integrator integrator = parse_integrator(o->integrator, "--integrator");
@@ -121,7 +130,8 @@ Action add_bench(CLI::App& app) {
     if (o->json) {
       std::cout << result.dump() << '\n';
     } else {
-      std::cout << result["dim"] << "-D " << o->kernel << " " << o->integrator << ", " << result["particles"]
+      std::cout << result["dim"] << "-D " << o->kernel << " " << o->integrator << (o->contact ? " contact" : "") << ", "
+                << result["particles"]
                 << " particles, " << result["ranks"] << " ranks x " << result["threads"]
                 << " threads: " << result["seconds"].get<double>()
                 << " s median of " << o->repeat << ", "

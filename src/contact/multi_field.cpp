@@ -18,10 +18,17 @@ void validate(const ContactSpec& contact) {
       throw InputError(at + ": expected two different fields of 0 to " + std::to_string(contact.fields - 1));
     if (!(p.friction >= 0))
       throw InputError(at + ": friction " + std::to_string(p.friction) + " (expected a coefficient >= 0)");
+    if (!(p.gap > 0)) throw InputError(at + ": gap " + std::to_string(p.gap) + " (expected > 0 cells)");
     const std::size_t key = static_cast<std::size_t>(std::min(p.a, p.b) * contact.fields + std::max(p.a, p.b));
     if (seen[key]) throw InputError(at + ": the pair is given twice");
     seen[key] = true;
   }
+}
+
+bool measures_gaps(const ContactSpec& contact) {
+  for (const ContactPair& p : contact.pairs)
+    if (std::isfinite(p.gap)) return true;
+  return false;
 }
 
 template <int Dim>
@@ -36,7 +43,8 @@ MultiFieldContact<Dim>::MultiFieldContact(const ContactSpec& spec)
 }
 
 template <int Dim>
-void MultiFieldContact<Dim>::locate(const std::vector<Grid<Dim>*>& fields, Real min_mass, const IVec<Dim>& owned) {
+void MultiFieldContact<Dim>::locate(const std::vector<Grid<Dim>*>& fields, Real min_mass, const IVec<Dim>& owned,
+                                    const std::vector<Grid<Dim>>* positions) {
   const GridGeometry<Dim>& g = fields[0]->geometry;
   const auto nodes = static_cast<std::ptrdiff_t>(g.node_count());
   const int K = spec_.fields;
@@ -69,8 +77,15 @@ void MultiFieldContact<Dim>::locate(const std::vector<Grid<Dim>*>& fields, Real 
           const Vec<Dim>& g_b = fields[b]->nodes[n].v_new;
           const Vec<Dim> n_ab = pair >= 0 && spec_.pairs[pair].a != a ? Vec<Dim>(-contact_normal<Dim>(g_b, g_a, choice))
                                                                       : contact_normal<Dim>(g_a, g_b, choice);
+          // Nairn 2013: the mass centres' distance along the normal less the pair's gap.
+          Real separation = -std::numeric_limits<Real>::infinity();
+          if (pair >= 0 && std::isfinite(spec_.pairs[pair].gap) && positions) {
+            const Vec<Dim> centre_a = (*positions)[a].nodes[n].v / fields[a]->nodes[n].m;
+            const Vec<Dim> centre_b = (*positions)[b].nodes[n].v / fields[b]->nodes[n].m;
+            separation = (centre_b - centre_a).dot(n_ab) - spec_.pairs[pair].gap * g.h;
+          }
           list.push_back(Meeting{static_cast<std::int32_t>(n), static_cast<std::uint16_t>(a),
-                                 static_cast<std::uint16_t>(b), pair, mine, n_ab});
+                                 static_cast<std::uint16_t>(b), pair, mine, n_ab, separation});
         }
     }
   }, 2);
@@ -86,6 +101,14 @@ void MultiFieldContact<Dim>::locate(const std::vector<Grid<Dim>*>& fields, Real 
 }
 
 template <int Dim>
+Vec<Dim> MultiFieldContact<Dim>::momentum_change(const Meeting& m, const GridNode<Dim>& a, const Vec<Dim>& v_a,
+                                                 const GridNode<Dim>& b, const Vec<Dim>& v_b, Real dt) const {
+  // Nairn 2013: the separation at the end of the step, closed by the relative velocity along the normal.
+  if (m.separation + (v_b - v_a).dot(m.normal) * dt > 0) return Vec<Dim>::Zero();
+  return pair_momentum_change<Dim>(a.m, v_a, b.m, v_b, m.normal, friction(m.pair));
+}
+
+template <int Dim>
 void MultiFieldContact<Dim>::correct_velocity(const std::vector<Grid<Dim>*>& fields, NodeVelocity<Dim> v) const {
   // One node's meetings in order (pairs of three or more fields one after the other), nodes in parallel.
   parallel_for(static_cast<std::ptrdiff_t>(contact_nodes()), [&](std::ptrdiff_t k) {
@@ -93,7 +116,7 @@ void MultiFieldContact<Dim>::correct_velocity(const std::vector<Grid<Dim>*>& fie
       const Meeting& m = meetings_[j];
       GridNode<Dim>& a = fields[m.a]->nodes[m.node];
       GridNode<Dim>& b = fields[m.b]->nodes[m.node];
-      const Vec<Dim> dp = pair_momentum_change<Dim>(a.m, a.*v, b.m, b.*v, m.normal, friction(m.pair));
+      const Vec<Dim> dp = momentum_change(m, a, a.*v, b, b.*v, 0);
       a.*v += dp / a.m;
       b.*v -= dp / b.m;
     }
@@ -107,7 +130,7 @@ void MultiFieldContact<Dim>::correct_update(const std::vector<Grid<Dim>*>& field
       const Meeting& m = meetings_[j];
       GridNode<Dim>& a = fields[m.a]->nodes[m.node];
       GridNode<Dim>& b = fields[m.b]->nodes[m.node];
-      const Vec<Dim> dp = pair_momentum_change<Dim>(a.m, a.v_new, b.m, b.v_new, m.normal, friction(m.pair));
+      const Vec<Dim> dp = momentum_change(m, a, a.v_new, b, b.v_new, dt);
       a.v_new += dp / a.m;
       b.v_new -= dp / b.m;
       a.a += dp / (a.m * dt);

@@ -63,6 +63,7 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
       grid_(box_halo_.box()),
       contact_fields_(static_cast<std::size_t>(spec.contact.fields - 1), grid_),
       contact_(spec.contact),
+      contact_positions_(measures_gaps(spec.contact) ? static_cast<std::size_t>(spec.contact.fields) : 0, grid_),
       halo_(grid_.geometry),
       constraints_(spec.boundary, grid_.geometry, box_halo_.owned_layers()),
       rigid_(spec.rigid_bodies, grid_.geometry),
@@ -318,8 +319,32 @@ template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::field_velocities(NodeVelocity<Dim> v, bool locate) {
   for (Grid<Dim>* field : field_grids()) grid_velocity(*field, min_node_mass_);
   if (!contact_.active()) return;
-  if (locate) contact_.locate(field_grids(), min_node_mass_, box_halo_.owned_layers());
+  if (locate) {
+    if (!contact_positions_.empty()) scatter_positions();
+    contact_.locate(field_grids(), min_node_mass_, box_halo_.owned_layers(), &contact_positions_);
+  }
   contact_.correct_velocity(field_grids(), v);
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::scatter_positions() {
+  // Momentum<v slot, no mass> of the positions: sum_p m_p x_p S_ip, summed over boxes, periodic images and mirrors
+  // as a momentum is (a mirror reflects it about the origin rather than the plane, which moves both fields' mass
+  // centres alike and leaves their distance as it is).
+  const Momentum<Dim, NodeSlots<Dim>::v, false> positions{particles_.m, particles_.x};
+  for (int k = 0; k < contact_.fields(); ++k) {
+    Grid<Dim>& grid = contact_positions_[static_cast<std::size_t>(k)];
+    std::memset(static_cast<void*>(grid.nodes.data()), 0, grid.bytes());
+    if (box_halo_.divided()) {
+      const FaceTileSums<Dim> kept(grid.geometry, order_);
+      p2g_add_keeping(kept, stencils_, order_, k, grid, positions);
+      box_halo_.sum(grid, kept.take(), true, false, *comm_);
+    } else {
+      p2g_add_keeping(KeepNothing{}, stencils_, order_, k, grid, positions);
+    }
+    halo_.sum_into_owners(grid, &GridNode<Dim>::v);
+    constraints_.fold_and_mirror(grid, &GridNode<Dim>::v);
+  }
 }
 
 template <int Dim, class Kernel>

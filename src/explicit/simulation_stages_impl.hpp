@@ -170,7 +170,7 @@ double Simulation<Dim, Kernel>::bytes_per_particle() const {
   const double n = static_cast<double>(particles_.size());
   return static_cast<double>(particles_.bytes_per_particle()) + sizeof(StencilT) +
          static_cast<double>(order_.bytes() + tile_.capacity() * sizeof(std::int32_t) +
-                             body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes() +
+                             body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes() * contact_.fields() +
                              (particles_.state.empty() ? 0 : particles_.size() * MaterialState::bytes_per_particle()) +
                              grad_v_.capacity() * sizeof(Mat<Dim>) + hoop_rate_.capacity() * sizeof(Real)) /
              n;

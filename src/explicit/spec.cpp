@@ -59,6 +59,9 @@ void validate(const SimulationSpec<Dim>& s) {
           "grid.lo: an axisymmetric grid must lie at radius x >= 0");
   validate_faces<Dim>(s.boundary, s.cells, s.geometry, s.grid_lo[0], "");
   validate(s.contact);
+  if (measures_gaps(s.contact))
+    for (const FaceCondition<Dim>& f : s.boundary.faces)
+      require(f.type != FaceType::periodic, "contact: the gap of mass centres is not measured across periodic faces");
   for (const RigidBody<Dim>& b : s.rigid_bodies) {
     require(!b.points.empty(), "rigid body '" + b.name + "': has no points");
     require(static_cast<bool>(b.velocity), "rigid body '" + b.name + "': needs a velocity");

@@ -93,8 +93,10 @@ MemoryModel engine_memory(const Scene& sc) {
                                                                  sc.implicit_step.solver == ImplicitSolver::newton_direct);
     bool rate_form = false;
     for (const SceneMaterial& m : sc.materials) rate_form = rate_form || is_rate_form(m.law);
-    return Simulation<Dim, Kernel>::memory_model(!sc.body_force.empty() || !sc.tractions.empty(), rate_form,
-                                                 sc.fields);
+    int grids = sc.fields;  // one per velocity field, and one more each for the gaps of [[contact]]
+    for (const SceneContact& c : sc.contacts)
+      if (std::isfinite(c.gap)) grids = 2 * sc.fields;
+    return Simulation<Dim, Kernel>::memory_model(!sc.body_force.empty() || !sc.tractions.empty(), rate_form, grids);
   });
 }
 

@@ -202,7 +202,8 @@ SimulationSpec<Dim> make_spec(const Scene& sc) {
   spec.account_load_power = true;  // history.csv's external work
   spec.contact.fields = sc.fields;
   for (const SceneContact& c : sc.contacts)
-    spec.contact.pairs.push_back({sc.body_field[c.groups[0][0]], sc.body_field[c.groups[1][0]], c.friction, c.normal});
+    spec.contact.pairs.push_back(
+        {sc.body_field[c.groups[0][0]], sc.body_field[c.groups[1][0]], c.friction, c.normal, c.gap});
 
   spec.body_force = body_force_of<Dim>(sc);
   validate(spec);

@@ -78,6 +78,13 @@ void read_contact(const Section& s, Scene& sc) {
     c.friction = s.constant_number("friction", 0.0, sc.constants);
     if (!(c.friction >= 0)) s.fail("friction", "expected a friction coefficient >= 0, got " + std::to_string(c.friction));
   }
+  if (s.has("gap")) {
+    c.gap = s.constant_number("gap", 0.0, sc.constants);
+    if (!(c.gap > 0)) s.fail("gap", "expected a gap > 0 [cells], got " + std::to_string(c.gap));
+    for (const SceneFace& f : sc.faces)
+      if (f.kind == SceneFace::Kind::periodic)
+        s.fail("gap", "the gap of mass centres is not measured across periodic faces; drop gap or the periodic faces");
+  }
   const std::string normal = s.choice("normals", "average", {"average", "larger", "first"});
   c.normal = normal == "larger" ? ContactNormal::larger : normal == "first" ? ContactNormal::first : ContactNormal::average;
   sc.contacts.push_back(std::move(c));

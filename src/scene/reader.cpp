@@ -325,7 +325,7 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
                     sc, k);
   const std::vector<const toml::table*> contacts = top.tables("contact");
   for (std::size_t k = 0; k < contacts.size(); ++k)
-    read_contact(Section(*contacts[k], "contact[" + std::to_string(k) + "]", loc, {"bodies", "friction", "normals"}),
+    read_contact(Section(*contacts[k], "contact[" + std::to_string(k) + "]", loc, {"bodies", "friction", "normals", "gap"}),
                  sc);
   assign_fields(sc);
   if (const toml::table* loads = top.table("loads"))

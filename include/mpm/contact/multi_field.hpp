@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "mpm/contact/coulomb.hpp"
@@ -25,11 +26,15 @@ namespace mpm {
 enum class ContactNormal { average, larger, first };
 
 /// One pair of fields that meet by the Coulomb law with friction coefficient `friction` (>= 0; infinity: no
-/// slip while in contact), and the normal they use. Fields that meet and are in no pair stick together.
+/// slip while in contact), and the normal they use. Contact needs the fields to approach at a node and, with a
+/// finite `gap` [cells], their mass centres there to lie less than gap cell widths apart along the normal (Nairn
+/// 2013: 0.8 at 2 particles per cell per axis); the default, infinity, takes every approach as contact. Fields
+/// that meet and are in no pair stick together.
 struct ContactPair {
   int a = 0, b = 1;
   Real friction = 0;
   ContactNormal normal = ContactNormal::average;
+  Real gap = std::numeric_limits<Real>::infinity();
 };
 
 /// The velocity fields of an explicit run: `fields` == 1 (the default) is single-field MPM, no contact.
@@ -39,8 +44,10 @@ struct ContactSpec {
 };
 
 /// Throw InputError naming the first invalid entry (fields < 1 or > 255, a pair naming a field out of range, twice,
-/// or a field with itself, a negative or NaN friction).
+/// or a field with itself, a negative or NaN friction, a gap not > 0).
 void validate(const ContactSpec& contact);
+/// Whether some pair detects contact by the gap of its mass centres (a finite ContactPair::gap).
+bool measures_gaps(const ContactSpec& contact);
 
 /// The unit normal from field a into field b at a node, from their volume gradients (ContactNormal); zero where
 /// it is undefined (both gradients zero), and then no Coulomb correction applies.
@@ -90,11 +97,14 @@ class MultiFieldContact {
   /// Find the nodes where two or more fields carry mass (more than min_mass), and the normal of each pair of
   /// fields there from the volume gradients the mass pass left in v_new (VolumeGradient). `fields[k]` is field
   /// k's grid; a node counts in the forces when `owned` (its box owns it, and it is no periodic image or mirror).
-  void locate(const std::vector<Grid<Dim>*>& fields, Real min_mass, const IVec<Dim>& owned);
+  /// When measures_gaps(spec()), `positions[k]` holds field k's sums m_p x_p S_ip in the v slot of each node.
+  void locate(const std::vector<Grid<Dim>*>& fields, Real min_mass, const IVec<Dim>& owned,
+              const std::vector<Grid<Dim>>* positions = nullptr);
   /// Correct the node velocities `v` (the projected v^n, or the re-projected one) at the contact nodes.
   void correct_velocity(const std::vector<Grid<Dim>*>& fields, NodeVelocity<Dim> v) const;
   /// Correct the advanced velocities v_new, and the accelerations a by the change over dt, at the contact nodes,
-  /// and record what each pair transmitted (pair_forces over this rank's nodes).
+  /// and record what each pair transmitted (pair_forces over this rank's nodes). A gap measured at the step's
+  /// start is closed by the relative velocity over dt first (Nairn 2013).
   void correct_update(const std::vector<Grid<Dim>*>& fields, Real dt);
   /// What each pair of spec().pairs transmitted in the last correct_update, summed exactly over this rank's
   /// owned nodes: force (Dim), normal, tangential, friction power.
@@ -110,9 +120,16 @@ class MultiFieldContact {
     std::int32_t pair;  ///< index into spec_.pairs, or -1: they stick
     bool owned;
     Vec<Dim> normal;
+    /// The gap of the mass centres along the normal less the pair's gap [m]: in contact when <= 0 (-infinity
+    /// without a gap)
+    Real separation;
   };
   /// The friction of fields a < b: their pair's, or -1 (stick).
   Real friction(std::int32_t pair) const { return pair < 0 ? Real(-1) : spec_.pairs[pair].friction; }
+  /// The change of a meeting's momentum: none while its fields' separation, closed by their relative velocity
+  /// over dt, stays positive.
+  Vec<Dim> momentum_change(const Meeting& m, const GridNode<Dim>& a, const Vec<Dim>& v_a, const GridNode<Dim>& b,
+                           const Vec<Dim>& v_b, Real dt) const;
 
   ContactSpec spec_;
   std::vector<std::int32_t> pair_of_;  ///< fields * fields: the pair index of (a, b), or -1

@@ -155,16 +155,16 @@ class Simulation {
   /// Heap bytes held by the simulation (particles, stencils, scatter order, grid) per particle.
   double bytes_per_particle() const;
   /// The bytes a simulation will hold, from the arrays the constructor sizes (a body force adds one
-  /// acceleration per particle; a rate-form material its state and the rates the stress update reads; each
-  /// velocity field of contact past the first one node record per node).
-  static MemoryModel memory_model(bool body_force, bool rate_form, int fields = 1) {
+  /// acceleration per particle; a rate-form material its state and the rates the stress update reads; `grids`
+  /// node records per node: one per velocity field of contact, and one more each when contact measures gaps).
+  static MemoryModel memory_model(bool body_force, bool rate_form, int grids = 1) {
     // Particles, their stencils, tiles and scatter order; one node record per node.
     const std::size_t particle =
         ParticleSet<Dim>::bytes_per_particle() + sizeof(Stencil<Dim, Kernel>) + 2 * sizeof(std::int32_t) +
         (body_force ? sizeof(Vec<Dim>) : 0) +
         (rate_form ? MaterialState::bytes_per_particle() + sizeof(Mat<Dim>) + sizeof(Real) : 0) + reorder_bytes(rate_form);
     // A node's mirror copies (1 B) when light nodes are re-projected.
-    return {static_cast<double>(particle), static_cast<double>(fields * sizeof(GridNode<Dim>) + sizeof(std::uint8_t))};
+    return {static_cast<double>(particle), static_cast<double>(grids * sizeof(GridNode<Dim>) + sizeof(std::uint8_t))};
   }
 
  private:
@@ -189,6 +189,8 @@ class Simulation {
   void grid_velocity_and_update(Real dt, Real accel_scale);
   /// v^n in every field, corrected by contact (its nodes located first when `locate`).
   void field_velocities(NodeVelocity<Dim> v, bool locate);
+  /// The mass-weighted particle positions of each field at the nodes, for contact's gap (contact_positions_).
+  void scatter_positions();
   /// Every field's grid: grid_ first, then the contact fields.
   std::vector<Grid<Dim>*> field_grids();
 
@@ -235,6 +237,8 @@ class Simulation {
   /// Contact: the velocity fields past the first (grid_), one grid each, and the corrections where they meet.
   std::vector<Grid<Dim>> contact_fields_;
   MultiFieldContact<Dim> contact_;
+  /// With gap detection, each field's sums m_p x_p S_ip (v slot) for its mass centres (scatter_positions).
+  std::vector<Grid<Dim>> contact_positions_;
   Halo<Dim> halo_;
   KinematicConstraints<Dim> constraints_;
   RigidBodies<Dim> rigid_;

@@ -2,6 +2,7 @@
 /// A simulation described by a scene file (TOML): every key is documented in docs/scene-format.md.
 #include <array>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -46,6 +47,7 @@ struct SceneContact {
   std::array<std::vector<std::size_t>, 2> groups;  ///< body indices of each side
   double friction = 0;  ///< >= 0; infinity: "no-slip"
   ContactNormal normal = ContactNormal::average;
+  double gap = std::numeric_limits<double>::infinity();  ///< [cells]; infinity: every approach is contact
 };
 
 /// The [implicit] table: the theta-blended Newton-Krylov step of Sulsky & Kaul 2004.
