@@ -149,8 +149,13 @@ class Explicit {
     const SymTensor<3> s = sim_.full_stress(i);
     for (int k = 0; k < 6; ++k) out[k] = s.c[k];
   }
+  /// The rate-form state, and with [[contact]] each particle's velocity field (to tell the bodies apart).
   void add_fields(std::vector<io::PointField>& fields) const {
     if (!sim_.particles().state.empty()) add_state_fields(sim_.particles().state, fields);
+    if (spec_.contact.fields > 1) {
+      const std::vector<std::uint16_t>& field = sim_.particles().field;
+      fields.push_back(io::PointField{"field", 1, std::vector<double>(field.begin(), field.end())});
+    }
   }
   void summarize(nlohmann::json&) const {}
   /// newton.csv's rows: none for the explicit step.

@@ -129,6 +129,10 @@ TEST(ContactBodies, CollidingDisksBounceApartConservingMomentum) {
   // No particle of one disk enters the other: the closest particles of the two stay further apart than the
   // particle spacing h / 2 = 0.025 m, so the squares they stand for never overlap (measured 0.0439 m).
   EXPECT_GT(closest_approach(dir / "contact"), 0.025);
+  // The frames tell the bodies apart: each particle's field, the lower-left disk's 0 and the other's 1.
+  const std::vector<double> field = by_id(dir / "contact", frames(dir / "contact").back(), "field", 1);
+  ASSERT_EQ(field.size() % 2, 0u);
+  for (std::size_t i = 0; i < field.size(); ++i) EXPECT_EQ(field[i], i < field.size() / 2 ? 0.0 : 1.0) << i;
   fs::remove_all(dir);
 }
 

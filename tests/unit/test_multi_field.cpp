@@ -78,6 +78,32 @@ TEST(MultiFieldContact, CorrectsANodeWhereTwoFieldsMeet) {
   EXPECT_EQ(a.nodes[0].m * a.nodes[0].v_new + b.nodes[0].m * b.nodes[0].v_new, V2(3, -2));
 }
 
+TEST(MultiFieldContact, ThreeFieldsAtANodeKeepTheirMomentum) {
+  // Three fields at node 0, corrected pair by pair in field order: (0, 1) and (0, 2) by Coulomb friction, (1, 2)
+  // in no pair, so stuck together. Every pair moves momentum from one field to the other: the sum stays.
+  mpm::GridGeometry<2> geometry{V2::Zero(), 1.0, {1, 1}, 0};
+  std::vector<mpm::Grid<2>> grids(3, mpm::Grid<2>(geometry));
+  const V2 gradient[3] = {V2(0, -1), V2(0, 1), V2(1, 1)}, velocity[3] = {V2(3, -2), V2(0, 0.5), V2(-1, -1)};
+  const Real mass[3] = {1, 3, 2};
+  for (int k = 0; k < 3; ++k) grids[k].nodes[0].m = mass[k], grids[k].nodes[0].v_new = gradient[k];
+  mpm::MultiFieldContact<2> contact(mpm::ContactSpec{3, {{0, 1, 0.3}, {0, 2, 0.0}}});
+  const std::vector<mpm::Grid<2>*> fields{&grids[0], &grids[1], &grids[2]};
+  contact.locate(fields, 1e-12, mpm::IVec<2>{2, 2});
+  EXPECT_EQ(contact.contact_nodes(), 1u);
+  V2 before = V2::Zero(), after = V2::Zero();
+  for (int k = 0; k < 3; ++k) {
+    grids[k].nodes[0].v_new = velocity[k];
+    grids[k].nodes[0].a.setZero();
+    before += mass[k] * velocity[k];
+  }
+  contact.correct_update(fields, 0.1);
+  for (int k = 0; k < 3; ++k) after += mass[k] * grids[k].nodes[0].v_new;
+  EXPECT_NEAR((after - before).norm(), 0.0, 1e-14);
+  // The stuck pair (1, 2), corrected last, ends at one velocity.
+  EXPECT_NEAR((grids[1].nodes[0].v_new - grids[2].nodes[0].v_new).norm(), 0.0, 1e-15);
+  EXPECT_NE(grids[0].nodes[0].v_new, velocity[0]);
+}
+
 TEST(MultiFieldContact, SpecsWithoutMeaningAreRefused) {
   const Real nan = std::numeric_limits<Real>::quiet_NaN();
   for (const mpm::ContactSpec& bad : {mpm::ContactSpec{0, {}}, mpm::ContactSpec{256, {}},
