@@ -108,6 +108,7 @@ KinematicConstraints<Dim>::KinematicConstraints(const BoundarySpec<Dim>& spec, c
     }
   reactions_.assign(groups_.size(), Vec<Dim>::Zero());
   reaction_sums_.resize(groups_.size());
+  moments_.resize(groups_.size());
 }
 
 template <int Dim>
@@ -200,11 +201,25 @@ void KinematicConstraints<Dim>::constrain_update(Grid<Dim>& grid, Real t_new, Re
     const int first = grp.component < 0 ? 0 : grp.component;
     const int last = grp.component < 0 ? Dim : grp.component + 1;
     std::array<ExactSum, Dim>& reaction = reaction_sums_[g];
-    if (!add_to_last) reaction = {};
+    if (!add_to_last) {
+      reaction = {};
+      moments_[g] = {};
+    }
     for (std::size_t k = 0; k < grp.nodes.size(); ++k) {
       GridNode<Dim>& node = grid.nodes[grp.nodes[k]];
       if (grp.friction >= 0) {  // a Coulomb wall
+        const Vec<Dim> free = node.a;
         coulomb_partner<Dim>(node, val, grp.normal, grp.friction, dt, grp.owned[k], reaction, friction_power_);
+        if (!grp.owned[k]) continue;
+        // The moments of the normal force along the face plane's axes.
+        const Real f_n = -node.m * (node.a - free).dot(grp.normal);
+        const Vec<Dim> x = grid.geometry.position(grid.geometry.coords(grp.nodes[k]));
+        moments_[g][0].add(f_n);
+        for (int d = 0; d < Dim; ++d)
+          if (grp.normal[d] == 0) {
+            moments_[g][1 + d].add(f_n * x[d]);
+            moments_[g][1 + Dim + d].add(f_n * x[d] * x[d]);
+          }
         continue;
       }
       for (int c = first; c < last; ++c) {

@@ -86,14 +86,25 @@ Real Simulation<Dim, Kernel>::friction_power() const {
 }
 
 template <int Dim, class Kernel>
+std::vector<Real> Simulation<Dim, Kernel>::face_contact_spreads() const {
+  constexpr std::size_t M = 1 + 2 * Dim;
+  std::vector<ExactSum> flat;
+  for (const auto& moments : constraints_.normal_force_moments()) flat.insert(flat.end(), moments.begin(), moments.end());
+  const std::vector<Real> total = sum_over_ranks(flat, *comm_);
+  std::vector<Real> out;
+  for (std::size_t g = 0; g * M < total.size(); ++g) {
+    std::array<Real, M> moments;
+    std::copy_n(total.begin() + static_cast<std::ptrdiff_t>(g * M), M, moments.begin());
+    out.push_back(contact_spread<Dim>(moments));
+  }
+  return out;
+}
+
+template <int Dim, class Kernel>
 std::vector<PairForces<Dim>> Simulation<Dim, Kernel>::contact_forces() const {
   std::vector<ExactSum> flat;
   for (const auto& pair : contact_.pair_sums()) flat.insert(flat.end(), pair.begin(), pair.end());
-  const std::vector<Real> total = box_halo_.divided() ? sum_over_ranks(flat, *comm_) : [&] {
-    std::vector<Real> v;
-    for (const ExactSum& e : flat) v.push_back(e.value());
-    return v;
-  }();
+  const std::vector<Real> total = sum_over_ranks(flat, *comm_);
   std::vector<PairForces<Dim>> out(contact_.pair_sums().size());
   for (std::size_t k = 0; k < out.size(); ++k) {
     const Real* r = &total[k * (Dim + 3)];

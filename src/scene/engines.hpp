@@ -165,6 +165,21 @@ class Explicit {
   std::vector<std::int64_t> counters() const { return {}; }
   /// What each [[contact]] pair transmitted in the last step (Simulation::contact_forces).
   std::vector<PairForces<Dim>> contact_forces() const { return sim_.contact_forces(); }
+  /// The Coulomb walls' names and the spread of their normal force in the last step [m] (contact_spread).
+  std::vector<std::string> spread_names() const {
+    std::vector<std::string> out;
+    const std::vector<std::string> names = sim_.constraints().names();
+    for (std::size_t g = 0; g < names.size(); ++g)
+      if (sim_.constraints().coulomb(g)) out.push_back(names[g]);
+    return out;
+  }
+  std::vector<Real> spreads() const {
+    std::vector<Real> out;
+    const std::vector<Real> all = sim_.face_contact_spreads();
+    for (std::size_t g = 0; g < all.size(); ++g)
+      if (sim_.constraints().coulomb(g)) out.push_back(all[g]);
+    return out;
+  }
   void save(io::CheckpointData& c) const {
     if (sim_.has_material_state()) save_state(sim_.particles(), c);
     if (!spec_.rigid_bodies.empty()) c.reals["rigid_displacement"] = flat(sim_.rigid_bodies().displacements());
@@ -282,8 +297,10 @@ class Implicit {
   const std::vector<NewtonAttempt>& newton_attempts() const { return sim_.last_step_attempts(); }
   /// history.csv's solver columns: Newton and Krylov iterations since t = 0 (their differences per step draw
   /// Sulsky & Kaul 2004, Fig. 9a).
-  /// The implicit step has one velocity field (the scene reader refuses [[contact]]).
+  /// The implicit step has one velocity field and no Coulomb walls (the scene reader refuses both).
   std::vector<PairForces<Dim>> contact_forces() const { return {}; }
+  std::vector<std::string> spread_names() const { return {}; }
+  std::vector<Real> spreads() const { return {}; }
   std::vector<std::string> counter_names() const { return {"newton_iterations", "krylov_iterations"}; }
   std::vector<std::int64_t> counters() const {
     return {sim_.counters().newton_iterations, sim_.counters().krylov_iterations};

@@ -182,6 +182,7 @@ class SceneRun {
     for (const std::string& name : engine_.reaction_names())
       for (int d = 0; d < Dim; ++d) h += ",reaction_" + name + "_" + axis[d];
     for (const std::string& name : engine_.counter_names()) h += ',' + name;
+    for (const std::string& name : engine_.spread_names()) h += ",contact_spread_" + name;
     for (std::size_t k = 0; k < sc_.contacts.size(); ++k) {  // on the table's first group by its second
       const std::string pair = ",contact" + std::to_string(k) + "_";
       for (int d = 0; d < Dim; ++d) h += pair + axis[d];
@@ -199,6 +200,7 @@ class SceneRun {
     const Totals<Dim> t = totals();
     const std::vector<Vec<Dim>> reactions = engine_.reactions();
     const std::vector<PairForces<Dim>> contact = engine_.contact_forces();
+    const std::vector<Real> spreads = engine_.spreads();
     if (!root_) return;
     std::ostream& history = files_.history().row();
     history << sim_.steps() << ',' << sim_.time() << ',' << t.kinetic << ',' << t.strain << ','
@@ -207,6 +209,7 @@ class SceneRun {
     for (const Vec<Dim>& r : reactions)
       for (int d = 0; d < Dim; ++d) history << ',' << r[d];
     for (const std::int64_t n : engine_.counters()) history << ',' << n;
+    for (const Real w : spreads) history << ',' << w;
     for (const PairForces<Dim>& c : contact) {
       for (int d = 0; d < Dim; ++d) history << ',' << c.force[d];
       history << ',' << c.normal << ',' << c.tangential;

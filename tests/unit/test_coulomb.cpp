@@ -1,7 +1,9 @@
-// The Coulomb contact law (contact/coulomb.hpp) by hand-computed cases, a Coulomb wall's correction, reaction and
-// dissipated power at one node (KinematicConstraints), and the refusal of friction where it has no meaning.
+// The Coulomb contact law (contact/coulomb.hpp) by hand-computed cases, a Coulomb wall's correction, reaction,
+// dissipated power and the spread of its normal force (KinematicConstraints), and the refusal of friction where it
+// has no meaning.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -62,6 +64,14 @@ TEST(CoulombWall, CorrectsANodeAndReportsItsForceAndDissipation) {
   }
   EXPECT_EQ(walls.reactions()[0], V2(-20.0 * wall_nodes, 40.0 * wall_nodes));
   EXPECT_EQ(walls.friction_power().value(), 40.0 * wall_nodes);
+  // The moments of the normal force, 40 N at each wall node, x = -1, 0, 1, 2 on both layers: sum 320 N, first
+  // moment 40 * 2 * 2 = 160 N m, second 40 * 2 * 6 = 480 N m^2, none along the normal; spread
+  // sqrt(480 / 320 - (160 / 320)^2) = sqrt(1.25) m.
+  std::array<Real, 5> moments;
+  for (int k = 0; k < 5; ++k) moments[k] = walls.normal_force_moments()[0][k].value();
+  EXPECT_EQ(moments, (std::array<Real, 5>{320, 160, 0, 480, 0}));
+  EXPECT_EQ(mpm::contact_spread<2>(moments), std::sqrt(1.25));
+  EXPECT_EQ(mpm::contact_spread<2>({0, 0, 0, 0, 0}), 0.0);
 }
 
 TEST(CoulombWall, FrictionWithoutMeaningIsRefused) {

@@ -1,6 +1,8 @@
 #pragma once
 /// Kinematic boundary conditions on grid faces and node regions. Steffen et al. 2008, Sec. 3.4.
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -127,12 +129,20 @@ class KinematicConstraints {
   /// applied at a node times the node's velocity relative to the wall after it, summed; as exact sums over the owned
   /// nodes, to be added over the boxes of a divided grid.
   const ExactSum& friction_power() const { return friction_power_; }
+  /// The moments of each Coulomb wall's normal force over its nodes in the last constrain_update, exact sums over
+  /// the owned nodes (to be added over the boxes): f_n, then f_n x_d and f_n x_d^2 along each axis d of the face
+  /// plane (zero along the normal, and for the other constraints). contact_spread() makes a length of them.
+  using Moments = std::array<ExactSum, 1 + 2 * Dim>;
+  const std::vector<Moments>& normal_force_moments() const { return moments_; }
+  /// Whether constraint g (names() order) is a Coulomb wall.
+  bool coulomb(std::size_t g) const { return groups_[g].friction >= 0; }
   /// Take the last step's reactions of `other`, the same constraints compiled for another box (a rebalance
   /// between the step and its report).
   void keep_reactions(const KinematicConstraints& other) {
     reactions_ = other.reactions_;
     reaction_sums_ = other.reaction_sums_;
     friction_power_ = other.friction_power_;
+    moments_ = other.moments_;
   }
   /// Prescribed velocity of each constraint at time t (zero on symmetry planes).
   std::vector<Vec<Dim>> velocities(Real t) const;
@@ -157,8 +167,24 @@ class KinematicConstraints {
   std::vector<Vec<Dim>> reactions_;
   std::vector<std::array<ExactSum, Dim>> reaction_sums_;
   ExactSum friction_power_;
+  std::vector<Moments> moments_;
   std::vector<Mirror> mirrors_;
   ConstrainedAcceleration acceleration_;
 };
+
+/// The spread of a Coulomb wall's normal force: the force-weighted root-mean-square distance of its nodes from
+/// the centre of the force, in the face plane, sqrt(sum f_n |x - x_c|^2 / sum f_n) [m], from the summed moments
+/// (KinematicConstraints::normal_force_moments: f_n, f_n x_d, f_n x_d^2); 0 without a normal force. A Hertzian line
+/// contact, whose pressure is a semi-ellipse of half-width a, has spread a / 2.
+template <int Dim>
+Real contact_spread(const std::array<Real, 1 + 2 * Dim>& moments) {
+  if (!(moments[0] > 0)) return 0;
+  Real variance = 0;
+  for (int d = 0; d < Dim; ++d) {
+    const Real centre = moments[1 + d] / moments[0];
+    variance += moments[1 + Dim + d] / moments[0] - centre * centre;
+  }
+  return std::sqrt(std::max(variance, Real(0)));
+}
 
 }  // namespace mpm

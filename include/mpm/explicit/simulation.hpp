@@ -136,6 +136,9 @@ class Simulation {
   /// The power friction dissipated in the last step, over all ranks [W]: on the Coulomb walls and rigid bodies
   /// (friction_power of KinematicConstraints) and between the contact fields.
   Real friction_power() const;
+  /// The spread of each face and region constraint's normal force in the last step, over all ranks [m]
+  /// (contact_spread of the Coulomb walls; 0 for the other constraints).
+  std::vector<Real> face_contact_spreads() const;
   /// The reaction of each rigid body in the last step, over all ranks [N].
   std::vector<Vec<Dim>> rigid_reactions() const;
   const RigidBodies<Dim>& rigid_bodies() const { return rigid_; }
