@@ -11,14 +11,16 @@
 #include <utility>
 #include <vector>
 
-#include "../regression/distributed_support.hpp"
+#include "../regression/support.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using namespace mpm::testing;
 
-const std::string scene = (source_dir / "examples/contact/hertz-cylinder.toml").string();
+// The source root from this file's path (the support header's own __FILE__ is relative to tests/regression).
+const std::string scene =
+    (fs::path(__FILE__).parent_path().parent_path().parent_path() / "examples/contact/hertz-cylinder.toml").string();
 constexpr double pi = 3.14159265358979323846, R = 1.0, E_star = 1e6 / (1 - 0.3 * 0.3);
 
 /// Means over the held load (t >= 2 s) at `cells` cells per axis: the wall's force P and the half-width 2 w.
