@@ -87,31 +87,21 @@ Real Simulation<Dim, Kernel>::friction_power() const {
 
 template <int Dim, class Kernel>
 std::vector<Real> Simulation<Dim, Kernel>::face_contact_spreads() const {
-  constexpr std::size_t M = 1 + 2 * Dim;
-  std::vector<ExactSum> flat;
-  for (const auto& moments : constraints_.normal_force_moments()) flat.insert(flat.end(), moments.begin(), moments.end());
-  const std::vector<Real> total = sum_over_ranks(flat, *comm_);
   std::vector<Real> out;
-  for (std::size_t g = 0; g * M < total.size(); ++g) {
-    std::array<Real, M> moments;
-    std::copy_n(total.begin() + static_cast<std::ptrdiff_t>(g * M), M, moments.begin());
+  for (const auto& moments : sum_rows_over_ranks(constraints_.normal_force_moments(), *comm_))
     out.push_back(contact_spread<Dim>(moments));
-  }
   return out;
 }
 
 template <int Dim, class Kernel>
 std::vector<PairForces<Dim>> Simulation<Dim, Kernel>::contact_forces() const {
-  std::vector<ExactSum> flat;
-  for (const auto& pair : contact_.pair_sums()) flat.insert(flat.end(), pair.begin(), pair.end());
-  const std::vector<Real> total = sum_over_ranks(flat, *comm_);
-  std::vector<PairForces<Dim>> out(contact_.pair_sums().size());
-  for (std::size_t k = 0; k < out.size(); ++k) {
-    const Real* r = &total[k * (Dim + 3)];
-    for (int d = 0; d < Dim; ++d) out[k].force[d] = r[d];
-    out[k].normal = r[Dim];
-    out[k].tangential = r[Dim + 1];
-    out[k].friction_power = r[Dim + 2];
+  std::vector<PairForces<Dim>> out;
+  for (const std::array<Real, Dim + 3>& r : sum_rows_over_ranks(contact_.pair_sums(), *comm_)) {
+    PairForces<Dim>& f = out.emplace_back();
+    for (int d = 0; d < Dim; ++d) f.force[d] = r[d];
+    f.normal = r[Dim];
+    f.tangential = r[Dim + 1];
+    f.friction_power = r[Dim + 2];
   }
   return out;
 }

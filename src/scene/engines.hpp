@@ -175,6 +175,7 @@ class Explicit {
   }
   std::vector<Real> spreads() const {
     std::vector<Real> out;
+    if (spread_names().empty()) return out;  // no Coulomb wall: no sums to exchange between ranks
     const std::vector<Real> all = sim_.face_contact_spreads();
     for (std::size_t g = 0; g < all.size(); ++g)
       if (sim_.constraints().coulomb(g)) out.push_back(all[g]);

@@ -100,15 +100,23 @@ inline std::vector<Real> sum_over_ranks(const std::vector<ExactSum>& sums, const
   return out;
 }
 
+/// The same for rows of N sums (the moments of a constraint, the forces of a contact pair), in one exchange.
+template <std::size_t N>
+std::vector<std::array<Real, N>> sum_rows_over_ranks(const std::vector<std::array<ExactSum, N>>& sums,
+                                                     const Communicator& comm) {
+  std::vector<ExactSum> flat;
+  for (const std::array<ExactSum, N>& r : sums) flat.insert(flat.end(), r.begin(), r.end());
+  const std::vector<Real> total = sum_over_ranks(flat, comm);
+  std::vector<std::array<Real, N>> out(sums.size());
+  for (std::size_t k = 0; k < out.size(); ++k) std::copy_n(total.begin() + static_cast<std::ptrdiff_t>(k * N), N, out[k].begin());
+  return out;
+}
+
 /// The same for vectors (a reaction per constraint).
 template <int Dim>
 std::vector<Vec<Dim>> sum_over_ranks(const std::vector<std::array<ExactSum, Dim>>& sums, const Communicator& comm) {
-  std::vector<ExactSum> flat;
-  for (const std::array<ExactSum, Dim>& r : sums) flat.insert(flat.end(), r.begin(), r.end());
-  const std::vector<Real> total = sum_over_ranks(flat, comm);
-  std::vector<Vec<Dim>> out(sums.size());
-  for (std::size_t k = 0; k < out.size(); ++k)
-    for (int d = 0; d < Dim; ++d) out[k][d] = total[k * Dim + static_cast<std::size_t>(d)];
+  std::vector<Vec<Dim>> out;
+  for (const std::array<Real, Dim>& r : sum_rows_over_ranks(sums, comm)) out.push_back(Eigen::Map<const Vec<Dim>>(r.data()));
   return out;
 }
 
