@@ -1,9 +1,60 @@
-// Reading the [[materials]] tables of a scene: Neo-Hookean, rate-form (hypoelastic, von Mises) and Newtonian fluid.
+// Reading the [[materials]] tables of a scene: Neo-Hookean, rate-form (hypoelastic, von Mises), frictional
+// (Drucker-Prager, Mohr-Coulomb) and Newtonian fluid.
+#include <numbers>
+
 #include "section.hpp"
 
 namespace mpm::scene_reading {
 
 namespace {
+/// Run a validation that names its keys "law.KEY" and report a failure at the key as written in the file.
+template <class Check>
+void check_at_key(const Section& s, const Check& check) {
+  try {
+    check();
+  } catch (const InputError& e) {  // "law.KEY: what"
+    const std::string what = e.what();
+    const std::size_t dot = what.find('.'), colon = what.find(": ");
+    s.fail(what.substr(dot + 1, colon - dot - 1), what.substr(colon + 2));
+  }
+}
+
+/// The keys of the frictional models, refused by the others.
+constexpr const char* frictional_keys[] = {"cohesion", "friction_angle", "dilatancy_angle", "residual_cohesion",
+                                           "residual_friction_angle", "residual_strain", "match", "tension_cutoff"};
+
+/// Drucker-Prager or Mohr-Coulomb: E and nu, the strength (angles in degrees; the cohesions may be expressions of
+/// the constants) and, for Drucker-Prager, the cone's match and the tension cut-off.
+Material read_frictional(const Section& s, const Scene& sc, const std::string& model, double rho) {
+  for (const char* k : {"lambda", "mu", "yield_strength", "hardening", "limit_strength", "softening",
+                        "residual_strength", "specific_heat"})
+    if (s.has(k)) s.fail(k, "does not apply to model = \"" + model + "\"");
+  constexpr double degree = std::numbers::pi / 180;
+  FrictionalSolid solid;
+  solid.E = s.required_number("E");
+  solid.nu = s.required_number("nu");
+  solid.rho0 = rho;
+  FrictionalStrength& f = solid.strength;
+  f.cohesion = s.constant_number("cohesion", 0, sc.constants);
+  f.friction = s.constant_number("friction_angle", 0, sc.constants) * degree;
+  f.dilatancy = s.constant_number("dilatancy_angle", 0, sc.constants) * degree;
+  f.residual_strain = s.number("residual_strain", 0);
+  f.residual_cohesion = s.constant_number("residual_cohesion", f.cohesion, sc.constants);
+  f.residual_friction = s.constant_number("residual_friction_angle", f.friction / degree, sc.constants) * degree;
+  if (model == "mohr-coulomb") {
+    for (const char* k : {"match", "tension_cutoff"})
+      if (s.has(k)) s.fail(k, "applies to model = \"drucker-prager\" only");
+    MohrCoulomb law{solid};
+    check_at_key(s, [&] { validate(law, "law"); });
+    return law;
+  }
+  DruckerPrager law{solid};
+  const std::string match = s.choice("match", "outer", {"outer", "inner", "plane-strain"});
+  law.match = match == "outer" ? ConeMatch::outer : match == "inner" ? ConeMatch::inner : ConeMatch::plane_strain;
+  law.tension = s.constant_number("tension_cutoff", std::numeric_limits<double>::infinity(), sc.constants);
+  check_at_key(s, [&] { validate(law, "law"); });
+  return law;
+}
 /// The rate-form laws of Sulsky & Kaul 2004: hypoelastic, or von Mises with the bilinear hardening law.
 ElastoPlastic read_rate_form(const Section& s, const std::string& model, double rho) {
   for (const char* k : {"lambda", "mu"})
@@ -24,13 +75,7 @@ ElastoPlastic read_rate_form(const Section& s, const std::string& model, double 
     law.law.limit = s.number("limit_strength", std::numeric_limits<double>::infinity());
     law.law.softening = s.number("softening", 0);
     law.law.residual = s.number("residual_strength", 0);
-    try {
-      validate(law.law, "law");
-    } catch (const InputError& e) {  // "law.KEY: what": report it at the key as written in the file
-      const std::string what = e.what();
-      const std::size_t dot = what.find('.'), colon = what.find(": ");
-      s.fail(what.substr(dot + 1, colon - dot - 1), what.substr(colon + 2));
-    }
+    check_at_key(s, [&] { validate(law.law, "law"); });
   } else {
     for (const char* k : {"yield_strength", "hardening", "limit_strength", "softening", "residual_strength"})
       if (s.has(k)) s.fail(k, "applies to model = \"von-mises\" only");
@@ -83,11 +128,18 @@ void read_material(const Section& s, Scene& sc) {
   for (const SceneMaterial& other : sc.materials)
     if (other.name == m.name) s.fail("name", "material '" + m.name + "' is defined twice");
   const std::string model =
-      s.choice("model", "neo-hookean", {"neo-hookean", "hypoelastic", "von-mises", "newtonian-fluid"});
+      s.choice("model", "neo-hookean",
+               {"neo-hookean", "hypoelastic", "von-mises", "newtonian-fluid", "drucker-prager", "mohr-coulomb"});
   const double rho = s.required_number("density");
   if (!(rho > 0)) s.fail("density", "expected a positive density [kg/m^3]");
   m.density = rho;
-  if (model == "neo-hookean")
+  const bool frictional = model == "drucker-prager" || model == "mohr-coulomb";
+  if (!frictional)
+    for (const char* k : frictional_keys)
+      if (s.has(k)) s.fail(k, "applies to model = \"drucker-prager\" or \"mohr-coulomb\" only");
+  if (frictional)
+    m.law = read_frictional(s, sc, model, rho);
+  else if (model == "neo-hookean")
     m.law = read_neo_hookean(s, sc, rho);
   else if (model == "newtonian-fluid")
     m.law = read_fluid(s, sc, rho);

@@ -309,7 +309,8 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
     read_material(Section(*materials[k], "materials[" + std::to_string(k) + "]", loc,
                           {"name", "model", "E", "nu", "lambda", "mu", "density", "specific_heat", "yield_strength",
                            "hardening", "limit_strength", "softening", "residual_strength", "viscosity", "second_viscosity",
-                           "bulk_modulus"}),
+                           "bulk_modulus", "cohesion", "friction_angle", "dilatancy_angle", "residual_cohesion",
+                           "residual_friction_angle", "residual_strain", "match", "tension_cutoff"}),
                   sc);
   const std::vector<const toml::table*> bodies = top.tables("bodies");
   if (bodies.empty()) top.fail("bodies", "missing: at least one [[bodies]] table is needed");

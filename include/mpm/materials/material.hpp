@@ -1,7 +1,8 @@
 #pragma once
 /// The material interface both engines use. A material is a value type with its parameters: a hyperelastic
 /// law gives the stress from F (NeoHookean), a rate-form law advances it from the velocity gradient over a
-/// step (ElastoPlastic: hypoelastic or von Mises); the per-particle state of the rate-form laws is a
+/// step (ElastoPlastic: hypoelastic or von Mises; the frictional DruckerPrager and MohrCoulomb; the
+/// NewtonianFluid); the per-particle state of the rate-form laws is a
 /// MaterialState owned by the particle set. Loops visit the variant once per particle or take a lane policy
 /// when every material is of one kind (transfer/g2p_stress.hpp).
 #include <string>
@@ -11,13 +12,19 @@
 
 #include "mpm/core/errors.hpp"
 #include "mpm/core/model_geometry.hpp"
+#include "mpm/materials/drucker_prager.hpp"
 #include "mpm/materials/elastoplastic.hpp"
+#include "mpm/materials/mohr_coulomb.hpp"
 #include "mpm/materials/neo_hookean.hpp"
 #include "mpm/materials/newtonian_fluid.hpp"
 
 namespace mpm {
 
-using Material = std::variant<NeoHookean, ElastoPlastic, NewtonianFluid>;
+using Material = std::variant<NeoHookean, ElastoPlastic, NewtonianFluid, DruckerPrager, MohrCoulomb>;
+
+/// The laws of linear isotropic elasticity in rate form, whose wave speed follows the current density.
+template <class Law>
+concept HypoelasticLaw = std::is_same_v<Law, ElastoPlastic> || std::is_base_of_v<FrictionalSolid, Law>;
 
 /// Whether a material's stress depends on the rate of deformation (and needs a MaterialState): every material but
 /// the Neo-Hookean one.
@@ -32,7 +39,7 @@ inline Real reference_density(const Material& m) {
 inline Real wave_speed(const Material& m, Real J) {
   return std::visit(
       [J](const auto& law) {
-        if constexpr (std::is_same_v<std::decay_t<decltype(law)>, ElastoPlastic>)
+        if constexpr (HypoelasticLaw<std::decay_t<decltype(law)>>)
           return law.wave_speed(law.rho0 / J);
         else
           return law.wave_speed(J);
@@ -47,7 +54,7 @@ inline Real young_modulus(const Material& m) {
         using Law = std::decay_t<decltype(law)>;
         if constexpr (std::is_same_v<Law, NeoHookean>)
           return law.mu * (3 * law.lambda + 2 * law.mu) / (law.lambda + law.mu);
-        else if constexpr (std::is_same_v<Law, ElastoPlastic>)
+        else if constexpr (HypoelasticLaw<Law>)
           return law.E;
         else
           return law.bulk;
@@ -59,6 +66,14 @@ inline Real young_modulus(const Material& m) {
 /// what was expected.
 inline void validate(const Material& m, const std::string& where, int dim, Geometry geometry) {
   if (const auto* law = std::get_if<ElastoPlastic>(&m)) return validate(*law, where);
+  const auto frictional = [&](const auto& law) {
+    validate(law, where);
+    if (geometry == Geometry::plane_stress)
+      throw InputError(where + ": Drucker-Prager and Mohr-Coulomb materials run in plane strain, axisymmetry or "
+                               "3-D, not plane stress");
+  };
+  if (const auto* law = std::get_if<DruckerPrager>(&m)) return frictional(*law);
+  if (const auto* law = std::get_if<MohrCoulomb>(&m)) return frictional(*law);
   if (const auto* fluid = std::get_if<NewtonianFluid>(&m)) {
     validate(*fluid, where);
     if (geometry != Geometry::plane_strain)

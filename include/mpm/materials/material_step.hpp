@@ -1,6 +1,7 @@
 #pragma once
 /// One particle's stress update over a step for any material, shared by the explicit and implicit engines.
 #include <cmath>
+#include <type_traits>
 #include <variant>
 
 #include "mpm/core/model_geometry.hpp"
@@ -35,12 +36,12 @@ struct MaterialStep {
   bool ok;             ///< J > 0, a positive out-of-plane stretch and a finite stress
 };
 
-/// Advance a particle of volume V over a step whose velocity-gradient increment is dL = dt grad v and whose hoop
-/// strain increment (axisymmetric) is dt v_r / r. Strain and spin increments: Sulsky & Kaul 2004, Eq. (2.2.18),
+/// Advance a particle of a rate-form solid (ElastoPlastic, DruckerPrager, MohrCoulomb) of volume V over a step
+/// whose velocity-gradient increment is dL = dt grad v and whose hoop strain increment (axisymmetric) is dt v_r / r. Strain and spin increments: Sulsky & Kaul 2004, Eq. (2.2.18),
 /// Eq. (2.2.19), Eq. (2.2.20); the stress: update_stress; the internal energy with the mid-step stress:
 /// Sulsky & Kaul 2004, Eq. (2.2.16).
-template <int Dim>
-MaterialStep rate_form_step(const ElastoPlastic& mat, const SymTensor<3>& sigma, Real eps_bar, Real stretch3, Real V,
+template <int Dim, class Law>
+MaterialStep rate_form_step(const Law& mat, const SymTensor<3>& sigma, Real eps_bar, Real stretch3, Real V,
                         const Mat<Dim>& dL, Real hoop_increment, Geometry geometry) {
   const Mat3 dL3 = embed<Dim>(dL);
   Mat3 de = 0.5 * (dL3 + dL3.transpose());
@@ -48,7 +49,11 @@ MaterialStep rate_form_step(const ElastoPlastic& mat, const SymTensor<3>& sigma,
   if (geometry == Geometry::axisymmetric) de(2, 2) = hoop_increment;
   const OutOfPlane mode = geometry == Geometry::plane_stress ? OutOfPlane::plane_stress : OutOfPlane::given;
   const Mat3 sigma_n = sigma.full();
-  const StressUpdate u = update_stress(mat, sigma_n, eps_bar, de, dW, mode);
+  StressUpdate u;
+  if constexpr (std::is_same_v<Law, ElastoPlastic>)
+    u = update_stress(mat, sigma_n, eps_bar, de, dW, mode);
+  else
+    u = update_stress(mat, sigma_n, eps_bar, de, dW);  // frictional: de(2, 2) as given (no plane stress)
   de(2, 2) = u.d_eps_zz;
   MaterialStep out;
   out.stretch3 = geometry == Geometry::plane_strain ? 1.0 : stretch3 * (1 + de(2, 2));
@@ -110,10 +115,17 @@ template <int Dim>
 MaterialStep material_step(const Material& material, const SymTensor<3>& sigma, Real eps_bar, Real stretch3, Real V,
                            Real V0, const Mat<Dim>& F, const Mat<Dim>& dL, Real dt, Real hoop_increment,
                            Geometry geometry) {
-  if (const auto* law = std::get_if<NeoHookean>(&material)) return hyperelastic_step<Dim>(*law, F, V0, dL);
-  if (const auto* law = std::get_if<NewtonianFluid>(&material)) return fluid_step<Dim>(*law, sigma, V, F, dL, dt);
-  return rate_form_step<Dim>(std::get<ElastoPlastic>(material), sigma, eps_bar, stretch3, V, dL, hoop_increment,
-                             geometry);
+  return std::visit(
+      [&](const auto& law) {
+        using Law = std::decay_t<decltype(law)>;
+        if constexpr (std::is_same_v<Law, NeoHookean>)
+          return hyperelastic_step<Dim>(law, F, V0, dL);
+        else if constexpr (std::is_same_v<Law, NewtonianFluid>)
+          return fluid_step<Dim>(law, sigma, V, F, dL, dt);
+        else
+          return rate_form_step<Dim>(law, sigma, eps_bar, stretch3, V, dL, hoop_increment, geometry);
+      },
+      material);
 }
 
 }  // namespace mpm

@@ -1,0 +1,68 @@
+// Drucker-Prager's return in the (p, sqrt(J2)) plane: de Souza Neto et al. 2008, Sec. 8.3, with a tension cut-off.
+#include "mpm/materials/drucker_prager.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "mpm/materials/elastoplastic.hpp"
+
+namespace mpm {
+
+ConeCoefficients cone_coefficients(ConeMatch match, Real phi) {
+  const Real s = std::sin(phi), c = std::cos(phi), root3 = std::sqrt(3.0);
+  switch (match) {
+    case ConeMatch::outer:  // de Souza Neto et al. 2008, Sec. 6.4: through the compressive edges
+      return {6 * s / (root3 * (3 - s)), 6 * c / (root3 * (3 - s))};
+    case ConeMatch::inner:  // de Souza Neto et al. 2008, Sec. 6.4: through the tensile edges
+      return {6 * s / (root3 * (3 + s)), 6 * c / (root3 * (3 + s))};
+    case ConeMatch::plane_strain: {  // de Souza Neto et al. 2008, Sec. 6.4: Mohr-Coulomb's plane-strain collapse
+      const Real t = std::tan(phi), d = std::sqrt(9 + 12 * t * t);
+      return {3 * t / d, 3 / d};
+    }
+  }
+  return {0, 0};
+}
+
+void validate(const DruckerPrager& m, const std::string& where) {
+  validate(static_cast<const FrictionalSolid&>(m), where);
+  if (!(m.tension >= 0))
+    detail::bad_input(where, "tension_cutoff", "expected a largest mean stress >= 0 [Pa], got " + detail::number(m.tension));
+}
+
+FrictionalReturn return_at_strength(const DruckerPrager& m, const Eigen::Matrix3d& trial, Real e) {
+  const Real G = m.mu(), K = m.bulk();
+  const Real c = m.strength.cohesion_at(e);
+  const ConeCoefficients cone = cone_coefficients(m.match, m.strength.friction_at(e));
+  const Real eta_bar = cone_coefficients(m.match, m.strength.dilatancy).eta;
+  const Real p_trial = trial.trace() / 3;
+  const Eigen::Matrix3d s_trial = deviator(trial);
+  const Real tau_trial = std::sqrt(0.5 * s_trial.squaredNorm());  // sqrt(J2)
+  // The largest mean stress: the cut-off, or the apex xi c / eta where it comes first.
+  const Real t = cone.eta > 0 ? std::min(m.tension, cone.xi * c / cone.eta) : m.tension;
+  const auto stress = [&](Real p, Real tau) {
+    Eigen::Matrix3d sigma = tau_trial > 0 ? Eigen::Matrix3d(tau / tau_trial * s_trial) : Eigen::Matrix3d::Zero();
+    sigma.diagonal().array() += p;
+    return FrictionalReturn{sigma, true};
+  };
+  const Real f_cone = tau_trial + cone.eta * p_trial - cone.xi * c;  // de Souza Neto et al. 2008, Sec. 8.3
+  if (f_cone <= 0 && p_trial <= t) return {trial, false};
+  if (f_cone > 0) {
+    // The smooth cone: sqrt(J2) = tau_trial - G dgamma, p = p_trial - K eta_bar dgamma, f = 0
+    // (de Souza Neto et al. 2008, Sec. 8.3, perfectly plastic at this strength).
+    const Real dgamma = f_cone / (G + K * cone.eta * eta_bar);
+    const Real tau = tau_trial - G * dgamma, p = p_trial - K * eta_bar * dgamma;
+    if (tau >= 0 && p <= t) return stress(p, tau);
+  }
+  // The cut-off alone: p = t with the deviator kept, where that lies inside the cone.
+  if (p_trial > t && tau_trial + cone.eta * t - cone.xi * c <= 0) return stress(t, tau_trial);
+  // The corner of cone and cut-off (the apex when t is the apex): p = t, sqrt(J2) on the cone.
+  return stress(t, std::max<Real>(0, cone.xi * c - cone.eta * t));
+}
+
+StressUpdate update_stress(const DruckerPrager& m, const Eigen::Matrix3d& sigma_n, Real eps_bar_n,
+                               const Eigen::Matrix3d& de, const Eigen::Matrix3d& dW) {
+  return return_with_softening(m, frictional_trial(m, sigma_n, de, dW), eps_bar_n, de(2, 2),
+                               [&m](const Eigen::Matrix3d& trial, Real e) { return return_at_strength(m, trial, e); });
+}
+
+}  // namespace mpm
