@@ -177,6 +177,9 @@ std::vector<RigidBody<Dim>> rigid_bodies_of(const Scene& sc) {
     RigidBody<Dim> body{r.name, points.x, Vec<Dim>::Constant(0.5 * spacing), velocity_of<Dim>(r.velocity)};
     for (int d = 0; d < Dim; ++d) body.imposes[d] = r.imposes[d];
     body.friction = r.friction;
+    body.holds_inside = r.holds_inside;
+    body.lo = to_vec<Dim>(r.lo);
+    body.hi = to_vec<Dim>(r.hi);
     out.push_back(std::move(body));
   }
   return out;

@@ -22,12 +22,13 @@ std::string grid_extent(const Scene& sc) {
 }
 
 
-/// The corners `lo` and `hi` of a box inside the grid; `what` names it in the message ("the box").
+/// The corners `lo` and `hi` of a box inside the grid, each component a number or an expression of the constants;
+/// `what` names it in the message ("the box").
 void read_box(const Section& s, const Scene& sc, const std::string& what, std::vector<double>& lo,
               std::vector<double>& hi) {
   const auto n = static_cast<std::size_t>(sc.dim);
-  lo = s.numbers("lo", n);
-  hi = s.numbers("hi", n);
+  lo = s.constant_numbers("lo", n, sc.constants);
+  hi = s.constant_numbers("hi", n, sc.constants);
   for (std::size_t d = 0; d < n; ++d)
     if (!(hi[d] > lo[d])) s.fail("hi", "expected hi > lo on every axis");
   const std::string side = outside_grid(sc, lo, hi);
@@ -143,6 +144,9 @@ void read_rigid_body(const Section& s, Scene& sc, std::size_t index) {
     r.friction = s.constant_number("friction", 0.0, sc.constants);
     if (!(r.friction >= 0)) s.fail("friction", "expected a friction coefficient >= 0, got " + std::to_string(r.friction));
   }
+  r.holds_inside = s.choice("nodes", "touched", {"touched", "inside"}) == "inside";
+  if (r.holds_inside && r.friction >= 0)
+    s.fail("nodes", "a Coulomb body's normals come from the nodes its points touch; drop nodes = \"inside\" or friction");
   sc.rigid_bodies.push_back(std::move(r));
 }
 

@@ -322,7 +322,7 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
   const std::vector<const toml::table*> rigid = top.tables("rigid_bodies");
   for (std::size_t k = 0; k < rigid.size(); ++k)
     read_rigid_body(Section(*rigid[k], "rigid_bodies[" + std::to_string(k) + "]", loc,
-                            {"name", "shape", "lo", "hi", "ppc", "velocity", "contact_axes", "friction"}),
+                            {"name", "shape", "lo", "hi", "ppc", "velocity", "contact_axes", "friction", "nodes"}),
                     sc, k);
   const std::vector<const toml::table*> contacts = top.tables("contact");
   for (std::size_t k = 0; k < contacts.size(); ++k)

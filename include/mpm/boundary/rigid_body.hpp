@@ -3,6 +3,7 @@
 /// (no-slip contact through the single velocity field, Sulsky & Kaul 2004 Secs 3.1.1 and 3.2.7), in both engines.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <sstream>
 #include <string>
@@ -34,6 +35,10 @@ struct RigidBody {
   /// >= 0: a Coulomb body instead (coulomb_contact, contact/coulomb.hpp), whose normal at a node is the gradient of
   /// its points' shape functions there; the material may leave it and slides along it against friction.
   Real friction = -1;
+  /// Whether the body holds the nodes inside its box [lo, hi] (moved with it) rather than every node its points
+  /// touch: a footing or platen whose width is its box's, not the box's widened by the kernel's support.
+  bool holds_inside = false;
+  Vec<Dim> lo = Vec<Dim>::Zero(), hi = Vec<Dim>::Zero();  ///< the box at t = 0 [m] (used when holds_inside)
 };
 
 /// The rigid bodies of a run, where they are, and the nodes they touch.
@@ -87,9 +92,11 @@ class RigidBodies {
       const RigidBody<Dim>& body = bodies_[b];
       std::vector<std::pair<std::int32_t, bool>> touched;
       std::vector<std::pair<std::int32_t, Vec<Dim>>> gradients;  // a Coulomb body's: sum_p grad S_i(x_p), by node
+      if (body.holds_inside) touched = nodes_inside(g, body.lo + displacement_[b], body.hi + displacement_[b], owned);
       for (const Vec<Dim>& x0 : body.points) {
         const Vec<Dim> x = x0 + displacement_[b];
         if (!g.contains(x)) throw SimulationFailure(when + ": rigid body '" + body.name + "' left the grid");
+        if (body.holds_inside) continue;
         // The point's stencil as make_stencil locates it, its weights as for_each_node multiplies them.
         constexpr int N = Kernel::width;
         IVec<Dim> first;
@@ -148,6 +155,36 @@ class RigidBodies {
         if (length > 0) normals_[b][k] = -sum / length;
       }
     }
+  }
+
+  /// The nodes in the box [lo, hi] (to 1e-9 h), each with whether the box of a divided grid owns it.
+  static std::vector<std::pair<std::int32_t, bool>> nodes_inside(const GridGeometry<Dim>& g, const Vec<Dim>& lo,
+                                                                 const Vec<Dim>& hi, const IVec<Dim>& owned) {
+    IVec<Dim> first, last;  // storage layers
+    for (int d = 0; d < Dim; ++d) {
+      const Real tol = 1e-9;
+      first[d] = std::max(0, static_cast<int>(std::ceil((lo[d] - g.lo[d]) / g.h - tol)) + g.ghost - g.offset[d]);
+      last[d] = std::min(g.nodes_along(d) - 1,
+                         static_cast<int>(std::floor((hi[d] - g.lo[d]) / g.h + tol)) + g.ghost - g.offset[d]);
+    }
+    std::vector<std::pair<std::int32_t, bool>> out;
+    for (int d = 0; d < Dim; ++d)
+      if (first[d] > last[d]) return out;
+    IVec<Dim> k = first;
+    while (true) {
+      std::int32_t flat = 0;
+      bool mine = true;
+      for (int d = Dim - 1; d >= 0; --d) {
+        flat = flat * g.nodes_along(d) + k[d];
+        mine = mine && k[d] < owned[d];
+      }
+      out.emplace_back(flat, mine);
+      int d = 0;
+      while (d < Dim && k[d] >= last[d]) k[d] = first[d], ++d;
+      if (d == Dim) break;
+      ++k[d];
+    }
+    return out;
   }
 
   /// Impose the bodies' velocities at time t on a node velocity field.

@@ -39,6 +39,7 @@ struct SceneRigidBody {
   std::vector<ExpressionPtr> velocity;   ///< expressions of t
   std::vector<bool> imposes;             ///< per axis: the body imposes this velocity component
   double friction = -1;                  ///< >= 0: a Coulomb body with this coefficient; < 0 no slip
+  bool holds_inside = false;             ///< nodes = "inside": it holds the nodes in its box, not those it touches
 };
 
 /// A [[contact]] table: two groups of bodies (each a body, or several sharing one velocity field) that meet by
