@@ -31,6 +31,19 @@ Law soil() {
 
 inline Mat3 diagonal(Real a, Real b, Real c) { return Eigen::Vector3d(a, b, c).asDiagonal(); }
 
+/// The soil, or with `soften` a soil whose cohesion falls to 1 kPa and friction angle to 20 degrees at a plastic
+/// strain of 0.01.
+template <class Law>
+Law soil(bool soften) {
+  Law m = soil<Law>();
+  if (soften) {
+    m.strength.residual_cohesion = 1e3;
+    m.strength.residual_friction = 20 * degree;
+    m.strength.residual_strain = 0.01;
+  }
+  return m;
+}
+
 /// A step without spin.
 template <class Law>
 StressUpdate step(const Law& m, const Mat3& sigma, Real eps_bar, const Mat3& de) {
@@ -79,6 +92,30 @@ StressUpdate simple_shear(const Law& m, const Mat3& sigma_0, Real gamma, int ste
   de(0, 1) = de(1, 0) = 0.5 * gamma / steps;
   for (int k = 0; k < steps; ++k) u = step(m, u.sigma, u.eps_bar, de);
   return u;
+}
+
+/// From the state `on` (on the surface, away from edges), steps of h * direction for h = 1e-5 and 1e-6 against the
+/// continuum tangent D de - D n (a : D de) / (a : D n), a and n the gradients of the yield function and the plastic
+/// potential at `on` (perfect plasticity): the error is below 1e-3 |D de| and falls by at least 50 for h / 10
+/// (backward Euler differs by O(|de|^2)).
+template <class Law>
+void expect_second_order_tangent(const Law& m, const StressUpdate& on, const Mat3& a, const Mat3& Dn,
+                                 const Mat3& direction) {
+  Real previous = 0;
+  for (Real h : {1e-5, 1e-6}) {
+    const Mat3 de = h * direction;
+    Mat3 D_de = 2 * m.mu() * de;
+    D_de.diagonal().array() += m.lambda() * de.trace();
+    const Real loading = a.cwiseProduct(D_de).sum();
+    ASSERT_GT(loading, 0);
+    const Mat3 expected = D_de - Dn * loading / a.cwiseProduct(Dn).sum();
+    const Real error = (step(m, on.sigma, on.eps_bar, de).sigma - on.sigma - expected).norm();
+    EXPECT_LT(error, 1e-3 * D_de.norm()) << "h = " << h;
+    if (previous > 0) {
+      EXPECT_GT(previous / error, 50) << "second order: error / 100 for h / 10";
+    }
+    previous = error;
+  }
 }
 
 }  // namespace frictional_paths

@@ -152,21 +152,7 @@ TEST(DruckerPrager, TinyStepsFollowTheContinuumTangentToSecondOrder) {
   const Mat3 a = s / (2 * tau) + cone.eta / 3 * Mat3::Identity(), Dn = G / tau * s + K * eta_bar * Mat3::Identity();
   Mat3 direction;
   direction << 0.1, 0.3, 0.05, 0.3, 0.2, -0.1, 0.05, -0.1, -1.0;
-  Real previous = 0;
-  for (Real h : {1e-5, 1e-6}) {
-    const Mat3 de = h * direction;
-    Mat3 D_de = 2 * G * de;
-    D_de.diagonal().array() += m.lambda() * de.trace();
-    const Real loading = a.cwiseProduct(D_de).sum();
-    ASSERT_GT(loading, 0);
-    const Mat3 expected = D_de - Dn * loading / (G + K * cone.eta * eta_bar);
-    const Real error = (step(m, on.sigma, on.eps_bar, de).sigma - on.sigma - expected).norm();
-    EXPECT_LT(error, 1e-3 * D_de.norm()) << "h = " << h;
-    if (previous > 0) {
-      EXPECT_GT(previous / error, 50) << "second order: error / 100 for h / 10";
-    }
-    previous = error;
-  }
+  expect_second_order_tangent(m, on, a, Dn, direction);
 }
 
 TEST(DruckerPrager, EveryStepEndsOnOrInsideTheSurfaceFromTinyToHugeIncrements) {
@@ -176,13 +162,8 @@ TEST(DruckerPrager, EveryStepEndsOnOrInsideTheSurfaceFromTinyToHugeIncrements) {
   std::uniform_real_distribution<Real> unit(-1, 1);
   for (const bool soften : {false, true})
     for (const Real t : {std::numeric_limits<Real>::infinity(), 3e3}) {
-      DruckerPrager m = dp();
+      DruckerPrager m = soil<DruckerPrager>(soften);
       m.tension = t;
-      if (soften) {
-        m.strength.residual_cohesion = 1e3;
-        m.strength.residual_friction = 20 * degree;
-        m.strength.residual_strain = 0.01;
-      }
       for (int k = 0; k < 400; ++k) {
         const Real size = std::pow(10.0, -9 + 9 * (k % 10) / 9.0);
         // Every other step starts near the cut-off and adds an extension, so that some end on it alone.

@@ -124,21 +124,7 @@ TEST(MohrCoulomb, TinyStepsFollowTheContinuumTangentToSecondOrder) {
   Dn.diagonal().array() += m.lambda() * n.trace();
   Mat3 direction;
   direction << 0.3, 0.2, 0.05, 0.2, 0.1, -0.1, 0.05, -0.1, -1.0;
-  Real previous = 0;
-  for (Real h : {1e-5, 1e-6}) {
-    const Mat3 de = h * direction;
-    Mat3 D_de = 2 * G * de;
-    D_de.diagonal().array() += m.lambda() * de.trace();
-    const Real loading = a.cwiseProduct(D_de).sum();
-    ASSERT_GT(loading, 0);
-    const Mat3 expected = D_de - Dn * loading / a.cwiseProduct(Dn).sum();
-    const Real error = (step(m, on.sigma, on.eps_bar, de).sigma - on.sigma - expected).norm();
-    EXPECT_LT(error, 1e-3 * D_de.norm()) << "h = " << h;
-    if (previous > 0) {
-      EXPECT_GT(previous / error, 50) << "second order: error / 100 for h / 10";
-    }
-    previous = error;
-  }
+  expect_second_order_tangent(m, on, a, Dn, direction);
 }
 
 TEST(MohrCoulomb, EveryStepEndsOnOrInsideTheSurfaceFromTinyToHugeIncrements) {
@@ -147,12 +133,7 @@ TEST(MohrCoulomb, EveryStepEndsOnOrInsideTheSurfaceFromTinyToHugeIncrements) {
   int main_plane = 0, edge = 0, apex = 0;
   std::uniform_real_distribution<Real> unit(-1, 1);
   for (const bool soften : {false, true}) {
-    MohrCoulomb m = soil<MohrCoulomb>();
-    if (soften) {
-      m.strength.residual_cohesion = 1e3;
-      m.strength.residual_friction = 20 * degree;
-      m.strength.residual_strain = 0.01;
-    }
+    const MohrCoulomb m = soil<MohrCoulomb>(soften);
     for (int k = 0; k < 400; ++k) {
       const Real size = std::pow(10.0, -9 + 9 * (k % 10) / 9.0);
       Mat3 de;
