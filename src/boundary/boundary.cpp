@@ -34,6 +34,15 @@ void validate_faces(const BoundarySpec<Dim>& spec, const IVec<Dim>& cells, Geome
       throw InputError(at + "boundary " + face_name[f] + ": friction " + std::to_string(fc.friction) +
                        " (a Coulomb wall is a velocity face with a finite friction coefficient >= 0)");
   }
+  for (int f = 0; f < 2 * Dim; ++f) {
+    const FaceCondition<Dim>& fc = spec.faces[f];
+    if (fc.type != FaceType::absorbing) continue;
+    if (!(std::isfinite(fc.normal_impedance) && fc.normal_impedance > 0 && std::isfinite(fc.shear_impedance) &&
+          fc.shear_impedance >= 0))
+      throw InputError(at + "boundary " + face_name[f] + ": an absorbing face needs impedances rho c_p > 0 and rho c_s >= 0");
+    if (geometry == Geometry::axisymmetric)
+      throw InputError(at + "boundary " + face_name[f] + ": absorbing faces are for plane and 3-D grids, not axisymmetric ones");
+  }
   for (int d = 0; d < Dim; ++d) {
     const bool lo = spec.faces[2 * d].type == FaceType::periodic, hi = spec.faces[2 * d + 1].type == FaceType::periodic;
     if (lo != hi)
@@ -65,6 +74,21 @@ KinematicConstraints<Dim>::KinematicConstraints(const BoundarySpec<Dim>& spec, c
       grp.normal[axis] = outward;
       for_all_nodes(g, [&](std::int32_t f, const IVec<Dim>& i) {
         if ((i[axis] - plane) * outward >= 0) grp.nodes.push_back(f);
+      });
+      groups_.push_back(std::move(grp));
+    } else if (fc.type == FaceType::absorbing) {
+      // The nodes on the face plane, each carrying h^(Dim-1) of the face, half of it per face edge it lies on.
+      Group grp{face_name[face], {}, -1, {}, {}};
+      grp.normal[axis] = outward;
+      grp.normal_impedance = fc.normal_impedance;
+      grp.shear_impedance = fc.shear_impedance;
+      for_all_nodes(g, [&](std::int32_t f, const IVec<Dim>& i) {
+        if (i[axis] != plane) return;
+        Real area = 1;
+        for (int d = 0; d < Dim; ++d)
+          if (d != axis) area *= (i[d] == 0 || i[d] == g.cells[d]) ? 0.5 * g.h : g.h;
+        grp.nodes.push_back(f);
+        grp.area.push_back(area);
       });
       groups_.push_back(std::move(grp));
     } else if (fc.type == FaceType::symmetry) {
@@ -163,6 +187,7 @@ std::vector<typename KinematicConstraints<Dim>::Component> KinematicConstraints<
   std::vector<Component> out;
   for (std::size_t g = 0; g < groups_.size(); ++g) {
     const Group& grp = groups_[g];
+    if (grp.absorbing()) continue;  // it holds no component
     for (std::int32_t n : grp.nodes)
       for (int c = 0; c < Dim; ++c)
         if (grp.component < 0 || grp.component == c) out.push_back({n, c, static_cast<int>(g)});
@@ -178,6 +203,7 @@ Vec<Dim> KinematicConstraints<Dim>::value(const Group& grp, Real t) const {
 template <int Dim>
 void KinematicConstraints<Dim>::constrain_velocity(Grid<Dim>& grid, NodeVelocity<Dim> field, Real t) const {
   for (const Group& grp : groups_) {
+    if (grp.absorbing()) continue;  // it holds no velocity
     const Vec<Dim> val = value(grp, t);
     for (std::int32_t n : grp.nodes) {
       Vec<Dim>& v = grid.nodes[n].*field;
@@ -207,6 +233,22 @@ void KinematicConstraints<Dim>::constrain_update(Grid<Dim>& grid, Real t_new, Re
     }
     for (std::size_t k = 0; k < grp.nodes.size(); ++k) {
       GridNode<Dim>& node = grid.nodes[grp.nodes[k]];
+      if (grp.absorbing()) {
+        // The dashpots of Lysmer & Kuhlemeyer 1969, implicit in the advanced velocity so that they are stable at any
+        // step: m (v_c - v) = dt (f - Z A v_c), i.e. v_c = m v_new / (m + dt Z A) with Z = rho c_p along the
+        // normal and rho c_s across it; the particles receive a + (v_c - v_new) / dt.
+        if (!(node.m > 0)) continue;
+        const Real vn = node.v_new.dot(grp.normal);
+        const Vec<Dim> v_normal = vn * grp.normal, v_shear = node.v_new - v_normal;
+        const Vec<Dim> v_c = node.m / (node.m + dt * grp.normal_impedance * grp.area[k]) * v_normal +
+                             node.m / (node.m + dt * grp.shear_impedance * grp.area[k]) * v_shear;
+        const Vec<Dim> da = (v_c - node.v_new) / dt;
+        if (grp.owned[k])
+          for (int c = 0; c < Dim; ++c) reaction[c].add(node.m * da[c]);
+        node.a += da;
+        node.v_new = v_c;
+        continue;
+      }
       if (grp.friction >= 0) {  // a Coulomb wall
         const Vec<Dim> free = node.a;
         coulomb_partner<Dim>(node, val, grp.normal, grp.friction, dt, grp.owned[k], reaction, friction_power_);
@@ -246,7 +288,8 @@ std::vector<std::string> KinematicConstraints<Dim>::names() const {
 template <int Dim>
 std::vector<Vec<Dim>> KinematicConstraints<Dim>::velocities(Real t) const {
   std::vector<Vec<Dim>> out;
-  for (const Group& grp : groups_) out.push_back(grp.component < 0 ? value(grp, t) : Vec<Dim>::Zero());
+  for (const Group& grp : groups_)
+    out.push_back(grp.component < 0 && !grp.absorbing() ? value(grp, t) : Vec<Dim>::Zero());
   return out;
 }
 

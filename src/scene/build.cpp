@@ -127,6 +127,11 @@ BoundarySpec<Dim> boundary_of(const Scene& sc) {
         fc.type = FaceType::velocity;
         fc.velocity = velocity_of<Dim>(face.velocity);
         break;
+      case SceneFace::Kind::absorbing:
+        fc.type = FaceType::absorbing;
+        fc.normal_impedance = face.normal_impedance;
+        fc.shear_impedance = face.shear_impedance;
+        break;
     }
   }
   return boundary;

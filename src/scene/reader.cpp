@@ -150,8 +150,20 @@ void read_grid(const Section& s, Scene& sc, const Locator& loc) {
                   : kind == "periodic" ? SceneFace::Kind::periodic
                                        : SceneFace::Kind::outflow;
     } else if (node->is_table()) {
-      // { velocity = [...] }: a moving wall; { friction = mu }: a fixed Coulomb wall; both: a moving one.
-      const Section v(*node->as_table(), f.key_of(names[k]), loc, {"velocity", "friction"});
+      // { velocity = [...] }: a moving wall; { friction = mu }: a fixed Coulomb wall; both: a moving one;
+      // { absorbing = "MATERIAL" }: dashpots for that material's waves.
+      const Section v(*node->as_table(), f.key_of(names[k]), loc, {"velocity", "friction", "absorbing"});
+      if (v.has("absorbing")) {
+        if (v.has("velocity") || v.has("friction"))
+          v.fail(v.has("velocity") ? "velocity" : "friction", "an absorbing face takes no velocity or friction");
+        if (sc.implicit)
+          v.fail("absorbing", "absorbing faces are for the explicit integrators");
+        if (sc.geometry == Geometry::axisymmetric)
+          v.fail("absorbing", "absorbing faces are for plane and 3-D grids, not axisymmetric ones");
+        face.kind = SceneFace::Kind::absorbing;
+        face.absorbs = v.text("absorbing", "");
+        continue;
+      }
       if (!v.has("velocity") && !v.has("friction"))
         v.fail("velocity", "missing (an array of prescribed velocity components, or a friction coefficient)");
       face.kind = v.has("velocity") ? SceneFace::Kind::velocity : SceneFace::Kind::fixed;
@@ -165,8 +177,8 @@ void read_grid(const Section& s, Scene& sc, const Locator& loc) {
           v.fail("friction", "expected a friction coefficient >= 0, got " + std::to_string(face.friction));
       }
     } else {
-      f.fail(names[k], "expected \"free\", \"fixed\", \"symmetry\", \"periodic\", \"outflow\", { velocity = [...] } "
-                       "or { friction = mu }");
+      f.fail(names[k], "expected \"free\", \"fixed\", \"symmetry\", \"periodic\", \"outflow\", { velocity = [...] }, "
+                       "{ friction = mu } or { absorbing = \"MATERIAL\" }");
     }
   }
   for (std::size_t d = 0; d < n; ++d) {  // Steffen et al. 2008, Sec. 4.3: periodic faces come in pairs
@@ -174,6 +186,26 @@ void read_grid(const Section& s, Scene& sc, const Locator& loc) {
     if (lo != hi)
       f.fail(names[lo ? 2 * d + 1 : 2 * d], "expected \"periodic\", as the opposite face " + names[lo ? 2 * d : 2 * d + 1] +
                                                 " is (periodic faces come in pairs)");
+  }
+}
+
+/// The impedances rho0 c_p and rho0 c_s of each absorbing face from the material it names (read after the
+/// materials), with the small-strain moduli of that material.
+void resolve_absorbing_faces(const Section& s, Scene& sc, const Locator& loc) {
+  const std::vector<std::string> names(face_names.begin(), face_names.begin() + 2 * sc.dim);
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    SceneFace& face = sc.faces[k];
+    if (face.kind != SceneFace::Kind::absorbing) continue;
+    const Section f(*s.table("faces"), s.key_of("faces"), loc, names);
+    const Section v(*f.get(names[k])->as_table(), f.key_of(names[k]), loc, {"absorbing"});
+    const auto m = std::find_if(sc.materials.begin(), sc.materials.end(),
+                                [&](const SceneMaterial& x) { return x.name == face.absorbs; });
+    if (m == sc.materials.end()) v.fail("absorbing", "no material named '" + face.absorbs + "'");
+    const ElasticModuli e = small_strain_moduli(m->law);
+    face.normal_impedance = std::sqrt((e.lambda + 2 * e.mu) * m->density);  // rho c_p, Lysmer & Kuhlemeyer 1969
+    face.shear_impedance = std::sqrt(e.mu * m->density);                    // rho c_s
+    if (!(face.normal_impedance > 0))
+      v.fail("absorbing", "material '" + face.absorbs + "' has no elastic stiffness to give a wave speed");
   }
 }
 
@@ -312,6 +344,7 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
                            "bulk_modulus", "cohesion", "friction_angle", "dilatancy_angle", "residual_cohesion",
                            "residual_friction_angle", "residual_strain", "match", "tension_cutoff"}),
                   sc);
+  resolve_absorbing_faces(Section(*grid, "grid", loc, {"lo", "hi", "cells", "faces", "constrained_acceleration"}), sc, loc);
   const std::vector<const toml::table*> bodies = top.tables("bodies");
   if (bodies.empty()) top.fail("bodies", "missing: at least one [[bodies]] table is needed");
   for (std::size_t k = 0; k < bodies.size(); ++k)

@@ -18,7 +18,8 @@ namespace mpm {
 
 /// periodic: the face and its opposite are one (both must say so); the grid's halo carries it (grid/halo.hpp).
 /// outflow: a free face that particles may cross; the engines remove them once they have (particles/outflow.hpp).
-enum class FaceType { free, velocity, symmetry, periodic, outflow };
+/// absorbing: viscous dashpots that let waves out (Lysmer & Kuhlemeyer 1969).
+enum class FaceType { free, velocity, symmetry, periodic, outflow, absorbing };
 
 /// A prescribed velocity as a function of time; an empty function means zero (a fixed wall).
 template <int Dim>
@@ -31,6 +32,9 @@ struct FaceCondition {
   /// A velocity face with friction >= 0 is a Coulomb wall moving at `velocity` (coulomb_contact, contact/coulomb.hpp):
   /// the body may leave it and slides along it against friction. Negative: it holds every component (no slip).
   Real friction = -1;
+  /// An absorbing face's dashpots (Lysmer & Kuhlemeyer 1969): the traction -rho c_p v_n n - rho c_s v_t on the
+  /// material at the face, rho c_p and rho c_s the impedances of the material it absorbs waves from [Pa s/m].
+  Real normal_impedance = 0, shear_impedance = 0;
 };
 
 /// Every node (ghosts included) whose position lies in the box [lo, hi] gets the prescribed velocity.
@@ -144,7 +148,7 @@ class KinematicConstraints {
     friction_power_ = other.friction_power_;
     moments_ = other.moments_;
   }
-  /// Prescribed velocity of each constraint at time t (zero on symmetry planes).
+  /// Prescribed velocity of each constraint at time t (zero on symmetry and absorbing faces).
   std::vector<Vec<Dim>> velocities(Real t) const;
 
  private:
@@ -156,6 +160,10 @@ class KinematicConstraints {
     std::vector<std::uint8_t> owned;  ///< per node: its reaction counts here (the box owns it)
     Real friction = -1;               ///< >= 0: a Coulomb wall (component -1), whose outward normal is `normal`
     Vec<Dim> normal = Vec<Dim>::Zero();
+    /// An absorbing face (impedances > 0): the area of the face each node carries [m^(Dim-1)].
+    Real normal_impedance = 0, shear_impedance = 0;
+    std::vector<Real> area;
+    bool absorbing() const { return normal_impedance > 0; }
   };
   struct Mirror {
     int axis;

@@ -62,6 +62,24 @@ inline Real young_modulus(const Material& m) {
       m);
 }
 
+/// The Lame constants of a material's small-strain limit [Pa] (a fluid: its bulk modulus and no shear stiffness).
+struct ElasticModuli {
+  Real lambda, mu;
+};
+inline ElasticModuli small_strain_moduli(const Material& m) {
+  return std::visit(
+      [](const auto& law) -> ElasticModuli {
+        using Law = std::decay_t<decltype(law)>;
+        if constexpr (std::is_same_v<Law, NeoHookean>)
+          return {law.lambda, law.mu};
+        else if constexpr (HypoelasticLaw<Law>)
+          return {law.lambda(), law.mu()};
+        else
+          return {law.bulk, 0};
+      },
+      m);
+}
+
 /// Check a material of a Dim-dimensional run in a geometry; throw InputError naming `where` ("materials[0]") and
 /// what was expected.
 inline void validate(const Material& m, const std::string& where, int dim, Geometry geometry) {

@@ -19,9 +19,11 @@ namespace mpm {
 
 /// A grid face: free, fixed (zero velocity), symmetry plane, or a prescribed velocity v(t).
 struct SceneFace {
-  enum class Kind { free, fixed, symmetry, velocity, periodic, outflow } kind = Kind::free;
+  enum class Kind { free, fixed, symmetry, velocity, periodic, outflow, absorbing } kind = Kind::free;
   std::vector<ExpressionPtr> velocity;  ///< one expression of t per component (kind == velocity)
   double friction = -1;  ///< kind fixed or velocity: >= 0 a Coulomb wall with this coefficient; < 0 no slip
+  std::string absorbs;   ///< kind absorbing: the material whose waves it lets out
+  double normal_impedance = 0, shear_impedance = 0;  ///< kind absorbing: rho0 c_p and rho0 c_s of that material
 };
 
 /// A material: Neo-Hookean, a rate-form hypoelastic / von Mises law (Sulsky & Kaul 2004), or a Newtonian fluid.
