@@ -133,7 +133,8 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
   // Every rank was given all the particles (the masses above are the whole set's); each keeps its box's.
   if (box_halo_.divided()) erase_particles(p, not_owned());
   if (neo_hookean_.empty()) {
-    p.state.resize(p.size());
+    // A state the particles bring (a geostatic stress) is kept; otherwise the rate-form solids start unstressed.
+    if (p.state.empty()) p.state.resize(p.size());
     for (std::size_t i = 0; i < p.size(); ++i) p.state.sigma[i] = full_stress(i);
     size_rates();
   }

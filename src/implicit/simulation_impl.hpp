@@ -54,7 +54,7 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
   ParticleSet<Dim>& p = particles_;
   const GridGeometry<Dim>& g = grid_.geometry;
   if (p.size() == 0) throw InputError("particles: the simulation has no particles");
-  p.state.resize(p.size());
+  if (p.state.empty()) p.state.resize(p.size());  // a state the particles bring (a geostatic stress) is kept
   const bool axisymmetric = Dim == 2 && spec_.geometry == Geometry::axisymmetric;
   Real min_mass = std::numeric_limits<Real>::max();
   for (std::size_t i = 0; i < p.size(); ++i) {

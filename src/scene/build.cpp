@@ -6,6 +6,7 @@
 
 #include "mpm/core/errors.hpp"
 #include "mpm/particles/generate.hpp"
+#include "mpm/particles/geostatic.hpp"
 #include "mpm/scene/budget.hpp"
 
 namespace mpm {
@@ -275,7 +276,14 @@ ParticleSet<Dim> seed_bodies(const Scene& sc) {
       }
       if (!b.velocity.empty()) p.v[i] = vector_value<Vec<Dim>>(b.velocity, std::span<const double>(X.data(), Dim));
     }
+    if (b.k0 >= 0) {
+      const Vec<Dim> g = to_vec<Dim>(sc.gravity);
+      if (!(g.norm() > 0))
+        throw InputError(sc.file.string() + ": " + name + ".k0: a geostatic stress needs gravity (loads.gravity)");
+      set_geostatic_stress<Dim>(p, first, p.size(), density, b.k0, g, spacing);
+    }
   }
+  if (!p.state.empty()) p.state.resize_keeping(p.size());  // bodies seeded after the first one in geostatic stress
   return p;
 }
 

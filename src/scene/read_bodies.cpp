@@ -89,6 +89,15 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
     if (!s.has("displacement")) s.fail("deformation_gradient", "needs the matching initial displacement");
     b.deformation = s.expressions("deformation_gradient", n * n, reference_vars[n - 1], sc.constants);
   }
+  if (s.has("k0")) {
+    b.k0 = s.constant_number("k0", 0, sc.constants);
+    if (!(b.k0 >= 0)) s.fail("k0", "expected a lateral stress ratio K0 >= 0");
+    const Material& law = sc.materials[b.material].law;
+    if (!is_rate_form(law) || std::holds_alternative<NewtonianFluid>(law))
+      s.fail("k0", "a geostatic stress needs a rate-form solid (hypoelastic, von-mises, drucker-prager, mohr-coulomb); "
+                   "material '" + material + "' is not one");
+    if (!b.displacement.empty()) s.fail("k0", "a body in geostatic stress starts undisplaced; drop displacement");
+  }
   sc.bodies.push_back(std::move(b));
 }
 

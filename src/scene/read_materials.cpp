@@ -31,8 +31,10 @@ Material read_frictional(const Section& s, const Scene& sc, const std::string& m
     if (s.has(k)) s.fail(k, "does not apply to model = \"" + model + "\"");
   constexpr double degree = std::numbers::pi / 180;
   FrictionalSolid solid;
-  solid.E = s.required_number("E");
-  solid.nu = s.required_number("nu");
+  for (const char* k : {"E", "nu"})
+    if (!s.has(k)) s.fail(k, "missing (a number or an expression of the constants is required)");
+  solid.E = s.constant_number("E", 0, sc.constants);
+  solid.nu = s.constant_number("nu", 0, sc.constants);
   solid.rho0 = rho;
   FrictionalStrength& f = solid.strength;
   f.cohesion = s.constant_number("cohesion", 0, sc.constants);

@@ -350,7 +350,7 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
   for (std::size_t k = 0; k < bodies.size(); ++k)
     read_body(Section(*bodies[k], "bodies[" + std::to_string(k) + "]", loc,
                       {"name", "shape", "lo", "hi", "center", "radius", "inner_radius", "file", "ppc", "material",
-                       "velocity", "displacement", "deformation_gradient"}),
+                       "velocity", "displacement", "deformation_gradient", "k0"}),
               sc, k);
   const std::vector<const toml::table*> rigid = top.tables("rigid_bodies");
   for (std::size_t k = 0; k < rigid.size(); ++k)

@@ -250,6 +250,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"ConeMatchOfMohrCoulomb",
                  {{"nu = 0.3", "nu = 0.3\nmodel = \"mohr-coulomb\"\ncohesion = 1.0\nmatch = \"outer\""}},
                  "materials[0].match", {"applies to model = \"drucker-prager\" only"}, 20},
+        BadScene{"GeostaticNeoHookeanBody", {{"ppc = 2", "ppc = 2\nk0 = 0.5"}}, "bodies[1].k0",
+                 {"a geostatic stress needs a rate-form solid"}, 33},
         BadScene{"MaterialUndefined", {{"material = \"elastic\"", "material = \"steel\""}}, "bodies[1].material",
                  {"no material named 'steel' (defined: elastic)"}, 33},
         BadScene{"MaterialDefinedTwice",

@@ -23,6 +23,14 @@ struct MaterialState {
     energy.assign(n, 0);
     stretch3.assign(n, 1);
   }
+  /// Grow (or shrink) to n particles, keeping the first ones' state; new particles start unstressed.
+  void resize_keeping(std::size_t n) {
+    sigma.resize(n, SymTensor<3>{});
+    eps_bar.resize(n, 0);
+    temperature.resize(n, 0);
+    energy.resize(n, 0);
+    stretch3.resize(n, 1);
+  }
   static constexpr std::size_t bytes_per_particle() { return sizeof(SymTensor<3>) + 4 * sizeof(Real); }
 };
 

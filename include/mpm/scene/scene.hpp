@@ -85,6 +85,7 @@ struct SceneBody {
   std::vector<ExpressionPtr> velocity;      ///< initial velocity, expressions of x, y, z
   std::vector<ExpressionPtr> displacement;  ///< optional initial displacement u(X, Y, Z)
   std::vector<ExpressionPtr> deformation;   ///< optional initial F (row by row), expressions of X, Y, Z
+  double k0 = -1;  ///< >= 0: the body starts in the geostatic stress of its weight with this K0 (set_geostatic_stress)
 };
 
 /// A traction [Pa] on one face of a box body, carried by the body's outermost particle layer at that face.
