@@ -261,7 +261,7 @@ void Simulation<Dim, Kernel>::step_usf(Real dt) {
   constrain_velocity(&GridNode<Dim>::v_new, time_);
   gather<Gather{.velocity = false, .position = false, .deformation = true}>(&GridNode<Dim>::v_new, dt);
   scatter<Scatter{.mass_momentum = false, .force = true}>();
-  for (Grid<Dim>* field : field_grids()) grid_update(*field, spec_.gravity, dt, 1.0, min_node_mass_);
+  for (Grid<Dim>* field : field_grids()) grid_update(*field, spec_.gravity, dt, 1.0, min_node_mass_, spec_.local_damping);
   if (contact_.active()) contact_.correct_update(field_grids(), dt);
   constrain_update(time_ + dt, dt);
   gather<Gather{.velocity = true, .position = true, .deformation = false}>(&GridNode<Dim>::v_new, dt);
@@ -351,13 +351,13 @@ void Simulation<Dim, Kernel>::scatter_positions() {
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::grid_velocity_and_update(Real dt, Real accel_scale) {
   if (!contact_.active()) {  // one pass over the nodes
-    grid_velocity_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_);
+    grid_velocity_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_, spec_.local_damping);
     return;
   }
   // Bardenhagen, Brackbill & Sulsky 2000: the projected velocities are corrected, then the advanced ones, whose
   // change over dt the accelerations take.
   field_velocities(&GridNode<Dim>::v, true);
-  for (Grid<Dim>* field : field_grids()) grid_update(*field, spec_.gravity, dt, accel_scale, min_node_mass_);
+  for (Grid<Dim>* field : field_grids()) grid_update(*field, spec_.gravity, dt, accel_scale, min_node_mass_, spec_.local_damping);
   contact_.correct_update(field_grids(), dt);
 }
 

@@ -208,6 +208,7 @@ SimulationSpec<Dim> make_spec(const Scene& sc) {
   spec.dt = sc.dt;
   spec.cfl = sc.cfl;
   spec.reproject_light_nodes = sc.reproject_light_nodes;
+  spec.local_damping = sc.local_damping;
   spec.account_load_power = true;  // history.csv's external work
   spec.contact.fields = sc.fields;
   for (const SceneContact& c : sc.contacts)

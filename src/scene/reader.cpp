@@ -102,6 +102,10 @@ void read_simulation(const Section& s, Scene& sc) {
                      " is more than the 1e9 steps a run may take");
   if (s.has("cfl") && !(sc.cfl > 0 && sc.cfl <= 1)) s.fail("cfl", "expected a number in (0, 1]");
   sc.reproject_light_nodes = s.choice("light_nodes", "reproject", {"reproject", "none"}) == "reproject";
+  sc.local_damping = s.number("local_damping", 0);
+  if (!(sc.local_damping >= 0 && sc.local_damping < 1)) s.fail("local_damping", "expected a number in [0, 1)");
+  if (sc.local_damping > 0 && sc.implicit)
+    s.fail("local_damping", "local damping is for the explicit integrators (the implicit one can take large steps)");
   sc.threads = s.integer("threads", 0);
   if (sc.threads < 0) s.fail("threads", "expected 0 (all cores) or a positive count");
   sc.geometry = parse_geometry(s.choice("geometry", "plane-strain", {"plane-strain", "plane-stress", "axisymmetric"}), "");
@@ -295,7 +299,8 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
     }
   }
   const std::vector<std::string> simulation_keys{"dimension", "end_time", "integrator", "kernel", "gimp_length",
-                                                 "dt", "cfl", "threads", "geometry", "light_nodes"};
+                                                 "dt", "cfl", "threads", "geometry", "light_nodes",
+                                                 "local_damping"};
   const toml::table* sim = top.table("simulation");
   if (!sim) top.fail("simulation", "missing [simulation] table (dimension, end_time, integrator, kernel, dt or cfl)");
   read_simulation(Section(*sim, "simulation", loc,

@@ -44,6 +44,9 @@ struct SimulationSpec {
   /// ParticleSet::field.
   ContactSpec contact;
   Vec<Dim> gravity = Vec<Dim>::Zero();  ///< [m/s^2]
+  /// Local non-viscous damping alpha in [0, 1) of the grid update (node_update; Cundall 1987): 0 is none. It brings
+  /// a body quasi-statically to equilibrium (a gravity ramp, a slope), and it is not energy-conserving.
+  Real local_damping = 0;
   BodyForceFn<Dim> body_force;          ///< optional b(X, t), evaluated at the start of each step
   Real dt = 0;                          ///< fixed time step [s], or 0 to use the CFL number
   Real cfl = 0;                         ///< dt = cfl h / max_p (c_p + |v_p|) when dt == 0

@@ -16,12 +16,10 @@ struct MaterialState {
   std::vector<Real> stretch3;       ///< out-of-plane stretch: 1 (plane strain), F_zz (plane stress), r/R (axisymmetric)
 
   bool empty() const { return sigma.empty(); }
+  /// n unstressed particles.
   void resize(std::size_t n) {
-    sigma.assign(n, SymTensor<3>{});
-    eps_bar.assign(n, 0);
-    temperature.assign(n, 0);
-    energy.assign(n, 0);
-    stretch3.assign(n, 1);
+    *this = MaterialState{};
+    resize_keeping(n);
   }
   /// Grow (or shrink) to n particles, keeping the first ones' state; new particles start unstressed.
   void resize_keeping(std::size_t n) {

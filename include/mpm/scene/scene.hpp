@@ -113,6 +113,7 @@ struct Scene {
   double dt = 0, cfl = 0;  ///< exactly one is positive
   int threads = 0;
   bool reproject_light_nodes = true;  ///< light_nodes = "reproject" (see SimulationSpec::reproject_light_nodes)
+  double local_damping = 0;           ///< SimulationSpec::local_damping
 
   // [output]
   double output_every = 0;  ///< simulated time between particle outputs; 0: first and last only

@@ -223,12 +223,19 @@ inline void node_velocity(GridNode<Dim>& node, Real min_mass) {
 
 /// Turn nodal force into acceleration a_i = (f_int + f_ext)/m_i + g (Wallstedt & Guilkey 2008,
 /// Eq. (15)) scaled by `scale`, and advance the velocity v_i^* = v_i + a_i dt (Wallstedt & Guilkey 2008, Eq. (16)).
+/// With local damping alpha > 0 each component of the unbalanced force is reduced by alpha times its size against
+/// the node's velocity, a_c -= alpha |a_c| sign(v_c) (Cundall 1987, local non-viscous damping).
 template <int Dim>
-inline void node_update(GridNode<Dim>& node, const Vec<Dim>& gravity, Real dt, Real scale, Real min_mass) {
-  if (node.m > min_mass)
+inline void node_update(GridNode<Dim>& node, const Vec<Dim>& gravity, Real dt, Real scale, Real min_mass,
+                        Real damping) {
+  if (node.m > min_mass) {
     node.a = scale * (node.a / node.m + gravity);
-  else
+    if (damping > 0)
+      for (int c = 0; c < Dim; ++c)
+        node.a[c] -= damping * std::abs(node.a[c]) * static_cast<Real>((node.v[c] > 0) - (node.v[c] < 0));
+  } else {
     node.a.setZero();
+  }
   node.v_new = node.v + dt * node.a;
 }
 
@@ -240,17 +247,18 @@ void grid_velocity(Grid<Dim>& grid, Real min_mass) {
 
 /// node_update at every node.
 template <int Dim>
-void grid_update(Grid<Dim>& grid, const Vec<Dim>& gravity, Real dt, Real scale, Real min_mass) {
+void grid_update(Grid<Dim>& grid, const Vec<Dim>& gravity, Real dt, Real scale, Real min_mass, Real damping) {
   parallel_for(static_cast<std::ptrdiff_t>(grid.size()),
-               [&](std::ptrdiff_t n) { node_update(grid.nodes[n], gravity, dt, scale, min_mass); });
+               [&](std::ptrdiff_t n) { node_update(grid.nodes[n], gravity, dt, scale, min_mass, damping); });
 }
 
 /// grid_velocity then grid_update, in one pass over the nodes.
 template <int Dim>
-void grid_velocity_update(Grid<Dim>& grid, const Vec<Dim>& gravity, Real dt, Real scale, Real min_mass) {
+void grid_velocity_update(Grid<Dim>& grid, const Vec<Dim>& gravity, Real dt, Real scale, Real min_mass,
+                          Real damping) {
   parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) {
     node_velocity(grid.nodes[n], min_mass);
-    node_update(grid.nodes[n], gravity, dt, scale, min_mass);
+    node_update(grid.nodes[n], gravity, dt, scale, min_mass, damping);
   });
 }
 
