@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <numbers>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -27,7 +28,23 @@ struct BenchOptions {
   int repeat = 3;
   bool json = false;
   bool contact = false;
+  std::string material = "neo-hookean";
 };
+
+/// The bench block's material: the Neo-Hookean solid (E = 1 MPa, nu = 0.3, rho = 1000 kg/m^3), or a frictional
+/// one of the same elasticity weak enough to yield under the block's weight (c = 1 kPa, phi = 30 degrees,
+/// psi = 0; the weight gives 9.8 kPa at the base), so that the plastic returns are timed.
+Material bench_material(const std::string& name) {
+  if (name == "neo-hookean") return NeoHookean::from_young_poisson(1e6, 0.3, 1000);
+  FrictionalSolid solid;
+  solid.E = 1e6;
+  solid.nu = 0.3;
+  solid.rho0 = 1000;
+  solid.strength.cohesion = solid.strength.residual_cohesion = 1e3;
+  solid.strength.friction = solid.strength.residual_friction = std::numbers::pi / 6;
+  if (name == "drucker-prager") return DruckerPrager{solid};
+  return MohrCoulomb{solid};
+}
 
 /// The reference problem: a 1 m elastic block (E = 1 MPa, nu = 0.3, rho = 1000 kg/m^3) under gravity on
 /// fixed nodes (all nodes at or below the block's base), 2 particles per cell per axis, 0.05 m of grid around
@@ -47,7 +64,7 @@ nlohmann::json run_block(const BenchOptions& o, KernelKind kind, Integrator inte
   spec.cells.fill(n + 2 * pad);
   spec.kernel = kind;
   spec.integrator = integrator;
-  spec.materials = {NeoHookean::from_young_poisson(1e6, 0.3, 1000)};
+  spec.materials = {bench_material(o.material)};
   spec.gravity = Vec<Dim>::Zero();
   spec.gravity[Dim - 1] = -9.81;
   spec.dt = 5e-5;
@@ -92,6 +109,7 @@ nlohmann::json run_block(const BenchOptions& o, KernelKind kind, Integrator inte
           {"integrator", to_string(integrator)},
           {"ranks", comm.size()},
           {"fields", spec.contact.fields},
+          {"material", o.material},
           {"threads", num_threads()},
           {"communication_seconds", communication[mid]},
           {"bytes_sent_per_step", static_cast<double>(sent) / o.steps},  // the most any rank sent
@@ -118,6 +136,8 @@ Action add_bench(CLI::App& app) {
   cmd->add_option("--repeat", o->repeat, "runs; the median is reported")->check(CLI::PositiveNumber);
   cmd->add_flag("--json", o->json, "print one JSON object");
   cmd->add_flag("--contact", o->contact, "split the block into two halves meeting by frictionless contact");
+  cmd->add_option("--material", o->material, "neo-hookean, drucker-prager or mohr-coulomb")
+      ->check(CLI::IsMember({"neo-hookean", "drucker-prager", "mohr-coulomb"}));
   return [o]() {
     const KernelKind kind = parse_kernel(o->kernel, "--kernel");
     const Integrator integrator = parse_integrator(o->integrator, "--integrator");
@@ -130,7 +150,8 @@ Action add_bench(CLI::App& app) {
     if (o->json) {
       std::cout << result.dump() << '\n';
     } else {
-      std::cout << result["dim"] << "-D " << o->kernel << " " << o->integrator << (o->contact ? " contact" : "") << ", "
+      std::cout << result["dim"] << "-D " << o->kernel << " " << o->integrator << (o->contact ? " contact" : "") << " "
+                << o->material << ", "
                 << result["particles"]
                 << " particles, " << result["ranks"] << " ranks x " << result["threads"]
                 << " threads: " << result["seconds"].get<double>()

@@ -30,6 +30,25 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
+/// When the kinetic energy of a run settled: the first history time from which it stayed below 1e-4 of the
+/// largest it reached (since the start or the restart). Reported for damped runs, which come to rest.
+struct Settling {
+  static constexpr Real fraction = 1e-4;
+  Real largest = 0, since = 0;
+  bool settled = false;
+  void observe(Real time, Real kinetic) {
+    if (kinetic > largest) largest = kinetic;
+    const bool below = kinetic <= fraction * largest;
+    if (below && !settled) since = time;
+    settled = below;
+  }
+  nlohmann::json report() const {
+    nlohmann::json j{{"fraction", fraction}, {"largest_kinetic_energy", largest}, {"settled", settled}};
+    if (settled) j["time"] = since;
+    return j;
+  }
+};
+
 /// Energies and momentum of the particles: kinetic 1/2 m v^2 and the engine's strain (or internal) energy.
 template <int Dim>
 struct Totals {
@@ -198,6 +217,7 @@ class SceneRun {
 
   void write_history_row() {
     const Totals<Dim> t = totals();
+    settling_.observe(sim_.time(), t.kinetic);
     const std::vector<Vec<Dim>> reactions = engine_.reactions();
     const std::vector<PairForces<Dim>> contact = engine_.contact_forces();
     const std::vector<Real> spreads = engine_.spreads();
@@ -277,6 +297,7 @@ class SceneRun {
     if (has_check())
       j["error"] = {{"linf", failure.empty() ? acc_.error.linf : 1.0}, {"l1", acc_.error.l1()}, {"l2", acc_.error.l2()}};
     if (t) j["energy"] = {{"kinetic", t->kinetic}, {"strain", t->strain}, {"external_work", acc_.external_work}};
+    if (t && sc_.local_damping > 0) j["settled"] = settling_.report();
     if (t && has_friction()) j["energy"]["friction_dissipation"] = acc_.friction_dissipation;
     if (has_outflow()) {
       const Outflow<Dim>& out = sim_.outflow();
@@ -319,6 +340,7 @@ class SceneRun {
   decltype(engine_.sim())& sim_;
   const Communicator& comm_;
   const bool root_;  // rank 0 writes history.csv, summary.json and the frames' .pvtp and .pvd
+  Settling settling_;  // when the kinetic energy of a damped run settled
   RunFiles files_{o_.out_dir, comm_};
   scene_checkpoint::Accumulators acc_;  // what a checkpoint carries beside the particles
   Real previous_time_ = 0;

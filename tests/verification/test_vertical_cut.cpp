@@ -24,6 +24,7 @@ const fs::path scene =
 /// the cut's top edge (15 m, 20 m).
 struct Crest {
   double before, last;
+  bool settled;  // summary.json: the kinetic energy stayed below 1e-4 of its largest from some time on
 };
 Crest crest(const std::string& name, double c) {
   const fs::path dir = scratch("vertical_cut", name);
@@ -40,7 +41,11 @@ Crest crest(const std::string& name, double c) {
     }
     return size;
   };
-  const Crest out{magnitude("particles_0004.vtp"), magnitude("particles_0005.vtp")};
+  const std::string summary = slurp(dir / "out/summary.json");
+  const std::size_t report = summary.find("\"settled\": {");
+  EXPECT_NE(report, std::string::npos) << summary;
+  const Crest out{magnitude("particles_0004.vtp"), magnitude("particles_0005.vtp"),
+                  summary.find("\"settled\": true", report) != std::string::npos};
   fs::remove_all(dir);
   return out;
 }
@@ -52,9 +57,11 @@ TEST(VerticalCut, StandsWithItsCohesionAndFailsWithHalfOfIt) {
   const Crest stands = crest("stands", 80e3);
   EXPECT_LT(stands.last, 0.1);
   EXPECT_LT(std::abs(stands.last - stands.before), 1e-3) << "still";
+  EXPECT_TRUE(stands.settled);
   const Crest fails = crest("fails", 40e3);
   EXPECT_GT(fails.last, 0.5);
   EXPECT_GT(fails.last - fails.before, 0.05) << "still moving";
+  EXPECT_FALSE(fails.settled);
 }
 
 }  // namespace

@@ -162,7 +162,7 @@ class KinematicConstraints {
     Vec<Dim> normal = Vec<Dim>::Zero();
     /// An absorbing face (impedances > 0): the area of the face each node carries [m^(Dim-1)].
     Real normal_impedance = 0, shear_impedance = 0;
-    std::vector<Real> area;
+    std::vector<Real> area = {};
     bool absorbing() const { return normal_impedance > 0; }
   };
   struct Mirror {
