@@ -31,11 +31,19 @@ struct BenchOptions {
   std::string material = "neo-hookean";
 };
 
-/// The bench block's material: the Neo-Hookean solid (E = 1 MPa, nu = 0.3, rho = 1000 kg/m^3), or a frictional
+/// The bench block's material: the Neo-Hookean solid (E = 1 MPa, nu = 0.3, rho = 1000 kg/m^3), the hypoelastic one
+/// of the same moduli (the rate-form path without a return), or a frictional
 /// one of the same elasticity weak enough to yield under the block's weight (c = 1 kPa, phi = 30 degrees,
 /// psi = 0; the weight gives 9.8 kPa at the base), so that the plastic returns are timed.
 Material bench_material(const std::string& name) {
   if (name == "neo-hookean") return NeoHookean::from_young_poisson(1e6, 0.3, 1000);
+  if (name == "hypoelastic") {
+    ElastoPlastic law;
+    law.E = 1e6;
+    law.nu = 0.3;
+    law.rho0 = 1000;
+    return law;
+  }
   FrictionalSolid solid;
   solid.E = 1e6;
   solid.nu = 0.3;
@@ -136,8 +144,8 @@ Action add_bench(CLI::App& app) {
   cmd->add_option("--repeat", o->repeat, "runs; the median is reported")->check(CLI::PositiveNumber);
   cmd->add_flag("--json", o->json, "print one JSON object");
   cmd->add_flag("--contact", o->contact, "split the block into two halves meeting by frictionless contact");
-  cmd->add_option("--material", o->material, "neo-hookean, drucker-prager or mohr-coulomb")
-      ->check(CLI::IsMember({"neo-hookean", "drucker-prager", "mohr-coulomb"}));
+  cmd->add_option("--material", o->material, "neo-hookean, hypoelastic, drucker-prager or mohr-coulomb")
+      ->check(CLI::IsMember({"neo-hookean", "hypoelastic", "drucker-prager", "mohr-coulomb"}));
   return [o]() {
     const KernelKind kind = parse_kernel(o->kernel, "--kernel");
     const Integrator integrator = parse_integrator(o->integrator, "--integrator");
