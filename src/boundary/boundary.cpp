@@ -196,6 +196,21 @@ std::vector<typename KinematicConstraints<Dim>::Component> KinematicConstraints<
 }
 
 template <int Dim>
+std::vector<typename KinematicConstraints<Dim>::Dashpot> KinematicConstraints<Dim>::dashpots() const {
+  std::vector<Dashpot> out;
+  for (std::size_t g = 0; g < groups_.size(); ++g) {
+    const Group& grp = groups_[g];
+    if (!grp.absorbing()) continue;
+    for (std::size_t k = 0; k < grp.nodes.size(); ++k)
+      for (int c = 0; c < Dim; ++c) {
+        const Real Z = grp.normal[c] != 0 ? grp.normal_impedance : grp.shear_impedance;
+        out.push_back({grp.nodes[k], c, static_cast<int>(g), Z * grp.area[k], grp.owned[k] != 0});
+      }
+  }
+  return out;
+}
+
+template <int Dim>
 Vec<Dim> KinematicConstraints<Dim>::value(const Group& grp, Real t) const {
   return grp.velocity ? grp.velocity(t) : Vec<Dim>::Zero();
 }

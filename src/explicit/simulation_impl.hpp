@@ -71,7 +71,8 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
       neo_hookean_(neo_hookean_only(spec.materials)),
       axisymmetric_(Dim == 2 && spec.geometry == Geometry::axisymmetric),
       order_(grid_.geometry, Kernel::width),
-      loads_(spec.account_load_power && (spec.body_force || !spec.gravity.isZero(0))) {
+      loads_(spec.account_load_power &&
+             (spec.body_force || !spec.surface_loads.empty() || !spec.gravity.isZero(0))) {
   const GridGeometry<Dim>& g = grid_.geometry;
   ParticleSet<Dim>& p = particles_;
   if (p.size() == 0) throw InputError("particles: the simulation has no particles");

@@ -135,10 +135,12 @@ void Simulation<Dim, Kernel>::account_load_power() {
 
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::evaluate_body_force() {
-  if (!spec_.body_force) return;
+  if (!spec_.body_force && spec_.surface_loads.empty()) return;
   body_accel_.resize(particles_.size());
-  parallel_for(static_cast<std::ptrdiff_t>(particles_.size()),
-               [&](std::ptrdiff_t i) { body_accel_[i] = spec_.body_force(particles_.X[i], time_); });
+  parallel_for(static_cast<std::ptrdiff_t>(particles_.size()), [&](std::ptrdiff_t i) {
+    body_accel_[i] = spec_.body_force ? spec_.body_force(particles_.X[i], time_) : Vec<Dim>::Zero();
+  });
+  spec_.surface_loads.accelerate(particles_, time_, 1, spec_.geometry, body_accel_);  // at the step's start
 }
 
 template <int Dim, class Kernel>

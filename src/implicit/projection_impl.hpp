@@ -26,7 +26,7 @@ void ImplicitSimulation<Dim, Kernel>::project(Real dt) {
     f_ext_[n] = node.m * spec_.gravity;
   });
   scatter_force(particles_.state.sigma, f_k_);
-  if (spec_.body_force) add_body_force(dt);
+  if (spec_.body_force || !spec_.surface_loads.empty()) add_body_force(dt);
   if (spec_.consistent_mass) project_consistent(dt);
   if (!rigid_.empty()) {
     std::ostringstream when;
@@ -58,8 +58,11 @@ void ImplicitSimulation<Dim, Kernel>::build_dofs(Real t_new) {
         value[n * Dim + c] = v[c];
       }
   }
+  std::vector<Real> resistance(nodes * Dim, 0);
+  for (const auto& d : dashpots_) resistance[d.node * Dim + d.component] += d.resistance;
   dof_node_.clear();
   dof_comp_.clear();
+  dof_resistance_.clear();
   fixed_.clear();
   for (std::size_t n = 0; n < nodes; ++n) {
     if (mirrored_[n]) continue;
@@ -70,6 +73,7 @@ void ImplicitSimulation<Dim, Kernel>::build_dofs(Real t_new) {
       else if (grid_.nodes[n].m > min_node_mass_) {
         dof_node_.push_back(static_cast<std::int32_t>(n));
         dof_comp_.push_back(static_cast<std::int8_t>(c));
+        dof_resistance_.push_back(resistance[k]);
       }
     }
   }
@@ -97,16 +101,21 @@ void ImplicitSimulation<Dim, Kernel>::scatter_force(const std::vector<SymTensor<
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { f[n] = grid_.nodes[n].a; });
 }
 
-// The body force's share of the external force, f_i += sum_p S_ip m_p b_p, with b_p = (1 - theta) b(X_p, t^k) +
-// theta b(X_p, t^{k+1}) blended as the internal forces are (Sulsky & Kaul 2004, Eq. (2.4.1)).
+// The body force's and the surface loads' share of the external force, f_i += sum_p S_ip m_p b_p, with b_p =
+// (1 - theta) b(X_p, t^k) + theta b(X_p, t^{k+1}) blended as the internal forces are (Sulsky & Kaul 2004,
+// Eq. (2.4.1)); a pressure's direction is that of the step's start, where the stencils are.
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::add_body_force(Real dt) {
   const ParticleSet<Dim>& p = particles_;
   const Real theta = spec_.theta, t0 = time_, t1 = time_ + dt;
   body_accel_.resize(p.size());
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
-    body_accel_[i] = (1 - theta) * spec_.body_force(p.X[i], t0) + theta * spec_.body_force(p.X[i], t1);
+    body_accel_[i] = spec_.body_force
+                         ? Vec<Dim>((1 - theta) * spec_.body_force(p.X[i], t0) + theta * spec_.body_force(p.X[i], t1))
+                         : Vec<Dim>::Zero();
   });
+  spec_.surface_loads.accelerate(p, t0, 1 - theta, spec_.geometry, body_accel_);
+  spec_.surface_loads.accelerate(p, t1, theta, spec_.geometry, body_accel_);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
   p2g_add(stencils_, order_, grid_, BodyForce<Dim>{p.m, body_accel_});
   halo_.sum_into_owners(grid_, NodeFields::force);

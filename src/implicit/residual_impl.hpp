@@ -107,14 +107,17 @@ bool ImplicitSimulation<Dim, Kernel>::residual_at(const Eigen::VectorXd& x, Real
     const Real P_L = spec_.formulation == Formulation::momentum ? x[static_cast<Eigen::Index>(k)]
                                                                  : node.m * x[static_cast<Eigen::Index>(k)];
     const Real dP = spec_.consistent_mass ? mass_dv_[n][c] : P_L - node.m * node.v[c];
-    const Real force = (1 - theta) * f_k_[n][c] + theta * f_trial_[n][c] + f_ext_[n][c];
+    // An absorbing face's dashpot -Z A v^L, at the end of the step as in the explicit update (Lysmer &
+    // Kuhlemeyer 1969).
+    const Real force = (1 - theta) * f_k_[n][c] + theta * f_trial_[n][c] + f_ext_[n][c] -
+                       dof_resistance_[k] * node.v_new[c];
     r[static_cast<Eigen::Index>(k)] = scale * (dP - dt * force);
   }
   return r.allFinite();
 }
 
 // The force each constraint applied: the momentum equation's imbalance on its prescribed components,
-// (m_i v_i^L - m_i v_i^k)/dt - ((1 - theta) f^k + theta f^L + f^ext).
+// (m_i v_i^L - m_i v_i^k)/dt - ((1 - theta) f^k + theta f^L + f^ext); an absorbing face's, its dashpots' -Z A v^L.
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::compute_reactions(Real dt) {
   const int groups = static_cast<int>(face_reactions_.size());
@@ -130,6 +133,9 @@ void ImplicitSimulation<Dim, Kernel>::compute_reactions(Real dt) {
                        ((1 - theta) * f_k_[f.node][c] + theta * f_trial_[f.node][c] + f_ext_[f.node][c]);
     (f.owner < groups ? face_reactions_[f.owner] : rigid_reactions[f.owner - groups])[c] += force;
   }
+  for (const auto& d : dashpots_)  // the dashpots' force on the free components they hold
+    if (d.owned && grid_.nodes[d.node].m > min_node_mass_)
+      face_reactions_[d.group][d.component] -= d.resistance * grid_.nodes[d.node].v_new[d.component];
 }
 
 }  // namespace mpm

@@ -51,6 +51,7 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
       layout_(grid_.geometry),
       order_(grid_.geometry, Kernel::width),
       rigid_(spec.rigid_bodies, grid_.geometry) {
+  dashpots_ = constraints_.dashpots();
   ParticleSet<Dim>& p = particles_;
   const GridGeometry<Dim>& g = grid_.geometry;
   if (p.size() == 0) throw InputError("particles: the simulation has no particles");

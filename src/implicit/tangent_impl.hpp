@@ -28,7 +28,7 @@ struct ImplicitSimulation<Dim, Kernel>::TangentFactor {
 //   -> strain increments de_p = dt sym(sum_j v_j^L (x) grad N_j), plus the hoop term dt v_r / r
 //   -> sigma_p(de_p) by material_step -> f_i^L = -sum_p V_p (sigma_p grad N_i + hoop)
 //   (Sulsky & Kaul 2004, Eq. (2.2.18), Eq. (2.2.19), Eq. (2.2.20), Eq. (2.2.21), Eq. (2.4.7))
-// hence dF/dx = scale (D - theta dt K Q), D = I (momentum) or the nodal masses (velocity), K = df^L/dv^L,
+// hence dF/dx = scale (D - theta dt K Q + dt Z A), D = I (momentum) or the nodal masses (velocity), K = df^L/dv^L,
 // Q = I in the velocity formulation. The material tangent d sigma / d de is a forward difference of
 // material_step at each particle's trial strain, one call per independent strain component; only the
 // dependence of the Jaumann spin on v^L is left out (a relative error of order sigma / E). Returns false when F
@@ -151,7 +151,12 @@ bool ImplicitSimulation<Dim, Kernel>::factorise_tangent(const Eigen::VectorXd& x
   }
   const Real scale = residual_scale(dt);
   J *= -scale * spec_.theta * dt;
-  for (Eigen::Index k = 0; k < n; ++k) J.coeffRef(k, k) += scale * (momentum ? 1.0 : grid_.nodes[dof_node_[k]].m);
+  // The dashpots' dt Z A on the diagonal (through v^L = P^L / m on the node in the momentum formulation, Q's
+  // diagonal approximated).
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Real m = grid_.nodes[dof_node_[k]].m;
+    J.coeffRef(k, k) += scale * ((momentum ? 1.0 : m) + dt * dof_resistance_[k] * (momentum ? 1 / m : 1.0));
+  }
   J.makeCompressed();
   if (!tangent_) tangent_ = std::make_shared<TangentFactor>();
   TangentFactor& t = *tangent_;

@@ -96,7 +96,7 @@ MemoryModel engine_memory(const Scene& sc) {
     int grids = sc.fields;  // one per velocity field, and one more each for the gaps of [[contact]]
     for (const SceneContact& c : sc.contacts)
       if (std::isfinite(c.gap)) grids = 2 * sc.fields;
-    return Simulation<Dim, Kernel>::memory_model(!sc.body_force.empty() || !sc.tractions.empty(), rate_form, grids);
+    return Simulation<Dim, Kernel>::memory_model(!sc.body_force.empty() || !sc.surface_loads.empty(), rate_form, grids);
   });
 }
 
@@ -165,7 +165,7 @@ Budget estimate_budget(const Scene& sc) {
   // runner's copy; the explicit engine's, with their tiles, when there are loads), and the largest transient
   // output: a frame (its fields, the file's bytes and their assembly) or a checkpoint.
   const double frame = frame_bytes_per_particle(sc), checkpoint = checkpoint_bytes_per_particle(sc);
-  const bool loads = !sc.body_force.empty() || std::any_of(sc.gravity.begin(), sc.gravity.end(), [](double g) { return g != 0; });
+  const bool loads = !sc.body_force.empty() || !sc.surface_loads.empty() || std::any_of(sc.gravity.begin(), sc.gravity.end(), [](double g) { return g != 0; });
   const double before = sc.implicit ? sc.dim * 8.0 : loads ? sc.dim * 8.0 + 4 : 0;
   const double runner = before + std::max(3 * frame, 2 * checkpoint);
   const MemoryModel engine = engine_memory(sc);

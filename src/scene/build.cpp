@@ -1,5 +1,6 @@
 #include "mpm/scene/build.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -7,6 +8,7 @@
 #include "mpm/core/errors.hpp"
 #include "mpm/particles/generate.hpp"
 #include "mpm/particles/geostatic.hpp"
+#include "mpm/particles/surface.hpp"
 #include "mpm/scene/budget.hpp"
 
 namespace mpm {
@@ -26,25 +28,6 @@ VelocityFn<Dim> velocity_of(const std::vector<ExpressionPtr>& components) {
     return vector_value<Vec<Dim>>(components, vars);
   };
 }
-
-/// Traction on a box face as a body acceleration of the outermost particle layer there: force t A_p over mass
-/// rho V_p with A_p = s^(Dim-1), V_p = s^Dim, s the particle spacing.
-template <int Dim>
-struct TractionLoad {
-  int axis;
-  Real plane;         ///< reference coordinate of the particle layer next to the loaded face
-  Real layer;         ///< particles whose reference centre is within this distance of it are loaded
-  Vec<Dim> lo, hi;    ///< the box
-  Real inv_rho_s;     ///< 1 / (rho s)
-  std::vector<ExpressionPtr> traction;
-
-  bool loads(const Vec<Dim>& X) const {
-    if (std::abs(X[axis] - plane) > layer) return false;
-    for (int d = 0; d < Dim; ++d)
-      if (d != axis && (X[d] < lo[d] || X[d] > hi[d])) return false;
-    return true;
-  }
-};
 
 /// F = I + grad u by fourth-order central differences of the displacement expressions (when the scene gives u
 /// but not F): error O(eps^4) ~ 1e-13 relative for smooth u.
@@ -145,31 +128,88 @@ std::vector<Material> materials_of(const Scene& sc) {
   return out;
 }
 
-/// The scene's body force and tractions as one body acceleration b(X, t); empty when it has neither.
+/// The scene's body force b(X, t); empty when it has none.
 template <int Dim>
 BodyForceFn<Dim> body_force_of(const Scene& sc) {
-  std::vector<TractionLoad<Dim>> tractions;
-  for (const SceneTraction& t : sc.tractions) {
-    const SceneBody& b = sc.bodies[t.body];
-    const Real s = sc.h / b.ppc;
-    const int axis = t.face / 2;
-    // The outermost lattice layer at the face: fill_box seeds layers at lo + (k + 1/2) s, k < n.
-    const Real layers = std::floor((b.hi[axis] - b.lo[axis]) / s + 1e-9);
-    const Real outermost = t.face % 2 ? b.lo[axis] + (layers - 0.5) * s : b.lo[axis] + 0.5 * s;
-    tractions.push_back({axis, outermost, 0.25 * s, to_vec<Dim>(b.lo), to_vec<Dim>(b.hi),
-                         1 / (sc.materials[b.material].density * s), t.traction});
-  }
-  if (sc.body_force.empty() && tractions.empty()) return {};
-  return [body = sc.body_force, tractions](const Vec<Dim>& X, Real t) {
-    Vec<Dim> b = Vec<Dim>::Zero();
+  if (sc.body_force.empty()) return {};
+  return [body = sc.body_force](const Vec<Dim>& X, Real t) {
     double vars[Dim + 1];
     for (int d = 0; d < Dim; ++d) vars[d] = X[d];
     vars[Dim] = t;
-    if (!body.empty()) b = vector_value<Vec<Dim>>(body, vars);
-    for (const TractionLoad<Dim>& tr : tractions)
-      if (tr.loads(X)) b += tr.inv_rho_s * vector_value<Vec<Dim>>(tr.traction, std::span<const double>(&vars[Dim], 1));
-    return b;
+    return vector_value<Vec<Dim>>(body, vars);
   };
+}
+
+/// Body k's particles as seeded on its lattice (reference positions; ids count on from `p`'s).
+template <int Dim>
+void seed_shape(const Scene& sc, std::size_t k, ParticleSet<Dim>& p) {
+  const SceneBody& b = sc.bodies[k];
+  const Real density = sc.materials[b.material].density;
+  const auto material = static_cast<std::uint16_t>(b.material);
+  const Real spacing = sc.h / b.ppc;
+  switch (b.shape) {
+    case SceneBody::Shape::box:
+      fill_box<Dim>(p, to_vec<Dim>(b.lo), to_vec<Dim>(b.hi), spacing, density, material);
+      break;
+    case SceneBody::Shape::disk:
+    case SceneBody::Shape::ring: {
+      const Vec<Dim> c = to_vec<Dim>(b.center);
+      const Real r_in = b.inner_radius, r_out = b.radius;
+      fill_box<Dim>(p, c.array() - r_out, c.array() + r_out, spacing, density, material, {}, [&](const Vec<Dim>& x) {
+        const Real r = (x - c).norm();
+        return r <= r_out && r >= r_in;
+      });
+      break;
+    }
+    case SceneBody::Shape::file:
+      read_particle_file<Dim>(b, "bodies[" + std::to_string(k) + "].file in " + sc.file.string(), density, material, p);
+      break;
+  }
+}
+
+/// The scene's pressures and tractions on the surfaces of bodies (lattice_surface of each loaded body, ids as
+/// seed_bodies gives them), each kept to the faces looking along `face` and the particles in its region.
+template <int Dim>
+SurfaceLoads<Dim> surface_loads_of(const Scene& sc) {
+  if (sc.surface_loads.empty()) return {};
+  std::vector<std::size_t> first(sc.bodies.size() + 1, 0);
+  std::vector<std::vector<Vec<Dim>>> area(sc.bodies.size());
+  ParticleSet<Dim> p;
+  for (std::size_t k = 0; k < sc.bodies.size(); ++k) {
+    seed_shape<Dim>(sc, k, p);
+    first[k + 1] = p.size();
+    const bool loaded = std::any_of(sc.surface_loads.begin(), sc.surface_loads.end(),
+                                    [&](const SceneSurfaceLoad& l) { return l.body == k; });
+    if (!loaded || first[k + 1] == first[k]) continue;
+    const std::vector<Vec<Dim>> X(p.X.begin() + static_cast<std::ptrdiff_t>(first[k]), p.X.end());
+    area[k] = lattice_surface<Dim>(X, X.front(), sc.h / sc.bodies[k].ppc, sc.geometry == Geometry::axisymmetric);
+  }
+  std::vector<SurfaceLoad<Dim>> loads;
+  for (const SceneSurfaceLoad& l : sc.surface_loads) {
+    SurfaceLoad<Dim> load;
+    if (l.pressure)
+      load.pressure = [e = l.pressure](Real t) {
+        const double vars[] = {t};
+        return (*e)(vars);
+      };
+    else
+      load.traction = velocity_of<Dim>(l.traction);  // a vector function of t
+    for (std::size_t j = 0; j < area[l.body].size(); ++j) {
+      Vec<Dim> a = area[l.body][j];
+      const Vec<Dim>& X = p.X[first[l.body] + j];
+      if (l.face >= 0) {  // the component looking out along the face's normal
+        const int axis = l.face / 2, side = l.face % 2 ? 1 : -1;
+        const Real along = a[axis] * side;
+        a = Vec<Dim>::Zero();
+        if (along > 0) a[axis] = side * along;
+      }
+      bool in = !a.isZero(0);
+      for (int d = 0; in && d < Dim && !l.lo.empty(); ++d) in = X[d] >= l.lo[d] && X[d] <= l.hi[d];
+      if (in) load.patches.push_back({p.id[first[l.body] + j], a});
+    }
+    loads.push_back(std::move(load));
+  }
+  return SurfaceLoads<Dim>(std::move(loads));
 }
 
 /// Rigid boxes of points at ppc per cell per axis, with their prescribed velocities.
@@ -216,6 +256,7 @@ SimulationSpec<Dim> make_spec(const Scene& sc) {
         {sc.body_field[c.groups[0][0]], sc.body_field[c.groups[1][0]], c.friction, c.normal, c.gap});
 
   spec.body_force = body_force_of<Dim>(sc);
+  spec.surface_loads = surface_loads_of<Dim>(sc);
   validate(spec);
   return spec;
 }
@@ -228,28 +269,9 @@ ParticleSet<Dim> seed_bodies(const Scene& sc) {
   for (std::size_t k = 0; k < sc.bodies.size(); ++k) {
     const SceneBody& b = sc.bodies[k];
     const Real density = sc.materials[b.material].density;
-    const auto material = static_cast<std::uint16_t>(b.material);
     const std::size_t first = p.size();
     const Real spacing = sc.h / b.ppc;
-    switch (b.shape) {
-      case SceneBody::Shape::box:
-        fill_box<Dim>(p, to_vec<Dim>(b.lo), to_vec<Dim>(b.hi), spacing, density, material);
-        break;
-      case SceneBody::Shape::disk:
-      case SceneBody::Shape::ring: {
-        const Vec<Dim> c = to_vec<Dim>(b.center);
-        const Real r_in = b.inner_radius, r_out = b.radius;
-        fill_box<Dim>(p, c.array() - r_out, c.array() + r_out, spacing, density, material, {},
-                      [&](const Vec<Dim>& x) {
-                        const Real r = (x - c).norm();
-                        return r <= r_out && r >= r_in;
-                      });
-        break;
-      }
-      case SceneBody::Shape::file:
-        read_particle_file<Dim>(b, "bodies[" + std::to_string(k) + "].file in " + sc.file.string(), density, material, p);
-        break;
-    }
+    seed_shape<Dim>(sc, k, p);
     const std::string name = "bodies[" + std::to_string(k) + "] (" + b.name + ")";
     if (p.size() == first) throw InputError(sc.file.string() + ": " + name + ": the body has no particles");
     if (!sc.body_field.empty())
@@ -311,6 +333,7 @@ ImplicitSpec<Dim> make_implicit_spec(const Scene& sc) {
   spec.rigid_bodies = rigid_bodies_of<Dim>(sc);
   spec.gravity = to_vec<Dim>(sc.gravity);
   spec.body_force = body_force_of<Dim>(sc);
+  spec.surface_loads = surface_loads_of<Dim>(sc);
   validate(spec, sc.file.string());
   return spec;
 }

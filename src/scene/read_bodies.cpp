@@ -101,25 +101,49 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
   sc.bodies.push_back(std::move(b));
 }
 
+namespace {
+/// One [[loads.traction]] or [[loads.pressure]] table.
+void read_surface_load(const Section& t, const std::string& kind, Scene& sc, const Locator& loc) {
+  const auto n = static_cast<std::size_t>(sc.dim);
+  SceneSurfaceLoad load;
+  if (!t.has("body")) t.fail("body", "missing (the name of the loaded body)");
+  const std::string body = t.text("body", "");
+  auto found = std::find_if(sc.bodies.begin(), sc.bodies.end(), [&](const SceneBody& b) { return b.name == body; });
+  if (found == sc.bodies.end()) t.fail("body", "no body named '" + body + "'");
+  if (found->shape == SceneBody::Shape::file)
+    t.fail("body", "surface loads need a body seeded on a lattice (box, disk, sphere or ring), not a particle file");
+  load.body = static_cast<std::size_t>(found - sc.bodies.begin());
+  if (t.has("face")) {
+    const std::vector<std::string> names(face_names.begin(), face_names.begin() + 2 * sc.dim);
+    const std::string face = t.choice("face", "", names);
+    load.face = static_cast<int>(std::find(names.begin(), names.end(), face) - names.begin());
+  }
+  if (const toml::table* region = t.table("region")) {
+    const Section r(*region, t.key_of("region"), loc, {"lo", "hi"});
+    read_box(r, sc, "the region", load.lo, load.hi);
+  }
+  if (kind == "traction") {
+    load.traction = t.expressions("traction", n, time_var, sc.constants);
+  } else {
+    if (sc.geometry == Geometry::plane_stress)
+      t.fail("pressure", "a follower pressure needs the thickness's change, which plane stress does not follow; "
+                         "use plane strain, axisymmetry or 3-D");
+    load.pressure = t.expression("pressure", time_var, sc.constants);
+  }
+  sc.surface_loads.push_back(std::move(load));
+}
+}  // namespace
+
 void read_loads(const Section& s, Scene& sc, const Locator& loc) {
   const auto n = static_cast<std::size_t>(sc.dim);
   sc.gravity = s.has("gravity") ? s.constant_numbers("gravity", n, sc.constants) : std::vector<double>(n, 0.0);
   if (s.has("body_force")) sc.body_force = s.expressions("body_force", n, reference_time_vars[n - 1], sc.constants);
-  const std::vector<const toml::table*> tractions = s.tables("traction");
-  for (std::size_t k = 0; k < tractions.size(); ++k) {
-    const Section t(*tractions[k], s.key_of("traction[" + std::to_string(k) + "]"), loc, {"body", "face", "traction"});
-    SceneTraction tr;
-    if (!t.has("body")) t.fail("body", "missing (the name of the loaded box body)");
-    const std::string body = t.text("body", "");
-    auto found = std::find_if(sc.bodies.begin(), sc.bodies.end(), [&](const SceneBody& b) { return b.name == body; });
-    if (found == sc.bodies.end()) t.fail("body", "no body named '" + body + "'");
-    if (found->shape != SceneBody::Shape::box) t.fail("body", "tractions apply to box bodies only");
-    tr.body = static_cast<std::size_t>(found - sc.bodies.begin());
-    const std::vector<std::string> names(face_names.begin(), face_names.begin() + 2 * sc.dim);
-    const std::string face = t.choice("face", "", names);
-    tr.face = static_cast<int>(std::find(names.begin(), names.end(), face) - names.begin());
-    tr.traction = t.expressions("traction", n, time_var, sc.constants);
-    sc.tractions.push_back(std::move(tr));
+  for (const std::string kind : {"traction", "pressure"}) {
+    const std::vector<const toml::table*> loads = s.tables(kind);
+    for (std::size_t k = 0; k < loads.size(); ++k)
+      read_surface_load(Section(*loads[k], s.key_of(kind + "[" + std::to_string(k) + "]"), loc,
+                                {"body", "face", "region", kind}),
+                        kind, sc, loc);
   }
 }
 

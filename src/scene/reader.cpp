@@ -160,8 +160,6 @@ void read_grid(const Section& s, Scene& sc, const Locator& loc) {
       if (v.has("absorbing")) {
         if (v.has("velocity") || v.has("friction"))
           v.fail(v.has("velocity") ? "velocity" : "friction", "an absorbing face takes no velocity or friction");
-        if (sc.implicit)
-          v.fail("absorbing", "absorbing faces are for the explicit integrators");
         if (sc.geometry == Geometry::axisymmetric)
           v.fail("absorbing", "absorbing faces are for plane and 3-D grids, not axisymmetric ones");
         face.kind = SceneFace::Kind::absorbing;
@@ -368,7 +366,7 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
                  sc);
   assign_fields(sc);
   if (const toml::table* loads = top.table("loads"))
-    read_loads(Section(*loads, "loads", loc, {"gravity", "body_force", "traction"}), sc, loc);
+    read_loads(Section(*loads, "loads", loc, {"gravity", "body_force", "traction", "pressure"}), sc, loc);
   else
     sc.gravity.assign(static_cast<std::size_t>(sc.dim), 0.0);
   for (const SceneBody& b : sc.bodies)

@@ -157,6 +157,24 @@ class Section {
     }
     return out;
   }
+  /// One number or expression string over `vars`.
+  ExpressionPtr expression(const std::string& k, const std::vector<std::string>& vars,
+                           const std::map<std::string, double>& constants) const {
+    const toml::node* n = get(k);
+    std::string src;
+    if (n && n->is_number()) {
+      std::ostringstream os;
+      os.precision(17);
+      os << n->value<double>().value();
+      src = os.str();
+    } else if (n && n->is_string()) {
+      src = n->value<std::string>().value();
+    } else {
+      fail(k, "expected a number or an expression string of " + (vars.empty() ? std::string("nothing") : join(vars)) +
+                  (n ? ", got " + describe(*n) : ""));
+    }
+    return std::make_shared<Expression>(src, vars, constants, loc_.where(n, key_of(k)));
+  }
   /// An array of n numbers, each written as a number or an expression string of the constants alone (e.g.
   /// "9.81 * sin(theta * pi / 180)"), evaluated once.
   std::vector<double> constant_numbers(const std::string& k, std::size_t n,

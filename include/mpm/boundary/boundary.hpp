@@ -112,6 +112,18 @@ class KinematicConstraints {
   /// Every constrained (node, component), group by group.
   std::vector<Component> components() const;
 
+  /// One dashpot of an absorbing face on one velocity component of one node: the force -resistance v_c, with
+  /// resistance = Z A (Z = rho c_p along the face's normal, rho c_s across it; A the node's share of the face).
+  struct Dashpot {
+    std::int32_t node;
+    int component;
+    int group;
+    Real resistance;  ///< [N s/m]
+    bool owned;       ///< its force counts in the group's reaction (the box owns the node)
+  };
+  /// Every dashpot of the absorbing faces, group by group.
+  std::vector<Dashpot> dashpots() const;
+
   /// Impose prescribed components on a node velocity field (&GridNode::v or &GridNode::v_new) at time t.
   void constrain_velocity(Grid<Dim>& grid, NodeVelocity<Dim> field, Real t) const;
 

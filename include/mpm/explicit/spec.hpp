@@ -7,6 +7,7 @@
 
 #include "mpm/boundary/boundary.hpp"
 #include "mpm/boundary/rigid_body.hpp"
+#include "mpm/boundary/surface_loads.hpp"
 #include "mpm/contact/multi_field.hpp"
 #include "mpm/core/model_geometry.hpp"
 #include "mpm/core/types.hpp"
@@ -48,6 +49,8 @@ struct SimulationSpec {
   /// a body quasi-statically to equilibrium (a gravity ramp, a slope), and it is not energy-conserving.
   Real local_damping = 0;
   BodyForceFn<Dim> body_force;          ///< optional b(X, t), evaluated at the start of each step
+  /// Pressures and tractions on the surfaces of bodies, carried by their surface particles as body forces.
+  SurfaceLoads<Dim> surface_loads;
   Real dt = 0;                          ///< fixed time step [s], or 0 to use the CFL number
   Real cfl = 0;                         ///< dt = cfl h / max_p (c_p + |v_p|) when dt == 0
   /// CD and UVF-MPM: the particle velocities given are v^{-1/2}, so the first grid acceleration is not halved

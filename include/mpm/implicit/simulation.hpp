@@ -181,6 +181,9 @@ class ImplicitSimulation {
     Real value;
   };
   std::vector<Fixed> fixed_;
+  /// The absorbing faces' dashpots, and their resistance on each free unknown (zero on most).
+  std::vector<typename KinematicConstraints<Dim>::Dashpot> dashpots_;
+  std::vector<Real> dof_resistance_;
   std::vector<std::uint8_t> mirrored_;  // nodes that copy another: symmetry ghosts, periodic images
   Trial trial_;
   Eigen::VectorXd last_x_;

@@ -8,6 +8,7 @@
 
 #include "mpm/boundary/boundary.hpp"
 #include "mpm/boundary/rigid_body.hpp"
+#include "mpm/boundary/surface_loads.hpp"
 #include "mpm/core/model_geometry.hpp"
 #include "mpm/core/types.hpp"
 #include "mpm/numerics/newton_krylov.hpp"
@@ -75,6 +76,8 @@ struct ImplicitSpec {
   Vec<Dim> gravity = Vec<Dim>::Zero();  ///< [m/s^2]
   /// Optional b(X, t) [m/s^2]; a step takes (1 - theta) b(X, t^k) + theta b(X, t^{k+1}).
   BodyForceFn<Dim> body_force;
+  /// Pressures and tractions on the surfaces of bodies, carried by their surface particles as body forces.
+  SurfaceLoads<Dim> surface_loads;
 };
 
 Formulation parse_formulation(std::string_view name, std::string_view key);

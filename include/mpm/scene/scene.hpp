@@ -89,10 +89,13 @@ struct SceneBody {
 };
 
 /// A traction [Pa] on one face of a box body, carried by the body's outermost particle layer at that face.
-struct SceneTraction {
+/// [[loads.traction]] or [[loads.pressure]]: a load on the surface of a body seeded on a lattice.
+struct SceneSurfaceLoad {
   std::size_t body = 0;
-  int face = 0;                         ///< 0..2*dim-1: x-min, x-max, y-min, ...
-  std::vector<ExpressionPtr> traction;  ///< expressions of t
+  int face = -1;                        ///< only the body's faces looking this way (x-min, x-max, ...); -1: all
+  std::vector<double> lo, hi;           ///< only surface particles whose reference centre is in [lo, hi]; empty: all
+  std::vector<ExpressionPtr> traction;  ///< a traction's components, expressions of t [Pa]
+  ExpressionPtr pressure;               ///< a pressure, an expression of t [Pa]
 };
 
 struct Scene {
@@ -139,7 +142,7 @@ struct Scene {
   // [loads]
   std::vector<double> gravity;
   std::vector<ExpressionPtr> body_force;  ///< expressions of X, Y, Z, t; empty: none
-  std::vector<SceneTraction> tractions;
+  std::vector<SceneSurfaceLoad> surface_loads;
 
   // [check]
   std::vector<ExpressionPtr> exact_displacement;  ///< expressions of X, Y, Z, t; empty: no check
