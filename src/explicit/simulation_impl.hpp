@@ -42,6 +42,7 @@ GridGeometry<Dim> make_geometry(const SimulationSpec<Dim>& spec) {
   GridGeometry<Dim> g{spec.grid_lo, spec.h, spec.cells, Kernel::ghost};
   g.periodic = periodic_axes(spec.boundary);
   g.outflow = outflow_faces(spec.boundary);
+  g.walls = wall_faces(spec.boundary);
   return g;
 }
 

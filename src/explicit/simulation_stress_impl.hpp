@@ -34,10 +34,12 @@ ParticleFault Simulation<Dim, Kernel>::update_stress(Real dt) {
       const Mat<Dim> dL = dt * grad_v_[i];
       const Mat<Dim> step = Mat<Dim>::Identity() + dL;
       const Real V_start = p.V[i] / step.determinant() * s.stretch3[i];
-      const MaterialStep r =
-          material_step<Dim>(material, s.sigma[i], s.eps_bar[i], s.stretch3[i], V_start, p.V0[i],
-                             Mat<Dim>(step.inverse() * p.F[i]), dL, dt, axisymmetric_ ? dt * hoop_rate_[i] : 0,
-                             spec_.geometry);
+      // Only the fluid reads F (its J): the solids' rate form needs none.
+      const Mat<Dim> F_start =
+          std::holds_alternative<NewtonianFluid>(material) ? Mat<Dim>(step.inverse() * p.F[i]) : p.F[i];
+      const MaterialStep r = material_step<Dim>(material, s.sigma[i], s.eps_bar[i], s.stretch3[i], V_start, p.V0[i],
+                                                F_start, dL, dt, axisymmetric_ ? dt * hoop_rate_[i] : 0,
+                                                spec_.geometry);
       ok = r.ok;
       s.sigma[i] = r.sigma;
       s.eps_bar[i] = r.eps_bar;

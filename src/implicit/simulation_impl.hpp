@@ -45,7 +45,7 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
     : spec_((validate(spec), spec)),
       particles_(std::move(particles)),
       grid_(GridGeometry<Dim>{spec.grid_lo, spec.h, spec.cells, Kernel::ghost, {}, periodic_axes(spec.boundary),
-                              outflow_faces(spec.boundary)}),
+                              outflow_faces(spec.boundary), wall_faces(spec.boundary)}),
       halo_(grid_.geometry),
       constraints_(spec.boundary, grid_.geometry),
       layout_(grid_.geometry),
@@ -275,7 +275,8 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
       v_move_);
   if (!momentum) gather_over_active_nodes([](const GridNode<Dim>& node, std::size_t) { return node.v_new - node.v; }, dv_);
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
-    trial_.x[i] = grid_.geometry.wrap(p.x[i] + dt * v_move_[i]);  // Sulsky & Kaul 2004, Eq. (2.3.2), or Eq. (3.2.5)
+    // Sulsky & Kaul 2004, Eq. (2.3.2), or Eq. (3.2.5); a centre carried past a wall stays on it.
+    trial_.x[i] = grid_.geometry.onto_walls(grid_.geometry.wrap(p.x[i] + dt * v_move_[i]));
     if (!momentum) trial_.v[i] = p.v[i] + dv_[i];  // Sulsky & Kaul 2004, Eq. (2.3.3); else Eq. (3.2.6)
   });
   for (std::size_t i = 0; i < p.size(); ++i)

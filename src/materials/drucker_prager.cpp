@@ -8,7 +8,8 @@
 
 namespace mpm {
 
-ConeCoefficients cone_coefficients(ConeMatch match, Real phi) {
+namespace {
+ConeCoefficients compute_cone(ConeMatch match, Real phi) {
   const Real s = std::sin(phi), c = std::cos(phi), root3 = std::sqrt(3.0);
   switch (match) {
     case ConeMatch::outer:  // de Souza Neto et al. 2008, Sec. 6.4: through the compressive edges
@@ -21,6 +22,25 @@ ConeCoefficients cone_coefficients(ConeMatch match, Real phi) {
     }
   }
   return {0, 0};
+}
+}  // namespace
+
+ConeCoefficients cone_coefficients(ConeMatch match, Real phi) {
+  // The last two angles each thread asked for (the friction and the dilatancy angle of the material it is
+  // updating): their trigonometry is most of an elastic step's cost otherwise. The same bits either way.
+  struct Entry {
+    ConeMatch match;
+    Real phi;
+    ConeCoefficients cone;
+  };
+  thread_local Entry memo[2] = {{ConeMatch::outer, -1, {}}, {ConeMatch::outer, -1, {}}};
+  thread_local int next = 0;
+  for (const Entry& e : memo)
+    if (e.phi == phi && e.match == match) return e.cone;
+  memo[next] = {match, phi, compute_cone(match, phi)};
+  const ConeCoefficients out = memo[next].cone;
+  next ^= 1;
+  return out;
 }
 
 void validate(const DruckerPrager& m, const std::string& where) {

@@ -44,6 +44,10 @@ FrictionalReturn return_at_strength(const MohrCoulomb& m, const Eigen::Matrix3d&
   const Real G = m.mu(), lambda = m.lambda();
   const Real phi = m.strength.friction_at(e), c = m.strength.cohesion_at(e);
   const Real sin_phi = std::sin(phi), c_cos_phi = c * std::cos(phi), sin_psi = std::sin(m.strength.dilatancy);
+  // Elastic without the principal stresses when a bound of f is: s1 - s3 <= 2 sqrt(J2) and s1 + s3 = 2 p - s2'
+  // <= 2 p + 2 sqrt(J2 / 3), s2' the middle principal deviator (|s'_k| <= 2 sqrt(J2 / 3)).
+  const Real p = trial.trace() / 3, root_J2 = std::sqrt(0.5 * deviator(trial).squaredNorm());
+  if (2 * root_J2 + (2 * p + 2 * root_J2 / std::sqrt(3.0)) * sin_phi - 2 * c_cos_phi <= 0) return {trial, false};
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(trial);
   const Principal trial_s = eigen.eigenvalues().reverse();  // Eigen's are ascending
   const auto stress = [&](const Principal& s) {

@@ -72,6 +72,16 @@ std::array<bool, 2 * Dim> outflow_faces(const BoundarySpec<Dim>& spec) {
   return faces;
 }
 
+/// The faces that hold the material (velocity faces, Coulomb walls among them, and symmetry planes), in the
+/// order of BoundarySpec::faces.
+template <int Dim>
+std::array<bool, 2 * Dim> wall_faces(const BoundarySpec<Dim>& spec) {
+  std::array<bool, 2 * Dim> faces{};
+  for (int f = 0; f < 2 * Dim; ++f)
+    faces[f] = spec.faces[f].type == FaceType::velocity || spec.faces[f].type == FaceType::symmetry;
+  return faces;
+}
+
 /// Throws InputError (prefixed with `at`) unless every periodic face has a periodic opposite face and its axis
 /// at least 2 cells, and an axisymmetric grid's radial axis is neither periodic nor, on the axis r = lo = 0, an
 /// outflow face.

@@ -27,6 +27,10 @@ struct GridGeometry {
   /// Faces (x-min, x-max, y-min, ...) that particles may cross: one that has is outside the grid and is removed
   /// after the step (Steffen et al. 2008, Sec. 3.4: material leaves through a free boundary).
   std::array<bool, 2 * Dim> outflow{};
+  /// Faces that hold the material (a prescribed velocity, a Coulomb wall, a symmetry plane): a particle centre the
+  /// nodes' velocity carries past one is put back on its plane. GIMP and B-spline weights reach beyond a
+  /// particle's centre, so a centre pressed onto a wall moves with nodes inside the material and can cross it.
+  std::array<bool, 2 * Dim> walls{};
 
   /// Tiles: cubes of tile_width node layers per axis, the first starting at the first ghost layer (storage
   /// index 0). A P2G pass sums each tile's particles apart and adds the tiles' sums into the nodes in an order
@@ -98,6 +102,15 @@ struct GridGeometry {
         if (x[d] >= lo[d] + length) x[d] -= length;
         else if (x[d] < lo[d]) x[d] += length;
       }
+    return x;
+  }
+  /// x put back on the plane of each wall it lies beyond (walls).
+  Vec<Dim> onto_walls(Vec<Dim> x) const {
+    for (int d = 0; d < Dim; ++d) {
+      const Real top = lo[d] + h * cells[d];
+      if (walls[2 * d] && x[d] < lo[d]) x[d] = lo[d];
+      if (walls[2 * d + 1] && x[d] > top) x[d] = top;
+    }
     return x;
   }
   /// True when x lies in the physical domain (boundary included).

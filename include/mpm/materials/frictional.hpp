@@ -96,7 +96,7 @@ StressUpdate return_with_softening(const FrictionalSolid& m, const Eigen::Matrix
                                    const ReturnAt& at_strength) {
   const Real G = m.mu(), K = m.bulk();
   const auto finish = [&](const FrictionalReturn& r, Real eps) {
-    return StressUpdate{r.sigma, eps, plastic_work_density(trial, r.sigma, K, G), dz, r.plastic};
+    return StressUpdate{r.sigma, eps, r.plastic ? plastic_work_density(trial, r.sigma, K, G) : 0, dz, r.plastic};
   };
   const FrictionalReturn first = at_strength(trial, eps_n);
   const Real e_r = m.strength.residual_strain;

@@ -148,6 +148,14 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
             x[c] = x[c] >= geo.lo[c] + period[c] ? x[c] - period[c] : x[c];
             x[c] = x[c] < geo.lo[c] ? x[c] + period[c] : x[c];
           }
+          if (geo.walls[2 * c]) {  // back onto a wall's plane
+            const RealLanes lo = simd::broadcast(lo_bound[c]);
+            x[c] = x[c] < lo ? lo : x[c];
+          }
+          if (geo.walls[2 * c + 1]) {
+            const RealLanes hi = simd::broadcast(hi_bound[c]);
+            x[c] = x[c] > hi ? hi : x[c];
+          }
           ok &= (x[c] >= lo_bound[c]) & (x[c] <= hi_bound[c]) & (v[c] - v[c] == 0);
         }
         block.store(p.x, x);
