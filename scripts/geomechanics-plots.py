@@ -75,7 +75,7 @@ def vertical_cut(mpm):
     ax.set_xlabel("t [s]")
     ax.set_ylabel("crest displacement [m]")
     ax.set_yscale("log")
-    ax.set_title("Vertical cut H = 10 m in Tresca clay, critical c = gamma H / 3.77 = 52 kPa")
+    ax.set_title("Vertical cut H = 10 m in Tresca clay, critical c = gamma H / 3.77 = 52 kPa", fontsize=10)
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(FIGURES / "vertical-cut.png", dpi=110)
