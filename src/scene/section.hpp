@@ -9,6 +9,7 @@
 #include <cctype>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -142,18 +143,9 @@ class Section {
     std::vector<ExpressionPtr> out;
     for (std::size_t c = 0; c < a.size(); ++c) {
       const toml::node& e = *a.get(c);
-      std::string src;
-      if (e.is_number()) {
-        std::ostringstream os;
-        os.precision(17);
-        os << e.value<double>().value();
-        src = os.str();
-      } else if (e.is_string()) {
-        src = e.value<std::string>().value();
-      } else {
-        fail(k, "expected " + what + ", got " + describe(e) + " in it");
-      }
-      out.push_back(std::make_shared<Expression>(src, vars, constants, loc_.where(&e, key_of(k) + "[" + std::to_string(c) + "]")));
+      const std::optional<std::string> src = expression_source(e);
+      if (!src) fail(k, "expected " + what + ", got " + describe(e) + " in it");
+      out.push_back(std::make_shared<Expression>(*src, vars, constants, loc_.where(&e, key_of(k) + "[" + std::to_string(c) + "]")));
     }
     return out;
   }
@@ -161,19 +153,11 @@ class Section {
   ExpressionPtr expression(const std::string& k, const std::vector<std::string>& vars,
                            const std::map<std::string, double>& constants) const {
     const toml::node* n = get(k);
-    std::string src;
-    if (n && n->is_number()) {
-      std::ostringstream os;
-      os.precision(17);
-      os << n->value<double>().value();
-      src = os.str();
-    } else if (n && n->is_string()) {
-      src = n->value<std::string>().value();
-    } else {
+    const std::optional<std::string> src = n ? expression_source(*n) : std::nullopt;
+    if (!src)
       fail(k, "expected a number or an expression string of " + (vars.empty() ? std::string("nothing") : join(vars)) +
                   (n ? ", got " + describe(*n) : ""));
-    }
-    return std::make_shared<Expression>(src, vars, constants, loc_.where(n, key_of(k)));
+    return std::make_shared<Expression>(*src, vars, constants, loc_.where(n, key_of(k)));
   }
   /// An array of n numbers, each written as a number or an expression string of the constants alone (e.g.
   /// "9.81 * sin(theta * pi / 180)"), evaluated once.
@@ -213,6 +197,16 @@ class Section {
   }
 
  private:
+  /// The text of an expression written as a number (to 17 digits) or a string; none for any other node.
+  static std::optional<std::string> expression_source(const toml::node& e) {
+    if (e.is_string()) return e.value<std::string>().value();
+    if (!e.is_number()) return std::nullopt;
+    std::ostringstream os;
+    os.precision(17);
+    os << e.value<double>().value();
+    return os.str();
+  }
+
   const toml::table& t_;
   std::string path_;
   const Locator& loc_;
