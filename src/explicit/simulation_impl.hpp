@@ -70,6 +70,7 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
       rigid_(spec.rigid_bodies, grid_.geometry),
       sizes_(spec.kernel == KernelKind::cpgimp ? SizeUpdate::deformed : SizeUpdate::fixed),
       neo_hookean_(neo_hookean_only(spec.materials)),
+      drucker_prager_(drucker_prager_rows(spec.materials)),
       axisymmetric_(Dim == 2 && spec.geometry == Geometry::axisymmetric),
       order_(grid_.geometry, Kernel::width),
       loads_(spec.account_load_power &&
@@ -145,7 +146,7 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
 
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::size_rates() {
-  if (!neo_hookean_.empty()) return;
+  if (!neo_hookean_.empty() || !drucker_prager_.empty()) return;
   grad_v_.resize(particles_.size(), Mat<Dim>::Zero());
   if (axisymmetric_) hoop_rate_.resize(particles_.size(), 0);
 }

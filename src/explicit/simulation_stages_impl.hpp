@@ -104,13 +104,19 @@ void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
     if (!neo_hookean_.empty()) {
       f = g2p<what>(particles_, stencils_, *fields[k], v_grid, dt, NeoHookeanLanes{neo_hookean_}, sizes_, targets,
                     range);
+    } else if (!drucker_prager_.empty() && axisymmetric_) {
+      const DruckerPragerLanes<Dim, true> step{spec_.materials, drucker_prager_, dt};
+      f = g2p<what>(particles_, stencils_, *fields[k], v_grid, dt, step, sizes_, targets, range);
+    } else if (!drucker_prager_.empty()) {
+      const DruckerPragerLanes<Dim, false> step{spec_.materials, drucker_prager_, dt};
+      f = g2p<what>(particles_, stencils_, *fields[k], v_grid, dt, step, sizes_, targets, range);
     } else {
       const RecordRates<Dim> rates{grad_v_, hoop_rate_, axisymmetric_};
       f = g2p<what>(particles_, stencils_, *fields[k], v_grid, dt, rates, sizes_, targets, range);
     }
     fault.index = std::min(fault.index, f.index);
   }
-  if (neo_hookean_.empty()) {
+  if (neo_hookean_.empty() && drucker_prager_.empty()) {
     if constexpr (what.deformation) {
       const ParticleFault stress = update_stress(dt);
       fault.index = std::min(fault.index, stress.index);

@@ -49,34 +49,18 @@ void validate(const DruckerPrager& m, const std::string& where) {
     detail::bad_input(where, "tension_cutoff", "expected a largest mean stress >= 0 [Pa], got " + detail::number(m.tension));
 }
 
-FrictionalReturn return_at_strength(const DruckerPrager& m, const Eigen::Matrix3d& trial, Real e) {
-  const Real G = m.mu(), K = m.bulk();
+ConeStrength<Real> cone_strength(const DruckerPrager& m, Real e) {
   const Real c = m.strength.cohesion_at(e);
   const ConeCoefficients cone = cone_coefficients(m.match, m.strength.friction_at(e));
-  const Real eta_bar = cone_coefficients(m.match, m.strength.dilatancy).eta;
-  const Real p_trial = trial.trace() / 3;
-  const Eigen::Matrix3d s_trial = deviator(trial);
-  const Real tau_trial = std::sqrt(0.5 * s_trial.squaredNorm());  // sqrt(J2)
-  // The largest mean stress: the cut-off, or the apex xi c / eta where it comes first.
   const Real t = cone.eta > 0 ? std::min(m.tension, cone.xi * c / cone.eta) : m.tension;
-  const auto stress = [&](Real p, Real tau) {
-    Eigen::Matrix3d sigma = tau_trial > 0 ? Eigen::Matrix3d(tau / tau_trial * s_trial) : Eigen::Matrix3d::Zero();
-    sigma.diagonal().array() += p;
-    return FrictionalReturn{sigma, true};
-  };
-  const Real f_cone = tau_trial + cone.eta * p_trial - cone.xi * c;  // de Souza Neto et al. 2008, Sec. 8.3
-  if (f_cone <= 0 && p_trial <= t) return {trial, false};
-  if (f_cone > 0) {
-    // The smooth cone: sqrt(J2) = tau_trial - G dgamma, p = p_trial - K eta_bar dgamma, f = 0
-    // (de Souza Neto et al. 2008, Sec. 8.3, perfectly plastic at this strength).
-    const Real dgamma = f_cone / (G + K * cone.eta * eta_bar);
-    const Real tau = tau_trial - G * dgamma, p = p_trial - K * eta_bar * dgamma;
-    if (tau >= 0 && p <= t) return stress(p, tau);
-  }
-  // The cut-off alone: p = t with the deviator kept, where that lies inside the cone.
-  if (p_trial > t && tau_trial + cone.eta * t - cone.xi * c <= 0) return stress(t, tau_trial);
-  // The corner of cone and cut-off (the apex when t is the apex): p = t, sqrt(J2) on the cone.
-  return stress(t, std::max<Real>(0, cone.xi * c - cone.eta * t));
+  return {m.mu(), m.bulk(), cone.eta, cone.xi * c, cone_coefficients(m.match, m.strength.dilatancy).eta, t};
+}
+
+FrictionalReturn return_at_strength(const DruckerPrager& m, const Eigen::Matrix3d& trial, Real e) {
+  const ConeStrength<Real> strength = cone_strength(m, e);
+  const ConeTrial<Real> c = cone_trial(strength, sym3_of(trial));
+  if (!c.plastic) return {trial, false};
+  return {full(return_to_cone(strength, c)), true};
 }
 
 StressUpdate update_stress(const DruckerPrager& m, const Eigen::Matrix3d& sigma_n, Real eps_bar_n,

@@ -52,10 +52,6 @@ void validate(const FrictionalSolid& m, const std::string& where) {
   validate(m.strength, where);
 }
 
-Real plastic_strain_increment(const Eigen::Matrix3d& trial, const Eigen::Matrix3d& sigma, Real G) {
-  return deviator(trial - sigma).norm() / (std::sqrt(6.0) * G);
-}
-
 Real plastic_work_density(const Eigen::Matrix3d& trial, const Eigen::Matrix3d& sigma, Real K, Real G) {
   const Real p = sigma.trace() / 3, p_trial = trial.trace() / 3;
   const Eigen::Matrix3d s = deviator(sigma);
@@ -64,9 +60,7 @@ Real plastic_work_density(const Eigen::Matrix3d& trial, const Eigen::Matrix3d& s
 
 Eigen::Matrix3d frictional_trial(const FrictionalSolid& m, const Eigen::Matrix3d& sigma_n, const Eigen::Matrix3d& de,
                                  const Eigen::Matrix3d& dW) {
-  Eigen::Matrix3d trial = rotate_jaumann(sigma_n, dW) + 2 * m.mu() * de;  // Hughes & Winget 1980
-  trial.diagonal().array() += m.lambda() * de.trace();                   // Sulsky & Kaul 2004, Eq. (2.2.21)
-  return trial;
+  return full(hypoelastic_trial(sym3_of(sigma_n), StrainIncrement<Real>{sym3_of(de), spin_of(dW)}, m.mu(), m.lambda()));
 }
 
 }  // namespace mpm

@@ -12,7 +12,7 @@
 
 #include "mpm/core/types.hpp"
 
-#if defined(__AVX2__) || defined(__AVX512F__)
+#if defined(__AVX__) || defined(__AVX512F__)
 #include <immintrin.h>
 #endif
 
@@ -33,11 +33,22 @@ using IntLanes = std::int64_t __attribute__((vector_size(8 * lanes)));
 /// The result of comparing RealLanes: -1 (all bits set) where true, 0 where false.
 using MaskLanes = IntLanes;
 
+/// What comparing two T gives: bool for one value, MaskLanes for lanes.
+template <class T>
+using MaskOf = decltype(T{} < T{});
+
 /// True when every lane of m is true.
 inline bool all(const MaskLanes& m) {
   std::int64_t every = -1;
   for (int k = 0; k < lanes; ++k) every &= m[k];
   return every != 0;
+}
+
+/// True when some lane of m is true.
+inline bool any(const MaskLanes& m) {
+  std::int64_t some = 0;
+  for (int k = 0; k < lanes; ++k) some |= m[k];
+  return some != 0;
 }
 
 /// All lanes equal to v.
@@ -244,6 +255,20 @@ T min(const T& a, const T& b) {
 template <class T>
 T max(const T& a, const T& b) {
   return a < b ? b : a;
+}
+
+/// The square root, for one value or lanes: IEEE's correctly rounded one either way, so the same bits.
+inline Real sqrt(Real x) { return std::sqrt(x); }
+[[gnu::always_inline]] inline RealLanes sqrt(const RealLanes& x) {
+#if defined(__AVX512F__)
+  return reinterpret_cast<RealLanes>(_mm512_sqrt_pd(reinterpret_cast<__m512d>(x)));
+#elif defined(__AVX__)
+  return reinterpret_cast<RealLanes>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(x)));
+#else
+  RealLanes r;
+  for (int k = 0; k < lanes; ++k) r[k] = std::sqrt(x[k]);
+  return r;
+#endif
 }
 
 /// |x| and copysign(x, y) through the sign bit, for one value or lanes.

@@ -248,8 +248,11 @@ class Simulation {
   SizeUpdate sizes_;
   /// Every material Neo-Hookean: their laws, for the stress in G2P's lanes (empty otherwise).
   std::vector<NeoHookean> neo_hookean_;
+  /// Every material Drucker-Prager: their rows, for the step in G2P's lanes (empty otherwise).
+  std::vector<DruckerPragerRow> drucker_prager_;
   bool axisymmetric_;
-  /// Rates the stress update reads when a material is rate-form: grad v [1/s] and v_r / r [1/s].
+  /// Rates the stress update reads when a material is rate-form, unless all are Drucker-Prager: grad v [1/s] and
+  /// v_r / r [1/s].
   std::vector<Mat<Dim>> grad_v_;
   std::vector<Real> hoop_rate_;
   Real min_node_mass_;

@@ -32,8 +32,61 @@ struct DruckerPrager : FrictionalSolid {
 /// Check the material; throw InputError naming `where` and the key.
 void validate(const DruckerPrager& m, const std::string& where);
 
-/// Return a trial stress to the surface of the strength at plastic strain e: the cone, the cut-off, their
-/// corner or the apex, whichever holds the backward-Euler stress.
+/// A strength held fixed over a return, for one particle (T = Real) or lanes: the elastic moduli, the cone's
+/// eta and xi c, the potential's eta_bar and t, the largest mean stress (the cut-off, or the apex xi c / eta
+/// where it comes first).
+template <class T>
+struct ConeStrength {
+  T G, K, eta, xi_c, eta_bar, t;
+};
+
+/// The strength of m at plastic strain e.
+ConeStrength<Real> cone_strength(const DruckerPrager& m, Real e);
+
+/// A trial stress against a fixed strength: its mean stress p, deviator s and sqrt(J2), and whether it lies
+/// outside the cone (f = sqrt(J2) + eta p - xi c > 0, de Souza Neto et al. 2008, Sec. 8.3) or beyond the cut-off.
+template <class T>
+struct ConeTrial {
+  T p, tau, f;
+  Sym3<T> dev;
+  simd::MaskOf<T> plastic;
+};
+
+template <class T>
+[[gnu::always_inline]] inline ConeTrial<T> cone_trial(const ConeStrength<T>& s, const Sym3<T>& trial) {
+  ConeTrial<T> c;
+  c.p = trace(trial) / 3;
+  c.dev = deviator(trial);
+  c.tau = simd::sqrt(0.5 * contract(c.dev, c.dev));  // sqrt(J2)
+  c.f = c.tau + s.eta * c.p - s.xi_c;                // de Souza Neto et al. 2008, Sec. 8.3
+  c.plastic = (c.f > 0) | (c.p > s.t);
+  return c;
+}
+
+/// Return a trial stress outside a fixed strength to its surface: the cone, the cut-off, their corner or the
+/// apex, whichever holds the backward-Euler stress (de Souza Neto et al. 2008, Sec. 8.3, perfectly plastic at
+/// this strength). Branch-free, for one particle or lanes (where a lane inside the surface gets a stress to be
+/// ignored).
+template <class T>
+[[gnu::always_inline]] inline Sym3<T> return_to_cone(const ConeStrength<T>& s, const ConeTrial<T>& c) {
+  // The smooth cone: sqrt(J2) = tau_trial - G dgamma, p = p_trial - K eta_bar dgamma, f = 0.
+  const T dgamma = c.f / (s.G + s.K * s.eta * s.eta_bar);
+  const T tau_cone = c.tau - s.G * dgamma, p_cone = c.p - s.K * s.eta_bar * dgamma;
+  const auto on_cone = (c.f > 0) & (tau_cone >= 0) & (p_cone <= s.t);
+  // Otherwise the cut-off alone (p = t with the deviator kept) where that lies inside the cone, else the corner
+  // of cone and cut-off (the apex when t is the apex): p = t, sqrt(J2) on the cone.
+  const auto on_cut_off = (c.p > s.t) & (c.tau + s.eta * s.t - s.xi_c <= 0);
+  const T corner = simd::max(T{}, s.xi_c - s.eta * s.t);
+  const T p = on_cone ? p_cone : s.t;
+  const T tau = on_cone ? tau_cone : on_cut_off ? c.tau : corner;
+  const T scale = tau / c.tau;  // the deviator keeps its direction
+  Sym3<T> sigma;
+  for (int k = 0; k < 6; ++k) sigma.c[k] = c.tau > 0 ? scale * c.dev.c[k] : T{};
+  for (int k = 0; k < 3; ++k) sigma.c[k] += p;
+  return sigma;
+}
+
+/// Return a trial stress to the surface of the strength at plastic strain e (cone_trial, return_to_cone).
 FrictionalReturn return_at_strength(const DruckerPrager& m, const Eigen::Matrix3d& trial, Real e);
 
 /// One step from sigma_n and eps_bar_n with strain increment de and spin increment dW (de(2, 2) as given: plane

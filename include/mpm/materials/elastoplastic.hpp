@@ -13,6 +13,7 @@
 /// uniaxial test and the consistency condition reads q_trial - 3 mu d_eps_bar = H.
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -20,6 +21,7 @@
 
 #include "mpm/core/errors.hpp"
 #include "mpm/core/types.hpp"
+#include "mpm/materials/sym3.hpp"
 
 namespace mpm {
 
@@ -211,38 +213,10 @@ inline Real temperature_increment(const ElastoPlastic& m, Real plastic_work, Rea
   return m.specific_heat > 0 ? plastic_work / (rho * m.specific_heat) : 0;  // Sulsky & Kaul 2004, Eq. (2.3.5)
 }
 
-/// Rotation of the stress by the incremental spin dW: Q sigma Q^T with Q = (I - dW/2)^{-1} (I + dW/2), the
-/// midpoint (Cayley) rotation of Hughes & Winget 1980; Q is orthogonal to round-off and turns by
-/// 2 atan(|w|/2) about the axial vector w of dW. Only the skew part of dW is used.
+/// Rotation of the stress by the incremental spin dW (skew): the Hughes & Winget 1980 rotation of
+/// rotate_jaumann on Sym3 (sym3.hpp), whose axial vector is that of dW / 2. sigma must be symmetric.
 inline Mat3 rotate_jaumann(const Mat3& sigma, const Mat3& dW) {
-  // Axial vector of A = skew(dW)/2, so that A x = a cross x.
-  const Real ax = 0.25 * (dW(2, 1) - dW(1, 2)), ay = 0.25 * (dW(0, 2) - dW(2, 0)),
-             az = 0.25 * (dW(1, 0) - dW(0, 1));
-  const Real a2 = ax * ax + ay * ay + az * az;
-  if (a2 == 0) return sigma;
-  // Cayley transform in closed form: Q = (I - A)^{-1} (I + A) = I + G, G = 2 (A + A^2) / (1 + |a|^2) with
-  // A^2 = a a^T - |a|^2 I. Hughes & Winget 1980. Q sigma Q^T = sigma + B + B^T + B G^T with B = G sigma
-  // (sigma symmetric): working with the small G keeps the rounding relative to |G| |sigma| rather than
-  // |sigma|, so the norm of sigma does not drift by an ulp per step under a steady spin. Only the upper
-  // triangle is formed.
-  const Real c = 2 / (1 + a2);
-  const Real a[3] = {ax, ay, az};
-  Real G[3][3];
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) G[i][j] = c * (a[i] * a[j] - (i == j ? a2 : 0));
-  G[0][1] -= c * az, G[1][0] += c * az;
-  G[0][2] += c * ay, G[2][0] -= c * ay;
-  G[1][2] -= c * ax, G[2][1] += c * ax;
-  Real B[3][3];
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      B[i][j] = G[i][0] * sigma(0, j) + G[i][1] * sigma(1, j) + G[i][2] * sigma(2, j);
-  Mat3 r;
-  for (int i = 0; i < 3; ++i)
-    for (int j = i; j < 3; ++j)
-      r(i, j) = r(j, i) =
-          sigma(i, j) + (B[i][j] + B[j][i]) + (B[i][0] * G[j][0] + B[i][1] * G[j][1] + B[i][2] * G[j][2]);
-  return r;
+  return full(rotate_jaumann(sym3_of(sigma), spin_of(dW)));
 }
 
 namespace detail {

@@ -20,6 +20,7 @@
 #include "mpm/core/errors.hpp"
 #include "mpm/core/types.hpp"
 #include "mpm/materials/elastoplastic.hpp"
+#include "mpm/materials/sym3.hpp"
 
 namespace mpm {
 
@@ -72,8 +73,17 @@ struct FrictionalReturn {
 };
 
 /// The increment of eps_bar of a return from trial to sigma: de_p = C^-1 (trial - sigma), whose deviator is
-/// dev(trial - sigma) / (2 G), so d eps_bar = |dev(trial - sigma)| / (sqrt(6) G).
-Real plastic_strain_increment(const Eigen::Matrix3d& trial, const Eigen::Matrix3d& sigma, Real G);
+/// dev(trial - sigma) / (2 G), so d eps_bar = |dev(trial - sigma)| / (sqrt(6) G). For one particle or lanes.
+template <class T>
+[[gnu::always_inline]] inline T plastic_strain_increment(const Sym3<T>& trial, const Sym3<T>& sigma, const T& G) {
+  Sym3<T> returned;
+  for (int k = 0; k < 6; ++k) returned.c[k] = trial.c[k] - sigma.c[k];
+  const Sym3<T> d = deviator(returned);
+  return simd::sqrt(contract(d, d)) / (std::sqrt(6.0) * G);
+}
+inline Real plastic_strain_increment(const Eigen::Matrix3d& trial, const Eigen::Matrix3d& sigma, Real G) {
+  return plastic_strain_increment(sym3_of(trial), sym3_of(sigma), G);
+}
 
 /// The plastic work density sigma : de_p of a return from trial to sigma with bulk modulus K and shear modulus G:
 /// p (p_trial - p) / K + s : (s_trial - s) / (2 G).

@@ -7,6 +7,7 @@
 #include "mpm/core/model_geometry.hpp"
 #include "mpm/core/types.hpp"
 #include "mpm/materials/material.hpp"
+#include "mpm/materials/sym3.hpp"
 
 namespace mpm {
 
@@ -62,7 +63,7 @@ MaterialStep rate_form_step(const Law& mat, const SymTensor<3>& sigma, Real eps_
   out.sigma = packed(u.sigma);
   out.eps_bar = u.eps_bar;
   out.work = u.plastic_work * V;
-  out.energy = V * (0.5 * (sigma_n + u.sigma)).cwiseProduct(de).sum();  // Sulsky & Kaul 2004, Eq. (2.2.16)
+  out.energy = V * mid_step_work(sym3_of(sigma_n), sym3_of(u.sigma), sym3_of(de));
   return out;
 }
 
@@ -105,7 +106,7 @@ MaterialStep fluid_step(const NewtonianFluid& law, const SymTensor<3>& sigma, Re
   MaterialStep out{};
   out.stretch3 = 1;
   out.sigma = packed(s);
-  out.energy = V * (0.5 * (sigma.full() + s)).cwiseProduct(de).sum();  // Sulsky & Kaul 2004, Eq. (2.2.16)
+  out.energy = V * mid_step_work(sym3_of(sigma.full()), sym3_of(s), sym3_of(de));
   out.ok = J > 0 && s.allFinite();
   return out;
 }

@@ -97,7 +97,7 @@ void g2p_interpolate(const std::vector<Stencil<Dim, Kernel>>& stencils, const Gr
 /// A pass that moves the particles can also compute their stencils at the new positions for the next step,
 /// into `next` when given: the positions are then at hand, and no separate pass over the particles is needed.
 /// A deforming pass hands each block's F, J, velocity gradient, interpolated radial velocity and radius at the
-/// start of the step to `stress` (transfer/g2p_stress.hpp). Returns the lowest-index particle whose new state is
+/// start of the step to `stress` (transfer/g2p_stress.hpp), which may fail lanes. Returns the lowest-index particle whose new state is
 /// non-finite, has J <= 0 or left the grid. Only the particles of `range` gather (those of the velocity field
 /// `grid` holds); all of them by default.
 template <Gather what, int Dim, class Kernel, class Stress>
@@ -179,7 +179,7 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
       const simd::MaskLanes valid = (J > 0) & (J - J == 0);
       ok &= valid;
       // A lane with an invalid J keeps its stress and half-lengths (the run stops).
-      stress(block, p, F, J, valid, grad_v, v_p[0], r_start);
+      ok &= stress(block, p, F, J, valid, grad_v, v_p[0], r_start);
       if (sizes == SizeUpdate::deformed) {
         const RecordLanes<Vec<Dim>> l0 = block.load(p.l0);
         RecordLanes<Vec<Dim>> l = block.load(p.l);
