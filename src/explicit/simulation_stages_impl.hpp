@@ -58,10 +58,10 @@ void Simulation<Dim, Kernel>::scatter() {
     Grid<Dim>& grid = *fields[k];
     if (box_halo_.divided()) {  // the halo sum: the sums of tiles of other boxes at the nodes they share
       const FaceTileSums<Dim> kept(grid.geometry, order_);
-      p2g<what>(particles_, stencils_, order_, body_accel_, grid, kept, k);
+      p2g<what>(particles_, stencils_, order_, body_accel_, grid, kept, k, has_material_state());
       box_halo_.sum(grid, kept.take(), what.mass_momentum, what.force, *comm_, nullptr, what.volume_gradient);
     } else {
-      p2g<what>(particles_, stencils_, order_, body_accel_, grid, KeepNothing{}, k);
+      p2g<what>(particles_, stencils_, order_, body_accel_, grid, KeepNothing{}, k, has_material_state());
     }
     if constexpr (what.force && Dim == 2)  // the hoop force in a pass of its own, as in the implicit step
       if (axisymmetric_) scatter_hoop_force(grid, k);

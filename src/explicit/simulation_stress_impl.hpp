@@ -48,8 +48,6 @@ ParticleFault Simulation<Dim, Kernel>::update_stress(Real dt) {
       if (law && law->specific_heat > 0) s.temperature[i] += r.work / (p.m[i] * law->specific_heat);
       s.stretch3[i] = r.stretch3;
       p.V[i] = p.V0[i] * p.F[i].determinant() * r.stretch3;
-      for (int a = 0; a < Dim; ++a)
-        for (int c = a; c < Dim; ++c) p.sigma[i](a, c) = r.sigma(a, c);
     } else {
       const Real J = p.F[i].determinant();
       ok = J > 0;

@@ -197,12 +197,7 @@ class Explicit {
       const Material& m = spec_.materials[p.material[i]];
       const Real J = p.F[i].determinant();
       if (!state) p.V[i] = p.V0[i] * J;
-      if (is_rate_form(m)) {
-        for (int a = 0; a < Dim; ++a)
-          for (int b = a; b < Dim; ++b) p.sigma[i](a, b) = p.state.sigma[i](a, b);
-      } else {
-        p.sigma[i] = std::get<NeoHookean>(m).template stress<Dim>(p.F[i], J);
-      }
+      if (!is_rate_form(m)) p.sigma[i] = std::get<NeoHookean>(m).template stress<Dim>(p.F[i], J);
     }
     if (!spec_.rigid_bodies.empty()) {
       std::vector<Vec<Dim>> rigid(spec_.rigid_bodies.size());

@@ -13,7 +13,7 @@ namespace mpm {
 /// g: sigma_v = -rho |g| depth along the vertical (-g), every horizontal normal stress (the out-of-plane one too)
 /// K0 sigma_v, no shear. A particle's depth is measured from the body's free surface above it: the top of the
 /// highest particle of the body in its column (columns of one spacing across, the top half a spacing above that
-/// particle's centre). Sizes p.state to the particles; sets p.sigma to the in-plane part.
+/// particle's centre). Sizes p.state to the particles and sets its stress.
 template <int Dim>
 void set_geostatic_stress(ParticleSet<Dim>& p, std::size_t first, std::size_t last, Real rho, Real k0,
                           const Vec<Dim>& g, Real spacing) {
@@ -38,10 +38,7 @@ void set_geostatic_stress(ParticleSet<Dim>& p, std::size_t first, std::size_t la
     const Eigen::Matrix3d sigma =
         k0 * vertical * Eigen::Matrix3d::Identity() + (1 - k0) * vertical * up3 * up3.transpose();
     for (int a = 0; a < 3; ++a)
-      for (int c = a; c < 3; ++c) {
-        p.state.sigma[i](a, c) = sigma(a, c);
-        if (a < Dim && c < Dim) p.sigma[i](a, c) = sigma(a, c);
-      }
+      for (int c = a; c < 3; ++c) p.state.sigma[i](a, c) = sigma(a, c);
   }
 }
 

@@ -29,8 +29,8 @@ struct ParticleSet {
   /// Stable identity: the particle's index in the set as seeded, kept through removals, restarts, the engine's
   /// reordering of the arrays and (in a distributed run) moves between ranks.
   std::vector<std::int64_t> id;
-  /// State of the rate-form materials (sized by the engine when a rate-form material is present; sigma above is
-  /// then its in-plane part).
+  /// State of the rate-form materials (sized by the engine when a rate-form material is present). Its sigma is
+  /// then every particle's stress, the one P2G reads; sigma above is kept for the Neo-Hookean particles only.
   MaterialState state;
 
   std::size_t size() const { return x.size(); }

@@ -170,11 +170,7 @@ struct DruckerPragerLanes {
     // Store; a lane with an invalid J keeps its state.
     RecordLanes<SymTensor<3>> sigma_out;
     for (int c = 0; c < 6; ++c) sigma_out[c] = valid ? sigma.c[c] : sigma_n.c[c];
-    block.store(s.sigma, sigma_out);
-    RecordLanes<SymTensor<Dim>> in_plane;
-    for (int a = 0; a < Dim; ++a)
-      for (int c = a; c < Dim; ++c) in_plane[SymTensor<Dim>::index(a, c)] = sigma_out[SymTensor<3>::index(a, c)];
-    block.store(p.sigma, in_plane);
+    block.store(s.sigma, sigma_out);  // what P2G reads (p.sigma is not kept with a material state)
     if (plastic) block.store(s.eps_bar, {valid ? eps : eps_n});
     block.store(s.energy, {block.load(s.energy)[0] + (valid ? energy : RealLanes{})});
     if constexpr (Axisymmetric) {

@@ -40,18 +40,25 @@ struct Momentum {
 };
 
 /// Internal force f_i = -sum_p grad S_ip . sigma_p V_p (Wallstedt & Guilkey 2008, Eq. (14); Sulsky & Kaul 2004,
-/// Eq. (2.2.10)) into the force slot. `Stress` is SymTensor<Dim>, or SymTensor<3> of which the in-plane part acts.
+/// Eq. (2.2.10)) into the force slot. `Stress` is SymTensor<Dim>, or SymTensor<3> of which the in-plane part acts;
+/// when `state` is set, its 3 x 3 stresses (a rate-form material state's) are read instead of `sigma`.
 template <int Dim, class Stress>
 struct InternalForce {
   const std::vector<Real>& V;
   const std::vector<Stress>& sigma;
+  const std::vector<SymTensor<3>>* state = nullptr;
 
   [[gnu::always_inline]] auto operator()(const LaneBlock& block) const {
     const RealLanes V_p = block.load(V)[0];
-    const RecordLanes<Stress> sigma_p = block.load(sigma);
     std::array<std::array<RealLanes, Dim>, Dim> Vsigma_p;
-    for (int a = 0; a < Dim; ++a)
-      for (int c = 0; c < Dim; ++c) Vsigma_p[a][c] = V_p * sigma_p[Stress::index(a, c)];
+    const auto scale = [&](const auto& sigma_p, auto index) __attribute__((always_inline)) {
+      for (int a = 0; a < Dim; ++a)
+        for (int c = 0; c < Dim; ++c) Vsigma_p[a][c] = V_p * sigma_p[index(a, c)];
+    };
+    if (state)
+      scale(block.load(*state), SymTensor<3>::index);
+    else
+      scale(block.load(sigma), Stress::index);
     return [Vsigma_p](auto& record, const RealLanes&, const RealLanes(&dS_ip)[Dim]) __attribute__((always_inline)) {
       for (int d = 0; d < Dim; ++d) {
         RealLanes f_d = Vsigma_p[d][0] * dS_ip[0];
@@ -167,11 +174,12 @@ struct Scatter {
 /// The explicit step's P2G of velocity field `field`'s particles: clear the fields it scatters, then add mass and
 /// momentum (Wallstedt & Guilkey 2008, Eq. (8), Eq. (9)) with, for contact, the volume gradient, and the internal
 /// force plus, when per-particle body accelerations are given, the body force (Wallstedt & Guilkey 2008,
-/// Eq. (14), Eq. (15)). Each tile's sums are shown to keep (p2g_add_keeping).
+/// Eq. (14), Eq. (15)). Each tile's sums are shown to keep (p2g_add_keeping). The stress is p.sigma, or with
+/// `state_stress` the 3 x 3 stress of the material state (the engine's when it keeps one).
 template <Scatter what, int Dim, class Kernel, class Keep = KeepNothing>
 void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils,
          const ScatterOrder<Dim>& order, const std::vector<Vec<Dim>>& body_accel, Grid<Dim>& grid,
-         const Keep& keep = {}, int field = 0) {
+         const Keep& keep = {}, int field = 0, bool state_stress = false) {
   static_assert(!what.volume_gradient || what.mass_momentum, "the volume gradient comes with the mass");
   parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) {
     GridNode<Dim>& node = grid.nodes[n];
@@ -187,7 +195,7 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
     if constexpr (what.force) node.a.setZero();
   });
   const Momentum<Dim> momentum{p.m, p.v};
-  const InternalForce<Dim, SymTensor<Dim>> internal{p.V, p.sigma};
+  const InternalForce<Dim, SymTensor<Dim>> internal{p.V, p.sigma, state_stress ? &p.state.sigma : nullptr};
   const bool body = what.force && !body_accel.empty();
   const auto add = [&](const auto&... contributions) {
     p2g_add_keeping(keep, stencils, order, field, grid, contributions...);
