@@ -100,19 +100,25 @@ void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
     halo_.copy_to_ghosts(*fields[k]);
     const std::optional<ParticleRange> range =
         contact_.active() ? std::optional<ParticleRange>(order_.field_range(k)) : std::nullopt;
+    VelocityBlend<Dim> blend;
+    if constexpr (what.velocity)
+      if (spec_.flip_fraction < 1) {  // PIC's velocity, from the stencils before G2P moves the particles
+        g2p_interpolate(stencils_, *fields[k], v_grid, pic_velocity_, range);
+        blend = {spec_.flip_fraction, &pic_velocity_};
+      }
     ParticleFault f;
     if (!neo_hookean_.empty()) {
       f = g2p<what>(particles_, stencils_, *fields[k], v_grid, dt, NeoHookeanLanes{neo_hookean_}, sizes_, targets,
-                    range);
+                    range, blend);
     } else if (!drucker_prager_.empty() && axisymmetric_) {
       const DruckerPragerLanes<Dim, true> step{spec_.materials, drucker_prager_, dt};
-      f = g2p<what>(particles_, stencils_, *fields[k], v_grid, dt, step, sizes_, targets, range);
+      f = g2p<what>(particles_, stencils_, *fields[k], v_grid, dt, step, sizes_, targets, range, blend);
     } else if (!drucker_prager_.empty()) {
       const DruckerPragerLanes<Dim, false> step{spec_.materials, drucker_prager_, dt};
-      f = g2p<what>(particles_, stencils_, *fields[k], v_grid, dt, step, sizes_, targets, range);
+      f = g2p<what>(particles_, stencils_, *fields[k], v_grid, dt, step, sizes_, targets, range, blend);
     } else {
       const RecordRates<Dim> rates{grad_v_, hoop_rate_, axisymmetric_};
-      f = g2p<what>(particles_, stencils_, *fields[k], v_grid, dt, rates, sizes_, targets, range);
+      f = g2p<what>(particles_, stencils_, *fields[k], v_grid, dt, rates, sizes_, targets, range, blend);
     }
     fault.index = std::min(fault.index, f.index);
   }
@@ -180,7 +186,8 @@ double Simulation<Dim, Kernel>::bytes_per_particle() const {
          static_cast<double>(order_.bytes() + tile_.capacity() * sizeof(std::int32_t) +
                              body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes() * contact_.fields() +
                              (particles_.state.empty() ? 0 : particles_.size() * MaterialState::bytes_per_particle()) +
-                             grad_v_.capacity() * sizeof(Mat<Dim>) + hoop_rate_.capacity() * sizeof(Real)) /
+                             grad_v_.capacity() * sizeof(Mat<Dim>) + hoop_rate_.capacity() * sizeof(Real) +
+                             pic_velocity_.capacity() * sizeof(Vec<Dim>)) /
              n;
 }
 

@@ -80,6 +80,7 @@ void validate(const SimulationSpec<Dim>& s) {
           "half_step_velocity_given: only CD and UVF-MPM (musl) start from half-step velocities");
   require(s.gravity.allFinite(), "gravity: must be finite");
   require(s.local_damping >= 0 && s.local_damping < 1, "local_damping: expected a number in [0, 1)");
+  require(s.flip_fraction >= 0 && s.flip_fraction <= 1, "flip_fraction: expected a number in [0, 1]");
 }
 
 template void validate<1>(const SimulationSpec<1>&);

@@ -274,6 +274,13 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
       [&](const GridNode<Dim>& node, std::size_t n) { return with_momentum ? momentum_velocity_[n] : node.v_new; },
       v_move_);
   if (!momentum) gather_over_active_nodes([](const GridNode<Dim>& node, std::size_t) { return node.v_new - node.v; }, dv_);
+  // PIC's velocity for the blend: sum_i S_ip v_i^L of the solution's node velocities (P_i^L / m_i in the momentum
+  // formulation), which v_move_ already is unless the momentum formulation moves with the re-projected velocity.
+  const bool blend = spec_.flip_fraction < 1;
+  const bool own_pic = blend && momentum && !with_momentum;
+  if (own_pic)
+    gather_over_active_nodes([&](const GridNode<Dim>&, std::size_t n) { return momentum_velocity_[n]; }, pic_velocity_);
+  const std::vector<Vec<Dim>>& pic = own_pic ? pic_velocity_ : v_move_;
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
     // Sulsky & Kaul 2004, Eq. (2.3.2), or Eq. (3.2.5); a centre carried past a wall stays on it.
     trial_.x[i] = grid_.geometry.onto_walls(grid_.geometry.wrap(p.x[i] + dt * v_move_[i]));
@@ -288,7 +295,7 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
     }
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
     p.x[i] = trial_.x[i];
-    p.v[i] = trial_.v[i];
+    p.v[i] = blend ? Vec<Dim>(spec_.flip_fraction * trial_.v[i] + (1 - spec_.flip_fraction) * pic[i]) : trial_.v[i];
     p.F[i] = (Mat<Dim>::Identity() + dt * trial_.grad_v[i]) * p.F[i];
     // The hoop stretch is r / R exactly; the plane-stress thickness stretch accumulates 1 + de_zz.
     particles_.state.stretch3[i] = axisymmetric ? p.x[i][0] / p.X[i][0] : trial_.stretch3[i];

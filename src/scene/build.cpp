@@ -249,6 +249,7 @@ SimulationSpec<Dim> make_spec(const Scene& sc) {
   spec.cfl = sc.cfl;
   spec.reproject_light_nodes = sc.reproject_light_nodes;
   spec.local_damping = sc.local_damping;
+  spec.flip_fraction = sc.flip_fraction;
   spec.account_load_power = true;  // history.csv's external work
   spec.contact.fields = sc.fields;
   for (const SceneContact& c : sc.contacts)
@@ -322,6 +323,7 @@ ImplicitSpec<Dim> make_implicit_spec(const Scene& sc) {
   spec.formulation = im.formulation;
   spec.solver = im.solver;
   spec.theta = im.theta;
+  spec.flip_fraction = sc.flip_fraction;
   spec.newton = im.newton;
   spec.frozen_jacobian = im.frozen_jacobian;
   spec.scaled_residual = im.scaled_residual;

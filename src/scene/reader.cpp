@@ -106,6 +106,10 @@ void read_simulation(const Section& s, Scene& sc) {
   if (!(sc.local_damping >= 0 && sc.local_damping < 1)) s.fail("local_damping", "expected a number in [0, 1)");
   if (sc.local_damping > 0 && sc.implicit)
     s.fail("local_damping", "local damping is for the explicit integrators (the implicit one can take large steps)");
+  // The particle velocity update: FLIP, blended with PIC by flip_fraction (1: FLIP alone).
+  s.choice("transfer", "flip", {"flip"});
+  sc.flip_fraction = s.number("flip_fraction", 1);
+  if (!(sc.flip_fraction >= 0 && sc.flip_fraction <= 1)) s.fail("flip_fraction", "expected a number in [0, 1]");
   sc.threads = s.integer("threads", 0);
   if (sc.threads < 0) s.fail("threads", "expected 0 (all cores) or a positive count");
   sc.geometry = parse_geometry(s.choice("geometry", "plane-strain", {"plane-strain", "plane-stress", "axisymmetric"}), "");
@@ -298,7 +302,7 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
   }
   const std::vector<std::string> simulation_keys{"dimension", "end_time", "integrator", "kernel", "gimp_length",
                                                  "dt", "cfl", "threads", "geometry", "light_nodes",
-                                                 "local_damping"};
+                                                 "local_damping", "transfer", "flip_fraction"};
   const toml::table* sim = top.table("simulation");
   if (!sim) top.fail("simulation", "missing [simulation] table (dimension, end_time, integrator, kernel, dt or cfl)");
   read_simulation(Section(*sim, "simulation", loc,

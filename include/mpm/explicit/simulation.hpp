@@ -255,6 +255,7 @@ class Simulation {
   /// v_r / r [1/s].
   std::vector<Mat<Dim>> grad_v_;
   std::vector<Real> hoop_rate_;
+  std::vector<Vec<Dim>> pic_velocity_;  ///< flip_fraction < 1: sum_i S_ip v_i of the velocity update
   Real min_node_mass_;
   /// Nodes with less mass get the re-projected velocity for positions and gradients (USL, CD); none when unset.
   LightMass<Dim> light_node_mass_;

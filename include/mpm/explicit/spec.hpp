@@ -48,6 +48,11 @@ struct SimulationSpec {
   /// Local non-viscous damping alpha in [0, 1) of the grid update (node_update; Cundall 1987): 0 is none. It brings
   /// a body quasi-statically to equilibrium (a gravity ramp, a slope), and it is not energy-conserving.
   Real local_damping = 0;
+  /// alpha of the FLIP-PIC blend of the particle velocity update, in [0, 1]:
+  /// v_p = alpha (v_p + dt sum_i S_ip a_i) + (1 - alpha) sum_i S_ip v_i. 1 is FLIP (Wallstedt & Guilkey 2008,
+  /// Eq. (18)), 0 is PIC, which filters each velocity mode by the kernel's P2G-G2P round trip every step (it
+  /// dissipates; docs/transfers.md).
+  Real flip_fraction = 1;
   BodyForceFn<Dim> body_force;          ///< optional b(X, t), evaluated at the start of each step
   /// Pressures and tractions on the surfaces of bodies, carried by their surface particles as body forces.
   SurfaceLoads<Dim> surface_loads;

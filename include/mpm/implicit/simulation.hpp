@@ -170,6 +170,7 @@ class ImplicitSimulation {
   std::vector<Vec<Dim>> f_k_, f_ext_, f_trial_;
   std::vector<Vec<Dim>> momentum_velocity_;  // momentum formulation: P_i^L / m_i
   std::vector<Vec<Dim>> dv_, v_move_;  // per particle: sum_i N_i (v_i^L - v_i^k), and the velocity that moves it
+  std::vector<Vec<Dim>> pic_velocity_;  // flip_fraction < 1, moved by the re-projected velocity: sum_i N_i P_i^L / m_i
   std::vector<Vec<Dim>> mass_dv_, u_p_;  // consistent mass: M (v^L - v^k) per node; a node field at the particles
   // Unknowns: free (node, component) pairs; constrained ones with their value and owner (face group or rigid body).
   std::vector<std::int32_t> dof_node_;

@@ -51,6 +51,10 @@ struct ImplicitSpec {
   ImplicitSolver solver = ImplicitSolver::newton_gmres;
   /// mu of Sulsky & Kaul 2004, Eq. (2.4.1): 0 explicit, 1 fully implicit.
   Real theta = 1;
+  /// alpha of the FLIP-PIC blend of the particle velocity at the end of a step, in [0, 1]: alpha times the
+  /// formulation's update (Sulsky & Kaul 2004, Eq. (2.3.3) or Eq. (3.2.6)) plus 1 - alpha times sum_i S_ip v_i.
+  /// 1 is the papers' update; see SimulationSpec::flip_fraction.
+  Real flip_fraction = 1;
   numerics::NewtonSettings newton;
   /// Precondition the Krylov solves with a sparse LU factorisation of the Jacobian, assembled by coloured
   /// forward differences and reused while the unknowns, the step and the Krylov counts stay the same (not in

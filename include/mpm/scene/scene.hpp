@@ -117,6 +117,7 @@ struct Scene {
   int threads = 0;
   bool reproject_light_nodes = true;  ///< light_nodes = "reproject" (see SimulationSpec::reproject_light_nodes)
   double local_damping = 0;           ///< SimulationSpec::local_damping
+  double flip_fraction = 1;           ///< [simulation] transfer = "flip": SimulationSpec::flip_fraction
 
   // [output]
   double output_every = 0;  ///< simulated time between particle outputs; 0: first and last only

@@ -77,19 +77,27 @@ void g2p_gather(const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<Di
   }, 1024 / LaneBlock::width);  // a chunk of about 1024 particles
 }
 
-/// G2P of one node vector field: out_p = sum_i S_ip (node_i.*field).
+/// G2P of one node vector field: out_p = sum_i S_ip (node_i.*field), for the particles of `range` (all by default).
 template <int Dim, class Kernel>
 void g2p_interpolate(const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<Dim>& grid,
-                     NodeVelocity<Dim> field, std::vector<Vec<Dim>>& out) {
+                     NodeVelocity<Dim> field, std::vector<Vec<Dim>>& out, std::optional<ParticleRange> range = {}) {
   out.resize(stencils.size());
   g2p_gather<Sums{.acceleration = false, .velocity = true, .gradient = false}>(
-      stencils, grid, field, ParticleRange{0, static_cast<std::ptrdiff_t>(stencils.size())},
+      stencils, grid, field, range.value_or(ParticleRange{0, static_cast<std::ptrdiff_t>(stencils.size())}),
       [&](const LaneBlock& block, const GatheredLanes<Dim>& sum) {
         RecordLanes<Vec<Dim>> v;
         for (int d = 0; d < Dim; ++d) v[d] = sum.v[d];
         block.store(out, v);
       });
 }
+
+/// The FLIP-PIC blend of a velocity update: v_p = flip (v_p + dt sum_i S_ip a_i) + (1 - flip) pic_p, pic_p the
+/// grid velocity interpolated to the particle (sum_i S_ip v_i). Without pic the update is FLIP's.
+template <int Dim>
+struct VelocityBlend {
+  Real flip = 1;
+  const std::vector<Vec<Dim>>* pic = nullptr;
+};
 
 /// The explicit step's G2P: update the particles from the sums g2p_gather hands over. `v_grid` is the node
 /// velocity field used for positions and velocity gradients (&GridNode::v_new, or &GridNode::v after a
@@ -99,11 +107,12 @@ void g2p_interpolate(const std::vector<Stencil<Dim, Kernel>>& stencils, const Gr
 /// A deforming pass hands each block's F, J, velocity gradient, interpolated radial velocity and radius at the
 /// start of the step to `stress` (transfer/g2p_stress.hpp), which may fail lanes. Returns the lowest-index particle whose new state is
 /// non-finite, has J <= 0 or left the grid. Only the particles of `range` gather (those of the velocity field
-/// `grid` holds); all of them by default.
+/// `grid` holds); all of them by default. A velocity update is blended with PIC's by `blend`.
 template <Gather what, int Dim, class Kernel, class Stress>
 ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils,
                   const Grid<Dim>& grid, NodeVelocity<Dim> v_grid, Real dt, const Stress& stress, SizeUpdate sizes,
-                  StencilTargets<Dim, Kernel>* next = nullptr, std::optional<ParticleRange> range = {}) {
+                  StencilTargets<Dim, Kernel>* next = nullptr, std::optional<ParticleRange> range = {},
+                  const VelocityBlend<Dim>& blend = {}) {
   constexpr bool interpolate_velocity = what.position || (what.deformation && Stress::reads_velocity);
   const GridGeometry<Dim>& geo = grid.geometry;
   const NodeLayout<Dim> layout(geo);
@@ -138,6 +147,10 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
       RecordLanes<Vec<Dim>> v = block.load(p.v);
       if constexpr (what.velocity) {
         for (int c = 0; c < Dim; ++c) v[c] += dt * a_p[c];
+        if (blend.pic) {
+          const RecordLanes<Vec<Dim>> pic = block.load(*blend.pic);
+          for (int c = 0; c < Dim; ++c) v[c] = blend.flip * v[c] + (1 - blend.flip) * pic[c];
+        }
         block.store(p.v, v);
       }
       if constexpr (what.position) {
