@@ -297,7 +297,7 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
         loc.fail(&v, "constants." + name, "expected a name of letters, digits and '_' that starts with a letter");
       if (reserved_name(name))
         loc.fail(&v, "constants." + name, "'" + name + "' is reserved for a variable, pi or a function");
-      sc.constants[name] = v.value<double>().value();
+      sc.constants[name] = number_value(v);
     }
   }
   const std::vector<std::string> simulation_keys{"dimension", "end_time", "integrator", "kernel", "gimp_length",

@@ -61,6 +61,13 @@ inline std::string describe(const toml::node& n) {
 }
 
 /// Reads one TOML table; remembers which keys were used so that unknown keys (typos) are errors.
+/// The value of a number node, integer or floating point. An integer beyond 2^53 rounds to the nearest double
+/// (toml++'s value<double>() gives none for it).
+inline double number_value(const toml::node& n) {
+  if (const auto* i = n.as_integer()) return static_cast<double>(i->get());
+  return n.as_floating_point()->get();
+}
+
 class Section {
  public:
   Section(const toml::table& t, std::string path, const Locator& loc, std::vector<std::string> allowed)
@@ -85,8 +92,8 @@ class Section {
     const toml::node* n = get(k);
     if (!n) return fallback;
     if (!n->is_number()) fail(k, "expected a number, got " + describe(*n));
-    if (!std::isfinite(n->value<double>().value())) fail(k, "expected a finite number, got " + describe(*n));
-    return n->value<double>().value();
+    if (!std::isfinite(number_value(*n))) fail(k, "expected a finite number, got " + describe(*n));
+    return number_value(*n);
   }
   double required_number(const std::string& k) const {
     if (!has(k)) fail(k, "missing (a number is required)");
@@ -128,9 +135,9 @@ class Section {
     const toml::array& a = array(k, n, "an array of " + std::to_string(n) + " numbers");
     std::vector<double> out;
     for (const toml::node& e : a) {
-      if (!e.is_number() || !std::isfinite(e.value<double>().value()))
+      if (!e.is_number() || !std::isfinite(number_value(e)))
         fail(k, "expected an array of " + std::to_string(n) + " finite numbers, got " + describe(e) + " in it");
-      out.push_back(e.value<double>().value());
+      out.push_back(number_value(e));
     }
     return out;
   }
@@ -203,7 +210,7 @@ class Section {
     if (!e.is_number()) return std::nullopt;
     std::ostringstream os;
     os.precision(17);
-    os << e.value<double>().value();
+    os << number_value(e);
     return os.str();
   }
 

@@ -14,6 +14,8 @@
 #include <utility>
 #include <vector>
 
+#include "mpm/scene/scene.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -364,6 +366,16 @@ TEST(SceneErrorBase, BaseScenesRun) {
   std::ofstream(dir.path / "particles.csv") << "x,y,volume\n0.7,0.7,0.001\n\n0.7,0.75,0.001\n";
   o = run_mpm("run " + scene.string() + " --quiet --out " + out.string(), dir.path);
   EXPECT_EQ(o.status, 0) << o.err;
+}
+
+/// A number is read whatever its TOML type: an integer beyond 2^53, which toml++ gives no exact double for, rounds to
+/// the nearest one (the fuzzer's input fuzz/regressions/fuzz_scene/integer-constant-beyond-2-53 stopped the reader).
+TEST(SceneErrorBase, AnIntegerBeyondTwoToThe53IsReadAsTheNearestDouble) {
+  const CaseDir dir("big-integer");
+  const fs::path scene = dir.path / "scene.toml";
+  std::ofstream(scene) << "[constants]\nbig = 38461534846153846\n" << base_scene;
+  const mpm::Scene sc = mpm::read_scene(scene);
+  EXPECT_EQ(sc.constants.at("big"), 38461534846153846.0);
 }
 
 }  // namespace
