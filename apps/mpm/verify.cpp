@@ -55,7 +55,7 @@ struct CaseOptions {
   void add_to(CLI::App* cmd) {
     cmd->add_option("case", case_name, "axis-aligned, bar-1d or expanding-ring")->required();
     cmd->add_option("--dim", options.dim, "dimension (axis-aligned: 2 or 3)");
-    cmd->add_option("--kernel", kernel, "linear, ugimp, cpgimp, bspline2 or bspline3");
+    cmd->add_option("--kernel", kernel, "linear, ugimp, cpgimp, bspline2, bspline3, bspline2-clamped or bspline3-clamped");
     cmd->add_option("--integrator", integrator, "usf, usl, cd, musl or implicit");
     cmd->add_option("--theta", options.theta, "implicit blend in [0, 1] (1: backward Euler, 0.5: midpoint)");
     cmd->add_option("--cells", options.cells, "cells per axis across the body");

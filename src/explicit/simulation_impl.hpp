@@ -43,6 +43,7 @@ GridGeometry<Dim> make_geometry(const SimulationSpec<Dim>& spec) {
   g.periodic = periodic_axes(spec.boundary);
   g.outflow = outflow_faces(spec.boundary);
   g.walls = wall_faces(spec.boundary);
+  g.clamped = clamped_faces(spec.kernel, spec.boundary);
   return g;
 }
 

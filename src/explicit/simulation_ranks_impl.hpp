@@ -21,7 +21,8 @@ IVec<Dim> base_layer(const GridGeometry<Dim>& whole, const Vec<Dim>& x, const Ve
   const Real inv_h = 1 / whole.h;
   IVec<Dim> s;
   typename Kernel::Axis axis;
-  for (int d = 0; d < Dim; ++d) s[d] = Kernel::locate((x[d] - whole.lo[d]) * inv_h, l[d] * inv_h, axis) + whole.ghost;
+  for (int d = 0; d < Dim; ++d)
+    s[d] = locate_axis<Kernel>(whole, d, (x[d] - whole.lo[d]) * inv_h, l[d] * inv_h, axis) + whole.ghost;
   return s;
 }
 

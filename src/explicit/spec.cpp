@@ -10,7 +10,8 @@ namespace mpm {
 
 namespace {
 constexpr std::array<std::string_view, 4> integrator_names{"usf", "usl", "cd", "musl"};
-constexpr std::array<std::string_view, 5> kernel_names{"linear", "ugimp", "cpgimp", "bspline2", "bspline3"};
+constexpr std::array<std::string_view, 7> kernel_names{"linear",   "ugimp",           "cpgimp",          "bspline2",
+                                                       "bspline3", "bspline2-clamped", "bspline3-clamped"};
 
 template <class Names>
 std::string join(const Names& names) {
@@ -46,6 +47,16 @@ std::string_view to_string(KernelKind k) {
 }
 
 template <int Dim>
+void validate_clamped_cells(KernelKind k, const BoundarySpec<Dim>& spec, const IVec<Dim>& cells, const std::string& at) {
+  const std::array<bool, 2 * Dim> clamped = clamped_faces(k, spec);
+  const int needed = clamped_cells_needed(k);
+  for (int d = 0; d < Dim; ++d)
+    require(!clamped[2 * d] || cells[d] >= needed,
+            at + "grid.cells: kernel = \"" + std::string(to_string(k)) + "\" needs at least " + std::to_string(needed) +
+                " cells along each axis it clamps (axis " + std::to_string(d) + " has " + std::to_string(cells[d]) + ")");
+}
+
+template <int Dim>
 void validate(const SimulationSpec<Dim>& s) {
   require(std::isfinite(s.h) && s.h > 0, "grid.h: cell width must be positive");
   for (int d = 0; d < Dim; ++d) require(s.cells[d] >= 1, "grid.cells: every axis needs at least 1 cell");
@@ -58,6 +69,7 @@ void validate(const SimulationSpec<Dim>& s) {
   require(s.geometry != Geometry::axisymmetric || s.grid_lo[0] >= 0,
           "grid.lo: an axisymmetric grid must lie at radius x >= 0");
   validate_faces<Dim>(s.boundary, s.cells, s.geometry, s.grid_lo[0], "");
+  validate_clamped_cells<Dim>(s.kernel, s.boundary, s.cells, "");
   validate(s.contact);
   if (measures_gaps(s.contact))
     for (const FaceCondition<Dim>& f : s.boundary.faces)
@@ -83,6 +95,9 @@ void validate(const SimulationSpec<Dim>& s) {
   require(s.flip_fraction >= 0 && s.flip_fraction <= 1, "flip_fraction: expected a number in [0, 1]");
 }
 
+template void validate_clamped_cells<1>(KernelKind, const BoundarySpec<1>&, const IVec<1>&, const std::string&);
+template void validate_clamped_cells<2>(KernelKind, const BoundarySpec<2>&, const IVec<2>&, const std::string&);
+template void validate_clamped_cells<3>(KernelKind, const BoundarySpec<3>&, const IVec<3>&, const std::string&);
 template void validate<1>(const SimulationSpec<1>&);
 template void validate<2>(const SimulationSpec<2>&);
 template void validate<3>(const SimulationSpec<3>&);

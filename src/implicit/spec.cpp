@@ -52,6 +52,7 @@ void validate(const ImplicitSpec<Dim>& s, const std::string& where) {
   require(s.geometry != Geometry::axisymmetric || s.grid_lo[0] >= 0,
           at + "grid.lo: an axisymmetric grid must lie at radius x >= 0");
   validate_faces<Dim>(s.boundary, s.cells, s.geometry, s.grid_lo[0], at);
+  validate_clamped_cells<Dim>(s.kernel, s.boundary, s.cells, at);
   for (const FaceCondition<Dim>& f : s.boundary.faces)
     require(!(f.friction >= 0), at + "grid.faces: Coulomb walls (friction) are for the explicit integrators");
   require(s.theta >= 0 && s.theta <= 1, at + "implicit.theta: expected a number in [0, 1]");

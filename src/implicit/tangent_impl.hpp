@@ -154,8 +154,8 @@ bool ImplicitSimulation<Dim, Kernel>::factorise_tangent(const Eigen::VectorXd& x
   // The dashpots' dt Z A on the diagonal (through v^L = P^L / m on the node in the momentum formulation, Q's
   // diagonal approximated).
   for (Eigen::Index k = 0; k < n; ++k) {
-    const Real m = grid_.nodes[dof_node_[k]].m;
-    J.coeffRef(k, k) += scale * ((momentum ? 1.0 : m) + dt * dof_resistance_[k] * (momentum ? 1 / m : 1.0));
+    const Real m_node = grid_.nodes[dof_node_[k]].m;
+    J.coeffRef(k, k) += scale * ((momentum ? 1.0 : m_node) + dt * dof_resistance_[k] * (momentum ? 1 / m_node : 1.0));
   }
   J.makeCompressed();
   if (!tangent_) tangent_ = std::make_shared<TangentFactor>();

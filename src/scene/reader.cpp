@@ -87,7 +87,9 @@ void read_simulation(const Section& s, Scene& sc) {
   const std::string integrator = s.choice("integrator", "usl", {"usf", "usl", "cd", "musl", "implicit"});
   sc.implicit = integrator == "implicit";
   if (!sc.implicit) sc.integrator = parse_integrator(integrator);
-  sc.kernel = parse_kernel(s.choice("kernel", "cpgimp", {"linear", "ugimp", "cpgimp", "bspline2", "bspline3"}));
+  sc.kernel = parse_kernel(s.choice("kernel", "cpgimp",
+                                     {"linear", "ugimp", "cpgimp", "bspline2", "bspline3", "bspline2-clamped",
+                                      "bspline3-clamped"}));
   if (s.has("gimp_length")) {
     sc.gimp_length = s.number("gimp_length", 0);
     if (!(*sc.gimp_length >= 0)) s.fail("gimp_length", "expected a smoothing length >= 0 [m] (0: linear MPM)");
@@ -324,6 +326,12 @@ Scene read_scene(const std::filesystem::path& file, const std::vector<std::strin
   const toml::table* grid = top.table("grid");
   if (!grid) top.fail("grid", "missing [grid] table (lo, hi, cells, faces)");
   read_grid(Section(*grid, "grid", loc, {"lo", "hi", "cells", "faces", "constrained_acceleration"}), sc, loc);
+  for (int d = 0; d < sc.dim; ++d)  // the two faces' stencils of a clamped B-spline must not overlap
+    if (sc.faces[2 * d].kind != SceneFace::Kind::periodic && sc.cells[d] < clamped_cells_needed(sc.kernel))
+      Section(*grid, "grid", loc, {"lo", "hi", "cells", "faces", "constrained_acceleration"})
+          .fail("cells", "kernel = \"" + std::string(to_string(sc.kernel)) + "\" needs at least " +
+                             std::to_string(clamped_cells_needed(sc.kernel)) + " cells along every axis that is not periodic, got " +
+                             std::to_string(sc.cells[d]) + " on axis " + std::to_string(d));
   if (sc.gimp_length > sc.h)  // Steffen et al. 2008, Sec. 4.1: the smoothing length lies in [0, h]
     Section(*sim, "simulation", loc, simulation_keys)
         .fail("gimp_length", "expected a smoothing length in [0, h] with h = " + std::to_string(sc.h) + " the cell size");

@@ -1,5 +1,6 @@
 #include "mpm/verification/projected_density.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <type_traits>
 
@@ -30,7 +31,9 @@ DensityProjection project(const DensityCase& c) {
   DensityProjection out;
   out.h = 1.0 / c.cells;
   const int margin = c.boundary_aligned ? 0 : c.cells / 5;  // 0.2 / h cells on either side of the bar, or none
-  const GridGeometry<1> g{Vec<1>(-margin * out.h), out.h, IVec<1>{c.cells + 2 * margin}, Kernel::ghost};
+  GridGeometry<1> g{Vec<1>(-margin * out.h), out.h, IVec<1>{c.cells + 2 * margin}, Kernel::ghost};
+  const BoundarySpec<1> free_faces;
+  g.clamped = clamped_faces(c.kernel, free_faces);
   const NodeLayout<1> layout(g);
   ParticleSet<1> p;
   fill_box<1>(p, Vec<1>(0.0), Vec<1>(1.0), out.h / c.ppc, 1.0, 0);
@@ -61,6 +64,8 @@ DensityProjection project(const DensityCase& c) {
   }
   out.support_lo = first - basis_radius<Basis>() * out.h;
   out.support_hi = last + basis_radius<Basis>() * out.h;
+  if (g.clamped[0]) out.support_lo = std::max(out.support_lo, g.lo[0]);  // the clamped basis ends on the face
+  if (g.clamped[1]) out.support_hi = std::min(out.support_hi, g.hi()[0]);
 
   // rho(x) = sum_i rho_i phi_i(x) (Steffen et al. 2008, Sec. 4.3), sampled at interval midpoints.
   const Real lo = g.lo[0], width = g.hi()[0] - lo, dx = width / c.samples;

@@ -174,7 +174,8 @@ TEST(Cli, BenchRejectsBadKernelAndDimension) {
   Outcome o = run_mpm("bench --kernel cubic --steps 1");
   EXPECT_EQ(o.status, 2);
   EXPECT_NE(o.err.find(
-                "--kernel: unknown name 'cubic' (expected one of linear, ugimp, cpgimp, bspline2, bspline3)"),
+                "--kernel: unknown name 'cubic' (expected one of linear, ugimp, cpgimp, bspline2, bspline3, "
+                "bspline2-clamped, bspline3-clamped)"),
             std::string::npos)
       << o.err;
   o = run_mpm("bench --dim 4 --steps 1");

@@ -219,7 +219,14 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"UnknownIntegrator", {{"\"musl\"", "\"rk4\""}}, "simulation.integrator",
                  {"expected one of usf, usl, cd, musl, implicit, got 'rk4'"}, 5},
         BadScene{"UnknownKernel", {{"\"linear\"", "\"cubic\""}}, "simulation.kernel",
-                 {"expected one of linear, ugimp, cpgimp, bspline2, bspline3, got 'cubic'"}, 6},
+                 {"expected one of linear, ugimp, cpgimp, bspline2, bspline3, bspline2-clamped, bspline3-clamped, got "
+                  "'cubic'"},
+                 6},
+        BadScene{"ClampedCubicSplineOnTwoCells",
+                 {{"\"linear\"", "\"bspline3-clamped\""}, {"cells = [10, 10]", "cells = [2, 2]"}}, "grid.cells",
+                 {"kernel = \"bspline3-clamped\" needs at least 3 cells along every axis that is not periodic, got 2 on "
+                  "axis 0"},
+                 12},
         BadScene{"KernelIsANumber", {{"\"linear\"", "3"}}, "simulation.kernel", {"expected a string, got 3"}, 6},
         BadScene{"GimpLengthWithCpgimp", {{"kernel = \"linear\"", "kernel = \"cpgimp\"\ngimp_length = 0.05"}},
                  "simulation.gimp_length", {"applies to kernel = \"ugimp\" only"}, 7},

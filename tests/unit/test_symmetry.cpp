@@ -151,6 +151,8 @@ Real max_abs_stress(const Particles& p) {
 bool reaches_ghost(mpm::KernelKind kernel, Real x, Real half_length) {
   switch (kernel) {
     case mpm::KernelKind::linear:
+    case mpm::KernelKind::bspline2_clamped:  // no node beyond a clamped face
+    case mpm::KernelKind::bspline3_clamped:
       return false;
     case mpm::KernelKind::ugimp:
     case mpm::KernelKind::cpgimp:

@@ -90,7 +90,9 @@ void expect_pic_filter(const std::string& integrator) {
   const double pic = energy_after_a_period(integrator, 0);
   EXPECT_NEAR(pic / flip, predicted(0), 0.02 * predicted(0));
   EXPECT_NEAR(half / flip, predicted(0.5), 0.02 * predicted(0.5));
-  if (integrator != "implicit") EXPECT_GT(flip / E0, 0.99) << "FLIP keeps the wave's energy";
+  if (integrator != "implicit") {
+    EXPECT_GT(flip / E0, 0.99) << "FLIP keeps the wave's energy";
+  }
   std::printf("%s: E/E0 FLIP %.4f, half %.4f, PIC %.4f; PIC/FLIP %.4f (predicted %.4f), half/FLIP %.4f (%.4f)\n",
               integrator.c_str(), flip / E0, half / E0, pic / E0, pic / flip, predicted(0), half / flip,
               predicted(0.5));

@@ -176,7 +176,8 @@ TEST(LightNodes, FixedFreeBarRunsToTheEndAndFollowsTheExactCentreOfMassVelocity)
   // Max over 3 periods of |v_cm - exact| / (2 v0 / pi), measured at 16 / 32 / 64 cells along the bar:
   //   GIMP (ugimp, cpgimp):  USF 0.016 / 0.010 / 0.006, USL and CD 0.065 / 0.032 / 0.019, MUSL the same as USL
   //   B-splines (bspline2, bspline3): 0.35-0.55 / 0.16-0.27 / 0.08-0.14 for every integrator; first order, the
-  //     error of the fixed end, whose ghost nodes the B-spline support reaches (seed 001; issue 20)
+  //     error of the fixed end, whose ghost nodes the B-spline support reaches (seed 001); the clamped B-splines
+  //     remove it (test_clamped_bsplines.cpp)
   //   linear: USL and CD 0.11 / 0.19 / 0.45, MUSL 0.12 / 0.24 / 0.68, USF 0.11 / 0.23 / 15.5: the grid-crossing
   //     error of the linear hat grows with refinement; at 64 cells USF's energy grows twelvefold in three periods,
   //     which no treatment of light nodes prevents (its gradients already use p_i / m_i), so USF with the linear

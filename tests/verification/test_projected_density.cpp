@@ -78,6 +78,7 @@ TEST(ProjectedDensity, GeometricErrorIsFirstOrderInH) {
 //   -h, at 7h/6 with weight (1.5 - 7/6)^2 / 2 = 1/18: mass h/54.
 // - cubic B-spline: the node at -h gets (2 - r/h)^3 / 6 from r = 7h/6, 9h/6 and 11h/6, i.e.
 //   (125 + 27 + 1) / 1296 = 153/1296; the node at -2h is beyond 2h of every particle: mass (h/3) 153/1296.
+// - clamped B-splines: no node beyond the faces, so none.
 TEST(ProjectedDensity, BoundaryAlignedExtraNodesGetMassOnlyFromWideBases) {
   const Real h = 0.1;
   struct Aligned {
@@ -91,7 +92,10 @@ TEST(ProjectedDensity, BoundaryAlignedExtraNodesGetMassOnlyFromWideBases) {
                            Aligned{"ugimp, l = l_p", KernelKind::ugimp, {}, 0.0},
                            Aligned{"ugimp, l = h", KernelKind::ugimp, h, 2 * h / 54},
                            Aligned{"bspline2", KernelKind::bspline2, {}, 2 * h / 54},
-                           Aligned{"bspline3", KernelKind::bspline3, {}, 2 * (h / 3) * 153.0 / 1296}}) {
+                           Aligned{"bspline3", KernelKind::bspline3, {}, 2 * (h / 3) * 153.0 / 1296},
+                           // The clamped splines have no node beyond the grid's faces (docs/kernels.md).
+                           Aligned{"bspline2-clamped", KernelKind::bspline2_clamped, {}, 0.0},
+                           Aligned{"bspline3-clamped", KernelKind::bspline3_clamped, {}, 0.0}}) {
     SCOPED_TRACE(a.name);
     DensityCase c = bar(a.kernel, 10, 1000);
     c.boundary_aligned = true;
@@ -101,6 +105,12 @@ TEST(ProjectedDensity, BoundaryAlignedExtraNodesGetMassOnlyFromWideBases) {
     // Inside the body the field is still exact: every loaded node has rho_i = 1 and the bases are partitions
     // of unity over [0, 1] once the extra nodes are counted.
     EXPECT_LT(d.l1_error, 1e-14);
+    if (a.kernel == KernelKind::bspline2_clamped || a.kernel == KernelKind::bspline3_clamped) {
+      // Exact up to the faces without any extra node: the field is nonzero on the body alone.
+      EXPECT_EQ(d.support_lo, 0.0);
+      EXPECT_EQ(d.support_hi, 1.0);
+      for (Real x : d.node_x) EXPECT_TRUE(x >= 0 && x <= 1) << x;
+    }
   }
 }
 

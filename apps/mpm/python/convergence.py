@@ -16,7 +16,8 @@ except ImportError:
     sys.stderr.write("python3-matplotlib is not installed (Debian: apt-get install python3-matplotlib)\n")
     sys.exit(3)
 
-NAMES = {"cpgimp": "cpGIMP", "ugimp": "uGIMP", "linear": "MPM", "bspline2": "B2", "bspline3": "B3"}
+NAMES = {"cpgimp": "cpGIMP", "ugimp": "uGIMP", "linear": "MPM", "bspline2": "B2", "bspline3": "B3",
+         "bspline2-clamped": "B2c", "bspline3-clamped": "B3c"}
 
 
 def label(kernel, integrator):

@@ -103,7 +103,8 @@ class RigidBodies {
         Real w[Dim][N], dw[Dim][N];
         for (int d = 0; d < Dim; ++d) {
           typename Kernel::Axis axis;
-          first[d] = Kernel::locate((x[d] - g.lo[d]) * inv_h, body.half_length[d] * inv_h, axis) + g.ghost - g.offset[d];
+          first[d] = locate_axis<Kernel>(g, d, (x[d] - g.lo[d]) * inv_h, body.half_length[d] * inv_h, axis) + g.ghost -
+                     g.offset[d];
           Kernel::weights_at(axis, w[d], dw[d]);
         }
         std::array<int, 3> k{};

@@ -290,8 +290,10 @@ decltype(auto) with_kernel(KernelKind k, Fn&& fn) {
     case KernelKind::cpgimp:
       return fn.template operator()<GimpKernel>();
     case KernelKind::bspline2:
+    case KernelKind::bspline2_clamped:
       return fn.template operator()<QuadraticBSplineKernel>();
     case KernelKind::bspline3:
+    case KernelKind::bspline3_clamped:
       break;
   }
   return fn.template operator()<CubicBSplineKernel>();

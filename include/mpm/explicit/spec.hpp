@@ -1,5 +1,6 @@
 #pragma once
 /// Plain parameter structs describing an explicit simulation, validated in full before anything is built.
+#include <array>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -20,8 +21,33 @@ namespace mpm {
 /// difference (CD) and the update-velocity-first / modified USL variant (UVF-MPM, "musl").
 enum class Integrator { usf, usl, cd, musl };
 
-/// Shape functions: linear MPM, GIMP with fixed (uGIMP) or deformed (cpGIMP) particle sizes, B-splines.
-enum class KernelKind { linear, ugimp, cpgimp, bspline2, bspline3 };
+/// Shape functions: linear MPM, GIMP with fixed (uGIMP) or deformed (cpGIMP) particle sizes, B-splines, and
+/// B-splines whose knots are clamped at the grid's faces (Steffen et al. 2008, Sec. 4.3).
+enum class KernelKind { linear, ugimp, cpgimp, bspline2, bspline3, bspline2_clamped, bspline3_clamped };
+
+/// Whether a kernel kind clamps the B-splines' knots at the grid's faces.
+inline bool clamps_knots(KernelKind k) {
+  return k == KernelKind::bspline2_clamped || k == KernelKind::bspline3_clamped;
+}
+
+/// The faces a kernel kind clamps its knots at (GridGeometry::clamped): every face but the periodic ones for the
+/// clamped B-splines, none for the other kernels.
+template <int Dim>
+std::array<bool, 2 * Dim> clamped_faces(KernelKind k, const BoundarySpec<Dim>& spec) {
+  std::array<bool, 2 * Dim> faces{};
+  for (int f = 0; f < 2 * Dim; ++f) faces[f] = clamps_knots(k) && spec.faces[f].type != FaceType::periodic;
+  return faces;
+}
+
+/// The cells a clamped B-spline needs along each axis it clamps, so that the stencils of its two faces do not
+/// overlap: its width less one (2 quadratic, 3 cubic); 0 for the other kernels.
+inline int clamped_cells_needed(KernelKind k) {
+  return k == KernelKind::bspline3_clamped ? 3 : k == KernelKind::bspline2_clamped ? 2 : 0;
+}
+
+/// Throws InputError (prefixed with `at`) unless each axis a clamped B-spline clamps has clamped_cells_needed cells.
+template <int Dim>
+void validate_clamped_cells(KernelKind k, const BoundarySpec<Dim>& spec, const IVec<Dim>& cells, const std::string& at);
 
 /// Body acceleration b(X, t) as a function of reference position and time [m/s^2].
 template <int Dim>

@@ -31,6 +31,9 @@ struct GridGeometry {
   /// nodes' velocity carries past one is put back on its plane. GIMP and B-spline weights reach beyond a
   /// particle's centre, so a centre pressed onto a wall moves with nodes inside the material and can cross it.
   std::array<bool, 2 * Dim> walls{};
+  /// Faces where the B-spline kernels clamp their knots (bspline2-clamped, bspline3-clamped; Steffen et al. 2008,
+  /// Sec. 4.3): no particle reaches a node beyond one, so the ghost layers there stay empty.
+  std::array<bool, 2 * Dim> clamped{};
 
   /// Tiles: cubes of tile_width node layers per axis, the first starting at the first ghost layer (storage
   /// index 0). A P2G pass sums each tile's particles apart and adds the tiles' sums into the nodes in an order

@@ -122,6 +122,11 @@ struct QuadraticBSplineKernel : KernelWeights<QuadraticBSplineKernel> {
     ax.r = xi - simd::to_real(base);
     return base;
   }
+  /// Move the base node by `shift` nodes (a clamped face, stencil.hpp's locate_axis): r stays the distance to it.
+  template <class T>
+  static void rebase(AxisOf<T>& ax, const T& shift) {
+    ax.r += shift;
+  }
   template <class T>
   static void weights_at(const AxisOf<T>& ax, T* w, T* dw) {
     const T r = ax.r;
@@ -132,6 +137,17 @@ struct QuadraticBSplineKernel : KernelWeights<QuadraticBSplineKernel> {
     dw[0] = -a;
     dw[1] = -2 * b;
     dw[2] = c;
+    // Clamped knots (Steffen et al. 2008, Sec. 4.3): within half a cell of a clamped face the base node is the
+    // face's (r < 1/2 at a lower face, r > 3/2 at an upper one), and the ghost node's function is folded into the
+    // face's two nodes by linear extrapolation, N_0 + 2 N_-1 and N_1 - N_-1: there the basis is the hat.
+    const auto lower = r < 0.5, upper = r > 1.5;
+    const T zero{}, one = zero + 1;
+    w[0] = lower ? 1 - r : upper ? zero : w[0];
+    w[1] = lower ? r : upper ? 2 - r : w[1];
+    w[2] = lower ? zero : upper ? r - 1 : w[2];
+    dw[0] = lower ? -one : upper ? zero : dw[0];
+    dw[1] = lower ? one : upper ? -one : dw[1];
+    dw[2] = lower ? zero : upper ? one : dw[2];
   }
 };
 
@@ -152,6 +168,11 @@ struct CubicBSplineKernel : KernelWeights<CubicBSplineKernel> {
     a.t = xi - simd::to_real(base + 1);
     return base;
   }
+  /// Move the base node by `shift` nodes (a clamped face, stencil.hpp's locate_axis).
+  template <class T>
+  static void rebase(AxisOf<T>& a, const T& shift) {
+    a.t += shift;
+  }
   template <class T>
   static void weights_at(const AxisOf<T>& a, T* w, T* dw) {
     const T t = a.t;
@@ -164,6 +185,22 @@ struct CubicBSplineKernel : KernelWeights<CubicBSplineKernel> {
     dw[1] = 1.5 * t * t - 2 * t;
     dw[2] = -1.5 * s * s + 2 * s;
     dw[3] = 0.5 * t * t;
+    // Clamped knots (Steffen et al. 2008, Sec. 4.3): within a cell of a clamped face the base node is the face's
+    // (t < 0 at a lower face, t > 1 at an upper one), and the ghost node's function is folded into the face's two
+    // nodes by linear extrapolation, N_0 + 2 N_-1 and N_1 - N_-1. With q the distance to the face in cells:
+    // N_0 = 1 - q + q^3/6, N_1 = q - q^3/3, N_2 = q^3/6, the natural cubic spline's end (N'' = 0 on the face).
+    const auto lower = t < 0, upper = t > 1;
+    const T q = lower ? t + 1 : 2 - t, q2 = q * q, q3 = q2 * q;
+    const T zero{}, end = 1 - q + q3 / 6, next = q - q3 / 3, third = q3 / 6;
+    const T d_end = 0.5 * q2 - 1, d_next = 1 - q2, d_third = 0.5 * q2;  // d/dq
+    w[0] = lower ? end : upper ? zero : w[0];
+    w[1] = lower ? next : upper ? third : w[1];
+    w[2] = lower ? third : upper ? next : w[2];
+    w[3] = lower ? zero : upper ? end : w[3];
+    dw[0] = lower ? d_end : upper ? zero : dw[0];  // dq/dxi = +1 at a lower face, -1 at an upper one
+    dw[1] = lower ? d_next : upper ? -d_third : dw[1];
+    dw[2] = lower ? d_third : upper ? -d_next : dw[2];
+    dw[3] = lower ? zero : upper ? -d_end : dw[3];
   }
 };
 

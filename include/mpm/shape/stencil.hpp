@@ -75,6 +75,28 @@ struct NodeLayout {
   }
 };
 
+/// The base node along axis d (a global index) of a position xi in grid units with half-length l, and the
+/// kernel's axis data: Kernel::locate, then at the faces the geometry clamps (GridGeometry::clamped, B-splines
+/// only), the base node held inside, so that the stencil ends on the face's node (the kernel folds its weights).
+/// For one position or lanes of them.
+template <class Kernel, int Dim, class T>
+[[gnu::always_inline]] inline auto locate_axis(const GridGeometry<Dim>& g, int d, const T& xi, const T& l,
+                                               typename Kernel::template AxisOf<T>& a) {
+  auto base = Kernel::locate(xi, l, a);
+  if constexpr (requires { Kernel::rebase(a, xi); }) {
+    const bool lower = g.clamped[2 * d], upper = g.clamped[2 * d + 1];
+    if (lower || upper) {
+      using Index = decltype(base);
+      const Index first = Index{} + (lower ? 0 : -(1 << 30));
+      const Index last = Index{} + (upper ? g.cells[d] - Kernel::width + 1 : 1 << 30);
+      const Index held = simd::min(simd::max(base, first), last);
+      Kernel::rebase(a, simd::to_real(base - held));
+      base = held;
+    }
+  }
+  return base;
+}
+
 /// Compute the stencil of a particle at x with half-lengths l (used by GIMP only).
 template <int Dim, class Kernel>
 inline Stencil<Dim, Kernel> make_stencil(const GridGeometry<Dim>& g, const NodeLayout<Dim>& nl,
@@ -83,7 +105,7 @@ inline Stencil<Dim, Kernel> make_stencil(const GridGeometry<Dim>& g, const NodeL
   using G = GridGeometry<Dim>;
   std::int32_t node = 0, tile = 0, slot = 0;
   for (int d = 0; d < Dim; ++d) {
-    const int base = Kernel::locate((x[d] - g.lo[d]) * nl.inv_h, l[d] * nl.inv_h, s.axis[d]);
+    const int base = locate_axis<Kernel>(g, d, (x[d] - g.lo[d]) * nl.inv_h, l[d] * nl.inv_h, s.axis[d]);
     const int layer = base + g.ghost - g.offset[d];  // storage index in this box
     node += layer * nl.stride[d];
     tile += (layer >> G::tile_shift) * nl.tile_stride[d];
@@ -106,7 +128,7 @@ template <int Dim, class Kernel>
   s.node = IntLanes{};
   IntLanes tile{}, slot{};
   for (int d = 0; d < Dim; ++d) {
-    const IntLanes base = Kernel::locate((x[d] - g.lo[d]) * nl.inv_h, l[d] * nl.inv_h, s.axis[d]);
+    const IntLanes base = locate_axis<Kernel>(g, d, (x[d] - g.lo[d]) * nl.inv_h, l[d] * nl.inv_h, s.axis[d]);
     const IntLanes layer = base + (g.ghost - g.offset[d]);  // storage index in this box
     s.node += layer * nl.stride[d];
     tile += (layer >> G::tile_shift) * nl.tile_stride[d];
