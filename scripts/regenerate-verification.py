@@ -24,25 +24,29 @@ SERIES = [  # (kernel, integrator): the combinations of the paper's Figs 3-7, pl
 ]
 # Linear MPM with USF and USL, which Sec. 6.1.1 ranks against UVF-MPM without plotting them.
 LINEAR_MPM = [("linear", "usf"), ("linear", "usl")]
+# APIC (docs/transfers.md) beside FLIP: (kernel, integrator, transfer).
+APIC = [("cpgimp", "usl", "flip"), ("cpgimp", "usl", "apic"), ("cpgimp", "cd", "flip"), ("cpgimp", "cd", "apic"),
+        ("bspline2", "cd", "flip"), ("bspline2", "cd", "apic"), ("bspline3", "cd", "flip"), ("bspline3", "cd", "apic")]
 # The paper's CFL number: dt = CFL h / c with c^2 = E / rho0, the wave speed of its manufactured solutions.
 PAPER_CFL = ["--cfl-speed", "reference"]
 
 
 def converge(mpm, case, vary, values, extra, title, png, series_list):
     """Every series of one study through `mpm converge`, which also draws the plot; rows grouped by series."""
-    series = ",".join(f"{k}:{i}" for k, i in series_list)
+    series = ",".join(":".join(s) for s in series_list)
     cmd = [mpm, "converge", case, "--vary", vary, "--values", ",".join(str(v) for v in values),
            "--series", series, "--plot", str(png), "--title", title, "--json", *extra]
     rows = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
     results = {}
     for r in rows:
-        results.setdefault((r["kernel"], r["integrator"]), []).append(r)
+        results.setdefault((r["kernel"], r["integrator"], r["transfer"]), []).append(r)
     return results
 
 
-def label(kernel, integrator):
+def label(kernel, integrator, transfer):
     names = {"cpgimp": "cpGIMP", "ugimp": "uGIMP", "linear": "MPM", "bspline2": "B2", "bspline3": "B3"}
-    return f"{'UVF' if integrator == 'musl' else integrator.upper()}-{names[kernel]}"
+    name = f"{'UVF' if integrator == 'musl' else integrator.upper()}-{names[kernel]}"
+    return name + ("-APIC" if transfer == "apic" else "")
 
 
 KERNEL_NAMES = {"linear": "linear (MPM)", "cpgimp": "GIMP", "bspline2": "quadratic B-spline",
@@ -85,14 +89,14 @@ def density_section(mpm, path):
 def table(results, vary):
     head = f"| series | " + " | ".join(f"{vary} {r[vary]}" for r in next(iter(results.values()))) + " |"
     lines = [head, "|" + "---|" * (len(next(iter(results.values()))) + 1)]
-    for (kernel, integrator), rows in results.items():
+    for (kernel, integrator, transfer), rows in results.items():
         cells = []
         for r in rows:
             text = "failed" if r["status"] != "ok" else f"{r['linf']:.3g}"
             if "order" in r and r["status"] == "ok":
                 text += f" ({r['order']:.2f})"
             cells.append(text)
-        lines.append(f"| {label(kernel, integrator)} | " + " | ".join(cells) + " |")
+        lines.append(f"| {label(kernel, integrator, transfer)} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
 
@@ -124,6 +128,10 @@ def main():
          "axis_aligned_nodal_small.png"),
         ("bar-1d", "cells", [8, 16, 32, 64, 128, 256], ["--cfl", "0.4", "--amplitude", "0.01"] + PAPER_CFL,
          SERIES, "1-D bar, A = 0.01: spatial convergence", "bar_cells.png"),
+        ("axis-aligned", "cells", cells[:4], ["--cfl", "0.4"] + PAPER_CFL, APIC,
+         "Axis-aligned: APIC against FLIP (issue 20, docs/transfers.md)", "axis_aligned_cells_apic.png"),
+        ("expanding-ring", "cells", cells[:4], ["--cfl", "0.4"] + PAPER_CFL, APIC,
+         "Expanding ring: APIC against FLIP (issue 20, docs/transfers.md)", "ring_cells_apic.png"),
     ]
     sections = []
     for case, vary, values, fixed, series, title, file in studies:
@@ -131,7 +139,7 @@ def main():
                            series)
         sections.append(f"### {title}\n\n`mpm converge {case} --vary {vary} --values "
                         f"{','.join(map(str, values))} {' '.join(fixed)} --series "
-                        f"{','.join(f'{k}:{i}' for k, i in series)} --plot {file}`\n\n"
+                        f"{','.join(':'.join(s) for s in series)} --plot {file}`\n\n"
                         f"![{title}](verification/{file})\n\n"
                         f"L-infinity error, observed order in brackets:\n\n{table(results, vary)}\n")
         print(f"{title}: done ({time.time() - start:.0f} s)", file=sys.stderr)

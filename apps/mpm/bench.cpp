@@ -22,6 +22,7 @@ struct BenchOptions {
   int dim = 2;
   std::string kernel = "linear";
   std::string integrator = "usl";
+  std::string transfer = "flip";
   long particles = 102400;
   int steps = 200;
   int threads = 0;
@@ -71,6 +72,7 @@ nlohmann::json run_block(const BenchOptions& o, KernelKind kind, Integrator inte
   spec.grid_lo = Vec<Dim>::Constant(-pad * h);
   spec.cells.fill(n + 2 * pad);
   spec.kernel = kind;
+  spec.transfer = o.transfer == "apic" ? Transfer::apic : Transfer::flip;
   spec.integrator = integrator;
   spec.materials = {bench_material(o.material)};
   spec.gravity = Vec<Dim>::Zero();
@@ -115,6 +117,7 @@ nlohmann::json run_block(const BenchOptions& o, KernelKind kind, Integrator inte
   return {{"dim", Dim},
           {"kernel", to_string(kind)},
           {"integrator", to_string(integrator)},
+          {"transfer", o.transfer},
           {"ranks", comm.size()},
           {"fields", spec.contact.fields},
           {"material", o.material},
@@ -137,6 +140,8 @@ Action add_bench(CLI::App& app) {
   cmd->add_option("--dim", o->dim, "dimension: 2 or 3")->check(CLI::IsMember({2, 3}));
   cmd->add_option("--kernel", o->kernel, "linear, ugimp, cpgimp, bspline2, bspline3, bspline2-clamped or bspline3-clamped");
   cmd->add_option("--integrator", o->integrator, "usf, usl, cd or musl");
+  cmd->add_option("--transfer", o->transfer, "particle velocity update: flip or apic")
+      ->check(CLI::IsMember({"flip", "apic"}));
   cmd->add_option("--particles", o->particles, "approximate particle count")
       ->check(CLI::Range(1L, 1000000000L));
   cmd->add_option("--steps", o->steps, "time steps per run")->check(CLI::PositiveNumber);
@@ -158,7 +163,8 @@ Action add_bench(CLI::App& app) {
     if (o->json) {
       std::cout << result.dump() << '\n';
     } else {
-      std::cout << result["dim"] << "-D " << o->kernel << " " << o->integrator << (o->contact ? " contact" : "") << " "
+      std::cout << result["dim"] << "-D " << o->kernel << " " << o->integrator << (o->contact ? " contact" : "")
+                << (o->transfer == "apic" ? " apic" : "") << " "
                 << o->material << ", "
                 << result["particles"]
                 << " particles, " << result["ranks"] << " ranks x " << result["threads"]

@@ -21,6 +21,7 @@ namespace mpm::app {
 namespace {
 // The names of the study options, in the order of their enumerators.
 constexpr std::array<std::string_view, 2> cfl_speed_names{"particles", "reference"};
+constexpr std::array<std::string_view, 2> transfer_names{"flip", "apic"};
 constexpr std::array<std::string_view, 2> error_names{"particles", "nodal"};
 constexpr std::array<std::string_view, 2> start_names{"halve", "exact"};
 constexpr std::array<std::string_view, 2> acceleration_names{"zero", "velocity-difference"};
@@ -43,6 +44,7 @@ std::string_view name_of(Enum e, const std::array<std::string_view, N>& names) {
 struct CaseOptions {
   std::string case_name;
   std::string kernel = "cpgimp";
+  std::string transfer = "flip";
   std::string integrator = "cd";
   std::string cfl_speed = "particles";
   std::string error = "particles";
@@ -56,6 +58,7 @@ struct CaseOptions {
     cmd->add_option("case", case_name, "axis-aligned, bar-1d or expanding-ring")->required();
     cmd->add_option("--dim", options.dim, "dimension (axis-aligned: 2 or 3)");
     cmd->add_option("--kernel", kernel, "linear, ugimp, cpgimp, bspline2, bspline3, bspline2-clamped or bspline3-clamped");
+    cmd->add_option("--transfer", transfer, "particle velocity update: flip or apic");
     cmd->add_option("--integrator", integrator, "usf, usl, cd, musl or implicit");
     cmd->add_option("--theta", options.theta, "implicit blend in [0, 1] (1: backward Euler, 0.5: midpoint)");
     cmd->add_option("--cells", options.cells, "cells per axis across the body");
@@ -79,6 +82,7 @@ struct CaseOptions {
   VerifyCase resolve() {
     const VerifyCase c = parse_case(case_name);
     options.kernel = parse_kernel(kernel, "--kernel");
+    options.transfer = pick<Transfer>(transfer, "--transfer", transfer_names);
     set_integrator(options, integrator, "--integrator");
     options.cfl_speed = pick<CflSpeed>(cfl_speed, "--cfl-speed", cfl_speed_names);
     options.error = pick<ErrorMeasure>(error, "--error", error_names);
@@ -95,6 +99,7 @@ nlohmann::json to_json(VerifyCase c, const VerifyOptions& o, const VerifyResult&
   nlohmann::json j{{"case", to_string(c)},
                    {"dim", dimension(c, o)},
                    {"kernel", to_string(o.kernel)},
+                   {"transfer", name_of(o.transfer, transfer_names)},
                    {"integrator", integrator_name(o)},
                    {"cells", o.cells},
                    {"ppc", o.ppc},
@@ -180,24 +185,29 @@ Action add_verify(CLI::App& app) {
 }
 
 namespace {
-/// One kernel x integrator series of a convergence study.
+/// One kernel x integrator (x transfer) series of a convergence study.
 struct Series {
   KernelKind kernel;
   std::string integrator;  ///< an explicit integrator or "implicit"
+  Transfer transfer;
 };
 
-/// `--series linear:musl,cpgimp:cd`: kernel:integrator pairs, each named like --kernel and --integrator.
-std::vector<Series> parse_series(const std::string& text) {
+/// `--series linear:musl,cpgimp:cd:apic`: kernel:integrator pairs, each named like --kernel and --integrator, with
+/// an optional third part naming the transfer like --transfer (default: `transfer`).
+std::vector<Series> parse_series(const std::string& text, Transfer transfer) {
   std::vector<Series> out;
   std::stringstream ss(text);
   std::string item;
   while (std::getline(ss, item, ',')) {
-    const std::size_t colon = item.find(':');
+    const std::size_t colon = item.find(':'), second = item.find(':', colon + 1);
     if (colon == std::string::npos)
       throw InputError("--series: expected kernel:integrator pairs such as cpgimp:cd, got '" + item + "'");
+    const std::string integrator = item.substr(colon + 1, second == std::string::npos ? std::string::npos : second - colon - 1);
     VerifyOptions check;
-    set_integrator(check, item.substr(colon + 1), "--series");
-    out.push_back({parse_kernel(item.substr(0, colon), "--series"), item.substr(colon + 1)});
+    set_integrator(check, integrator, "--series");
+    const Transfer t =
+        second == std::string::npos ? transfer : pick<Transfer>(item.substr(second + 1), "--series", transfer_names);
+    out.push_back({parse_kernel(item.substr(0, colon), "--series"), integrator, t});
   }
   if (out.empty()) throw InputError("--series: expected at least one kernel:integrator pair");
   return out;
@@ -227,9 +237,10 @@ void write_table_csv(const std::string& file, const nlohmann::json& rows, const 
   std::ofstream os(file);
   if (!os) throw InputError("--csv: cannot write " + file);
   os.precision(10);
-  os << "kernel,integrator," << vary << ",linf,l1,l2,order,status,steps\n";
+  os << "kernel,integrator,transfer," << vary << ",linf,l1,l2,order,status,steps\n";
   for (const nlohmann::json& row : rows)
-    os << row["kernel"].get<std::string>() << ',' << row["integrator"].get<std::string>() << ',' << row[vary]
+    os << row["kernel"].get<std::string>() << ',' << row["integrator"].get<std::string>() << ','
+       << row["transfer"].get<std::string>() << ',' << row[vary]
        << ',' << row["linf"] << ',' << row["l1"] << ',' << row["l2"] << ','
        << (row.contains("order") ? row["order"].dump() : "") << ',' << row["status"].get<std::string>() << ','
        << row["steps"] << '\n';
@@ -238,7 +249,8 @@ void write_table_csv(const std::string& file, const nlohmann::json& rows, const 
 void print_table(const nlohmann::json& rows, const std::string& vary) {
   std::string current;
   for (const nlohmann::json& row : rows) {
-    const std::string series = row["kernel"].get<std::string>() + " + " + row["integrator"].get<std::string>();
+    const std::string series = row["kernel"].get<std::string>() + " + " + row["integrator"].get<std::string>() +
+                               (row["transfer"] == "apic" ? " + apic" : "");
     if (series != current) {
       current = series;
       std::cout << row["case"].get<std::string>() << ", " << series << ", varying " << vary << "\n"
@@ -283,7 +295,7 @@ Action add_converge(CLI::App& app) {
   cmd->add_option("--vary", *vary, "cells or cfl")->required();
   cmd->add_option("--values", *values, "comma-separated values, e.g. 8,16,32")->required();
   cmd->add_option("--series", *series_text,
-                  "several kernel:integrator series in one study, e.g. cpgimp:cd,linear:musl "
+                  "several kernel:integrator[:transfer] series in one study, e.g. cpgimp:cd,linear:musl,bspline2:usl:apic "
                   "(replaces --kernel and --integrator)");
   cmd->add_option("--csv", *csv, "write the table to this CSV file");
   cmd->add_option("--plot", *png, "write a log-log plot of every series to this PNG file (needs python3-matplotlib)");
@@ -295,8 +307,8 @@ Action add_converge(CLI::App& app) {
     const std::vector<double> vals = parse_values(*values);
     const VerifyCase which = c->resolve();
     const std::vector<Series> series = series_text->empty()
-                                           ? std::vector<Series>{{c->options.kernel, c->integrator}}
-                                           : parse_series(*series_text);
+                                           ? std::vector<Series>{{c->options.kernel, c->integrator, c->options.transfer}}
+                                           : parse_series(*series_text, c->options.transfer);
     for (const Series& s : series)  // validate every point before running any
       for (double v : vals) {
         VerifyOptions o = c->options;
@@ -313,6 +325,7 @@ Action add_converge(CLI::App& app) {
     for (const Series& s : series) {
       VerifyOptions o = c->options;
       o.kernel = s.kernel;
+      o.transfer = s.transfer;
       set_integrator(o, s.integrator, "--series");
       for (const nlohmann::json& row : sweep(which, o, vary_cells, vals)) rows.push_back(row);
     }

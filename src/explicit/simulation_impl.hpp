@@ -134,6 +134,7 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
     mirror_copies_.assign(grid_.size(), 1);
     constraints_.count_mirror_copies(mirror_copies_);
   }
+  if (spec.transfer == Transfer::apic) p.B.assign(p.size(), Mat<Dim>::Zero());  // the particles start unsheared
   // Every rank was given all the particles (the masses above are the whole set's); each keeps its box's.
   if (box_halo_.divided()) erase_particles(p, not_owned());
   if (neo_hookean_.empty()) {

@@ -139,15 +139,15 @@ void Simulation<Dim, Kernel>::migrate() {
   for (int r : owner) near = near && std::binary_search(peers.begin(), peers.end(), r);
   const bool everywhere = comm_->max(near ? 0.0 : 1.0) > 0;
   std::vector<std::vector<std::byte>> to(everywhere ? static_cast<std::size_t>(comm_->size()) : peers.size());
-  const bool with_state = neo_hookean_.empty();
+  const PackedArrays with{.state = neo_hookean_.empty(), .affine = spec_.transfer == Transfer::apic};
   for (std::size_t k = 0; k < leaving.size(); ++k) {
     const auto to_rank = everywhere ? owner[k] : std::lower_bound(peers.begin(), peers.end(), owner[k]) - peers.begin();
-    pack_particle(particles_, leaving[k], with_state, to[static_cast<std::size_t>(to_rank)]);
+    pack_particle(particles_, leaving[k], with, to[static_cast<std::size_t>(to_rank)]);
   }
   if (!leaving.empty()) erase(leaving);
   const std::vector<std::vector<std::byte>> from = everywhere ? comm_->exchange(to) : comm_->exchange_with(peers, to);
   const std::size_t first = particles_.size();
-  for (const std::vector<std::byte>& bytes : from) unpack_particles(bytes, with_state, particles_);
+  for (const std::vector<std::byte>& bytes : from) unpack_particles(bytes, with, particles_);
   if (particles_.size() == first) return;
   size_rates();
   tiles_changed_ = true;  // settle() sorts them into the scatter order

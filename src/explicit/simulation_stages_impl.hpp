@@ -58,10 +58,10 @@ void Simulation<Dim, Kernel>::scatter() {
     Grid<Dim>& grid = *fields[k];
     if (box_halo_.divided()) {  // the halo sum: the sums of tiles of other boxes at the nodes they share
       const FaceTileSums<Dim> kept(grid.geometry, order_);
-      p2g<what>(particles_, stencils_, order_, body_accel_, grid, kept, k, has_material_state());
+      p2g<what>(particles_, stencils_, order_, body_accel_, grid, kept, k, has_material_state(), affine());
       box_halo_.sum(grid, kept.take(), what.mass_momentum, what.force, *comm_, nullptr, what.volume_gradient);
     } else {
-      p2g<what>(particles_, stencils_, order_, body_accel_, grid, KeepNothing{}, k, has_material_state());
+      p2g<what>(particles_, stencils_, order_, body_accel_, grid, KeepNothing{}, k, has_material_state(), affine());
     }
     if constexpr (what.force && Dim == 2)  // the hoop force in a pass of its own, as in the implicit step
       if (axisymmetric_) scatter_hoop_force(grid, k);
@@ -101,11 +101,15 @@ void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
     const std::optional<ParticleRange> range =
         contact_.active() ? std::optional<ParticleRange>(order_.field_range(k)) : std::nullopt;
     VelocityBlend<Dim> blend;
-    if constexpr (what.velocity)
-      if (spec_.flip_fraction < 1) {  // PIC's velocity, from the stencils before G2P moves the particles
+    if constexpr (what.velocity) {  // from the stencils before G2P moves the particles
+      if (spec_.transfer == Transfer::apic) {  // PIC's velocity and the affine matrices
+        g2p_affine(stencils_, *fields[k], v_grid, pic_velocity_, particles_.B, range);
+        blend = {0, &pic_velocity_};
+      } else if (spec_.flip_fraction < 1) {  // PIC's velocity
         g2p_interpolate(stencils_, *fields[k], v_grid, pic_velocity_, range);
         blend = {spec_.flip_fraction, &pic_velocity_};
       }
+    }
     ParticleFault f;
     if (!neo_hookean_.empty()) {
       f = g2p<what>(particles_, stencils_, *fields[k], v_grid, dt, NeoHookeanLanes{neo_hookean_}, sizes_, targets,
@@ -187,7 +191,7 @@ double Simulation<Dim, Kernel>::bytes_per_particle() const {
                              body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes() * contact_.fields() +
                              (particles_.state.empty() ? 0 : particles_.size() * MaterialState::bytes_per_particle()) +
                              grad_v_.capacity() * sizeof(Mat<Dim>) + hoop_rate_.capacity() * sizeof(Real) +
-                             pic_velocity_.capacity() * sizeof(Vec<Dim>)) /
+                             pic_velocity_.capacity() * sizeof(Vec<Dim>) + particles_.B.capacity() * sizeof(Mat<Dim>)) /
              n;
 }
 

@@ -93,6 +93,7 @@ void validate(const SimulationSpec<Dim>& s) {
   require(s.gravity.allFinite(), "gravity: must be finite");
   require(s.local_damping >= 0 && s.local_damping < 1, "local_damping: expected a number in [0, 1)");
   require(s.flip_fraction >= 0 && s.flip_fraction <= 1, "flip_fraction: expected a number in [0, 1]");
+  require(s.transfer != Transfer::apic || s.flip_fraction == 1, "flip_fraction: applies to transfer = \"flip\" only");
 }
 
 template void validate_clamped_cells<1>(KernelKind, const BoundarySpec<1>&, const IVec<1>&, const std::string&);

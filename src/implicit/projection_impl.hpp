@@ -17,7 +17,8 @@ namespace mpm {
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::project(Real dt) {
   if (build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, tile_)) order_.build(tile_, particles_.id);
-  p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils_, order_, {}, grid_);  // as explicit
+  p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils_, order_, {}, grid_, KeepNothing{}, 0, false,
+                                                     affine());  // as explicit
   halo_.sum_into_owners(grid_, NodeFields::mass_momentum);
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
@@ -82,7 +83,10 @@ void ImplicitSimulation<Dim, Kernel>::build_dofs(Real t_new) {
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::scatter_momentum(const std::vector<Vec<Dim>>& v_p) {
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].v_new.setZero(); });
-  p2g_add(stencils_, order_, grid_, Momentum<Dim, NodeSlots<Dim>::v_new, false>{particles_.m, v_p});
+  if (affine())
+    p2g_add(stencils_, order_, grid_, AffineMomentum<Dim, NodeSlots<Dim>::v_new, false>{particles_.m, v_p, *affine()});
+  else
+    p2g_add(stencils_, order_, grid_, Momentum<Dim, NodeSlots<Dim>::v_new, false>{particles_.m, v_p});
   halo_.sum_into_owners(grid_, &GridNode<Dim>::v_new);
   constraints_.fold_and_mirror(grid_, &GridNode<Dim>::v_new);
 }
@@ -126,11 +130,17 @@ void ImplicitSimulation<Dim, Kernel>::add_body_force(Real dt) {
 template <int Dim, class Kernel>
 template <class Value>
 void ImplicitSimulation<Dim, Kernel>::gather_over_active_nodes(Value value, std::vector<Vec<Dim>>& out) {
+  put_on_active_nodes(value);
+  g2p_interpolate(stencils_, grid_, &GridNode<Dim>::a, out);
+}
+
+template <int Dim, class Kernel>
+template <class Value>
+void ImplicitSimulation<Dim, Kernel>::put_on_active_nodes(Value value) {
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
     GridNode<Dim>& node = grid_.nodes[n];
     node.a = node.m > min_node_mass_ ? Vec<Dim>(value(node, static_cast<std::size_t>(n))) : Vec<Dim>::Zero();
   });
-  g2p_interpolate(stencils_, grid_, &GridNode<Dim>::a, out);
 }
 
 }  // namespace mpm

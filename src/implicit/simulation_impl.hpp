@@ -57,6 +57,7 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
   const GridGeometry<Dim>& g = grid_.geometry;
   if (p.size() == 0) throw InputError("particles: the simulation has no particles");
   if (p.state.empty()) p.state.resize(p.size());  // a state the particles bring (a geostatic stress) is kept
+  if (spec.transfer == Transfer::apic) p.B.assign(p.size(), Mat<Dim>::Zero());  // the particles start unsheared
   const bool axisymmetric = Dim == 2 && spec_.geometry == Geometry::axisymmetric;
   Real min_mass = std::numeric_limits<Real>::max();
   for (std::size_t i = 0; i < p.size(); ++i) {
@@ -282,6 +283,12 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
   if (own_pic)
     gather_over_active_nodes([&](const GridNode<Dim>&, std::size_t n) { return momentum_velocity_[n]; }, pic_velocity_);
   const std::vector<Vec<Dim>>& pic = own_pic ? pic_velocity_ : v_move_;
+  // APIC: the velocity and affine matrix of the solution's node velocities (those PIC takes) at the step's start.
+  const bool apic = spec_.transfer == Transfer::apic;
+  if (apic) {
+    put_on_active_nodes([&](const GridNode<Dim>& node, std::size_t n) { return momentum ? momentum_velocity_[n] : node.v_new; });
+    g2p_affine(stencils_, grid_, &GridNode<Dim>::a, pic_velocity_, affine_);
+  }
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
     // Sulsky & Kaul 2004, Eq. (2.3.2), or Eq. (3.2.5); a centre carried past a wall stays on it.
     trial_.x[i] = grid_.geometry.onto_walls(grid_.geometry.wrap(p.x[i] + dt * v_move_[i]));
@@ -296,7 +303,10 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
     }
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
     p.x[i] = trial_.x[i];
-    p.v[i] = blend ? Vec<Dim>(spec_.flip_fraction * trial_.v[i] + (1 - spec_.flip_fraction) * pic[i]) : trial_.v[i];
+    p.v[i] = apic    ? pic_velocity_[i]
+             : blend ? Vec<Dim>(spec_.flip_fraction * trial_.v[i] + (1 - spec_.flip_fraction) * pic[i])
+                     : trial_.v[i];
+    if (apic) p.B[i] = affine_[i];
     p.F[i] = (Mat<Dim>::Identity() + dt * trial_.grad_v[i]) * p.F[i];
     // The hoop stretch is r / R exactly; the plane-stress thickness stretch accumulates 1 + de_zz.
     particles_.state.stretch3[i] = axisymmetric ? p.x[i][0] / p.X[i][0] : trial_.stretch3[i];

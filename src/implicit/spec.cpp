@@ -57,6 +57,10 @@ void validate(const ImplicitSpec<Dim>& s, const std::string& where) {
     require(!(f.friction >= 0), at + "grid.faces: Coulomb walls (friction) are for the explicit integrators");
   require(s.theta >= 0 && s.theta <= 1, at + "implicit.theta: expected a number in [0, 1]");
   require(s.flip_fraction >= 0 && s.flip_fraction <= 1, at + "simulation.flip_fraction: expected a number in [0, 1]");
+  require(s.transfer != Transfer::apic || !s.consistent_mass,
+          at + "implicit.mass: APIC (transfer = \"apic\") runs with the lumped mass");
+  require(s.transfer != Transfer::apic || s.flip_fraction == 1,
+          at + "simulation.flip_fraction: applies to transfer = \"flip\" only");
   require(s.solver != ImplicitSolver::linear_cg || s.formulation == Formulation::velocity,
           at + "implicit.solver: cg (linear) needs the symmetric velocity formulation");
   require(s.solver != ImplicitSolver::newton_cg || s.formulation == Formulation::velocity,

@@ -250,6 +250,7 @@ SimulationSpec<Dim> make_spec(const Scene& sc) {
   spec.reproject_light_nodes = sc.reproject_light_nodes;
   spec.local_damping = sc.local_damping;
   spec.flip_fraction = sc.flip_fraction;
+  spec.transfer = sc.transfer;
   spec.account_load_power = true;  // history.csv's external work
   spec.contact.fields = sc.fields;
   for (const SceneContact& c : sc.contacts)
@@ -324,6 +325,7 @@ ImplicitSpec<Dim> make_implicit_spec(const Scene& sc) {
   spec.solver = im.solver;
   spec.theta = im.theta;
   spec.flip_fraction = sc.flip_fraction;
+  spec.transfer = sc.transfer;
   spec.newton = im.newton;
   spec.frozen_jacobian = im.frozen_jacobian;
   spec.scaled_residual = im.scaled_residual;

@@ -108,10 +108,12 @@ void read_simulation(const Section& s, Scene& sc) {
   if (!(sc.local_damping >= 0 && sc.local_damping < 1)) s.fail("local_damping", "expected a number in [0, 1)");
   if (sc.local_damping > 0 && sc.implicit)
     s.fail("local_damping", "local damping is for the explicit integrators (the implicit one can take large steps)");
-  // The particle velocity update: FLIP, blended with PIC by flip_fraction (1: FLIP alone).
-  s.choice("transfer", "flip", {"flip"});
+  // The particle velocity update: FLIP, blended with PIC by flip_fraction (1: FLIP alone), or APIC.
+  sc.transfer = s.choice("transfer", "flip", {"flip", "apic"}) == "apic" ? Transfer::apic : Transfer::flip;
   sc.flip_fraction = s.number("flip_fraction", 1);
   if (!(sc.flip_fraction >= 0 && sc.flip_fraction <= 1)) s.fail("flip_fraction", "expected a number in [0, 1]");
+  if (sc.transfer == Transfer::apic && s.has("flip_fraction"))
+    s.fail("flip_fraction", "applies to transfer = \"flip\" only (APIC's velocity is the grid's)");
   sc.threads = s.integer("threads", 0);
   if (sc.threads < 0) s.fail("threads", "expected 0 (all cores) or a positive count");
   sc.geometry = parse_geometry(s.choice("geometry", "plane-strain", {"plane-strain", "plane-stress", "axisymmetric"}), "");
@@ -247,6 +249,8 @@ void read_implicit(const Section& s, Scene& sc) {
   if (im.consistent_mass && (im.frozen_jacobian || im.solver == ImplicitSolver::newton_direct))
     s.fail("mass", "the assembled Jacobians of preconditioner = \"frozen-jacobian\" and solver = \"newton-direct\" "
                    "use the lumped mass");
+  if (im.consistent_mass && sc.transfer == Transfer::apic)
+    s.fail("mass", "APIC (simulation.transfer = \"apic\") runs with the lumped mass");
   im.move_with_projected_velocity =
       s.choice("positions", "momentum", {"momentum", "projected-velocity"}) == "projected-velocity";
   if (s.has("positions") && im.formulation != Formulation::momentum)

@@ -69,6 +69,10 @@ io::CheckpointData save(const Scene& sc, const Engine& engine, const Accumulator
   // Divided between ranks, each rank's particles are its rows of these.
   c.row_widths = {{"x", Dim}, {"X", Dim}, {"v", Dim}, {"F", Dim * Dim}, {"m", 1}, {"V0", 1}, {"l0", Dim}, {"l", Dim},
                   {"material", 1}, {"field", 1}, {"id", 1}};
+  if (!p.B.empty()) {  // APIC's affine matrices
+    c.reals["B"] = flat(p.B);
+    c.row_widths["B"] = Dim * Dim;
+  }
   save_outflow(engine.sim().outflow(), c);
   engine.save(c);
   return c;
@@ -110,6 +114,10 @@ void load_share(const io::CheckpointData& c, Engine& engine, Accumulators& a, st
   unflat(array("F"), p.F, "F");
   unflat(array("l0"), p.l0, "l0");
   unflat(array("l"), p.l, "l");
+  if (!p.B.empty()) {  // an APIC run's, which the engine sized when it seeded its particles
+    p.B.resize(rows);
+    unflat(array("B"), p.B, "B");
+  }
   p.m = array("m");
   p.V0 = array("V0");
   const std::vector<std::int64_t>& material = scalar(c.integers, "material", where);

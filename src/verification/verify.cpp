@@ -48,6 +48,7 @@ ImplicitSpec<Dim> implicit_spec_of(const SimulationSpec<Dim>& s, Real theta) {
   is.h = s.h;
   is.cells = s.cells;
   is.kernel = s.kernel;
+  is.transfer = s.transfer;
   is.materials = s.materials;
   is.boundary = s.boundary;
   is.gravity = s.gravity;
@@ -96,6 +97,7 @@ VerifyResult run_case(const Exact& exact, const VerifyOptions& o, ParticleTable*
   exact.configure(spec, o.cells);
   spec.boundary.acceleration = o.constrained_acceleration;
   spec.kernel = o.kernel;
+  spec.transfer = o.transfer;
   spec.integrator = o.integrator;
   spec.materials = {exact.mat};
   spec.cfl = o.cfl;

@@ -30,23 +30,23 @@ using namespace mpm;
 
 /// Every field of every particle, by id: the particles packed (pack_particle) in id order.
 template <int Dim>
-std::vector<std::byte> by_id(ParticleSet<Dim>& p, bool with_state) {
+std::vector<std::byte> by_id(ParticleSet<Dim>& p, PackedArrays with) {
   std::vector<std::size_t> order(p.size());
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
   std::vector<std::byte> bytes;
-  for (std::size_t i : order) pack_particle(p, i, with_state, bytes);
+  for (std::size_t i : order) pack_particle(p, i, with, bytes);
   return bytes;
 }
 
 /// The particles of every rank, on rank 0 (empty elsewhere).
 template <int Dim>
-ParticleSet<Dim> gathered(ParticleSet<Dim> mine, bool with_state, const Communicator& comm) {
+ParticleSet<Dim> gathered(ParticleSet<Dim> mine, PackedArrays with, const Communicator& comm) {
   std::vector<std::vector<std::byte>> to(static_cast<std::size_t>(comm.size()));
-  for (std::size_t i = 0; i < mine.size(); ++i) pack_particle(mine, i, with_state, to[0]);
+  for (std::size_t i = 0; i < mine.size(); ++i) pack_particle(mine, i, with, to[0]);
   const std::vector<std::vector<std::byte>> from = comm.exchange(to);
   ParticleSet<Dim> all;
-  for (const std::vector<std::byte>& bytes : from) unpack_particles(bytes, with_state, all);
+  for (const std::vector<std::byte>& bytes : from) unpack_particles(bytes, with, all);
   return all;
 }
 
@@ -67,7 +67,7 @@ int expect_same_bits(const SimulationSpec<Dim>& spec, const ParticleSet<Dim>& pa
       set_num_threads(threads);
     }
     const bool with_state = whole && !whole->particles().state.empty();
-    const bool state = comm.max(with_state ? 1.0 : 0.0) > 0;
+    const PackedArrays state{.state = comm.max(with_state ? 1.0 : 0.0) > 0, .affine = spec.transfer == Transfer::apic};
     // The division is real: with several ranks each holds a box of the grid and only its particles.
     EXPECT_EQ(divided.boxes().divided(), comm.size() > 1);
     std::vector<std::int64_t> counts(static_cast<std::size_t>(comm.size()), 0);
@@ -120,6 +120,12 @@ TEST(SameBits, CollidingDisksEveryKernel) {
   // 150 steps to t = 3 s: the disks meet near step 60 and part; particles cross between boxes throughout.
   for (const char* kernel : {"linear", "ugimp", "cpgimp", "bspline2", "bspline3", "bspline2-clamped", "bspline3-clamped"})
     scene_case<2>("examples/colliding-disks/scene.toml", {std::string("simulation.kernel=") + kernel}, {1, 40, 150});
+}
+
+TEST(SameBits, CollidingDisksWithApic) {
+  // APIC's matrices B_p move between ranks with their particles (PackedArrays::affine).
+  scene_case<2>("examples/colliding-disks/scene.toml",
+                {"simulation.kernel=bspline2", "simulation.transfer=apic"}, {1, 40, 150});
 }
 
 TEST(SameBits, CollidingDisksDividedAgainAsTheyMove) {

@@ -119,13 +119,13 @@ TEST(Cli, ConvergePlotsAndTablesEverySeries) {
   const auto dir = std::filesystem::temp_directory_path() / ("mpm_plot_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const Outcome o = run_mpm("converge bar-1d --amplitude 0.01 --vary cells --values 8,16 --series "
-                            "cpgimp:cd,linear:usl --csv " + (dir / "t.csv").string() + " --plot " +
+                            "cpgimp:cd,linear:usl:apic --csv " + (dir / "t.csv").string() + " --plot " +
                             (dir / "p.png").string());
   ASSERT_EQ(o.status, 0) << o.err;
   const std::string csv = slurp(dir / "t.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5) << csv;  // header + 2 series x 2 points
-  EXPECT_NE(csv.find("\ncpgimp,cd,16,"), std::string::npos) << csv;
-  EXPECT_NE(csv.find("\nlinear,usl,16,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\ncpgimp,cd,flip,16,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\nlinear,usl,apic,16,"), std::string::npos) << csv;  // a series' own transfer
   // A PNG of 5.5 x 4 inches at 120 dpi: the signature, then the IHDR chunk with width and height.
   const std::string png = slurp(dir / "p.png");
   ASSERT_GT(png.size(), 24u);

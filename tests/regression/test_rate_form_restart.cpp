@@ -1,6 +1,6 @@
 // An explicit run with a rate-form material, a rigid body and axisymmetry (the upsetting, integrator = "cd")
 // stopped and restarted from its checkpoint ends bitwise equal to one uninterrupted run: the checkpoint carries
-// the material state, the volumes and the rigid body's displacement.
+// the material state, the volumes and the rigid body's displacement. So does an APIC run, in both engines.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -14,21 +14,24 @@ namespace fs = std::filesystem;
 using mpm::testing::scratch;
 using mpm::testing::slurp;
 
-int run(const std::string& args, const fs::path& log) {
+int run(const std::string& scene, const std::string& args, const fs::path& log) {
   const fs::path root = fs::path(__FILE__).parent_path().parent_path().parent_path();
-  const std::string command = std::string(MPM_BINARY) + " run " + (root / "examples/implicit/upsetting.toml").string() +
-                              " --quiet --set simulation.integrator=cd --set simulation.end_time=5e-5 " + args +
+  const std::string command = std::string(MPM_BINARY) + " run " + (root / scene).string() + " --quiet " + args +
                               " > " + log.string() + " 2>&1";
   const int raw = std::system(command.c_str());
   return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
 }
 
-TEST(RateFormRestart, IsBitwise) {
-  const fs::path dir = scratch("rate_form", "restart");
+/// Run `scene` with `sets` once to the end and once stopped after `stop` steps and restarted; the histories and
+/// every frame must be the same bytes.
+void expect_bitwise_restart(const std::string& name, const std::string& scene, const std::string& sets, int stop) {
+  const fs::path dir = scratch(name, "restart");
   const std::string one = (dir / "one").string(), two = (dir / "two").string();
-  ASSERT_EQ(run("--out " + one, dir / "log"), 0) << slurp(dir / "log");
-  ASSERT_EQ(run("--out " + two + " --stop-after 300", dir / "log"), 0) << slurp(dir / "log");
-  ASSERT_EQ(run("--out " + two + " --restart " + two + "/checkpoint.h5", dir / "log"), 0) << slurp(dir / "log");
+  ASSERT_EQ(run(scene, sets + " --out " + one, dir / "log"), 0) << slurp(dir / "log");
+  ASSERT_EQ(run(scene, sets + " --out " + two + " --stop-after " + std::to_string(stop), dir / "log"), 0)
+      << slurp(dir / "log");
+  ASSERT_EQ(run(scene, sets + " --out " + two + " --restart " + two + "/checkpoint.h5", dir / "log"), 0)
+      << slurp(dir / "log");
   const std::string history = slurp(fs::path(one) / "history.csv");
   EXPECT_GT(history.size(), 1000u);
   EXPECT_EQ(history, slurp(fs::path(two) / "history.csv"));
@@ -37,6 +40,19 @@ TEST(RateFormRestart, IsBitwise) {
     EXPECT_EQ(slurp(f.path()), slurp(fs::path(two) / f.path().filename())) << f.path();
   }
   fs::remove_all(dir);
+}
+
+TEST(RateFormRestart, IsBitwise) {
+  expect_bitwise_restart("rate_form", "examples/implicit/upsetting.toml",
+                         "--set simulation.integrator=cd --set simulation.end_time=5e-5", 300);
+}
+
+// APIC's affine matrices B_p travel in the checkpoint, in both engines (the colliding disks, quadratic B-splines).
+TEST(ApicRestart, IsBitwiseInBothEngines) {
+  const std::string apic = "--set simulation.transfer=apic --set simulation.kernel=bspline2 --set simulation.end_time=1";
+  expect_bitwise_restart("apic_explicit", "examples/colliding-disks/scene.toml", apic, 30);
+  expect_bitwise_restart("apic_implicit", "examples/colliding-disks/scene.toml",
+                         apic + " --set simulation.integrator=implicit", 10);
 }
 
 }  // namespace

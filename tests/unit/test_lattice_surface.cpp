@@ -26,7 +26,9 @@ TEST(LatticeSurface, ABoxShowsItsFacesAndItsCornersBothFaces) {
     total += a[i];
     if (p.X[i][0] > 1.7) right += a[i];
     if (!a[i].isZero(0)) ++surface;
-    if (p.X[i][0] < 0.3 && p.X[i][1] < 0.3) EXPECT_EQ(a[i], Vec<2>(-0.5, -0.5));
+    if (p.X[i][0] < 0.3 && p.X[i][1] < 0.3) {
+      EXPECT_EQ(a[i], Vec<2>(-0.5, -0.5));
+    }
   }
   EXPECT_EQ(surface, 10);
   EXPECT_EQ(total, Vec<2>::Zero());

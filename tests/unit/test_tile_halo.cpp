@@ -22,26 +22,15 @@
 #include "mpm/transfer/p2g.hpp"
 #include "mpm/transfer/scatter_order.hpp"
 
+#include "kernel_cases.hpp"
+
 namespace {
 
 using mpm::Real;
 using mpm::Vec;
 
-template <class K, int D>
-struct Case {
-  using Kernel = K;
-  static constexpr int dim = D;
-};
-using Cases = ::testing::Types<Case<mpm::LinearKernel, 2>, Case<mpm::LinearKernel, 3>, Case<mpm::GimpKernel, 2>,
-                               Case<mpm::GimpKernel, 3>, Case<mpm::QuadraticBSplineKernel, 2>,
-                               Case<mpm::QuadraticBSplineKernel, 3>, Case<mpm::CubicBSplineKernel, 2>,
-                               Case<mpm::CubicBSplineKernel, 3>>;
-struct CaseName {
-  template <class C>
-  static std::string GetName(int) {
-    return std::string(C::Kernel::name) + "_" + std::to_string(C::dim) + "d";
-  }
-};
+using Cases = mpm::testing::KernelCases2D3D;
+using CaseName = mpm::testing::KernelCaseName;
 template <class C>
 class TileHalo : public ::testing::Test {};
 TYPED_TEST_SUITE(TileHalo, Cases, CaseName);

@@ -28,6 +28,8 @@
 #include "mpm/transfer/p2g.hpp"
 #include "mpm/transfer/scatter_order.hpp"
 
+#include "kernel_cases.hpp"
+
 namespace {
 
 using mpm::Mat;
@@ -36,25 +38,8 @@ using mpm::Vec;
 constexpr Real kEps = std::numeric_limits<Real>::epsilon();
 constexpr int kParticles = 300;
 
-template <class K, int D>
-struct Case {
-  using Kernel = K;
-  static constexpr int dim = D;
-};
-
-using Cases =
-    ::testing::Types<Case<mpm::LinearKernel, 1>, Case<mpm::LinearKernel, 2>, Case<mpm::LinearKernel, 3>,
-                     Case<mpm::GimpKernel, 1>, Case<mpm::GimpKernel, 2>, Case<mpm::GimpKernel, 3>,
-                     Case<mpm::QuadraticBSplineKernel, 1>, Case<mpm::QuadraticBSplineKernel, 2>,
-                     Case<mpm::QuadraticBSplineKernel, 3>, Case<mpm::CubicBSplineKernel, 1>,
-                     Case<mpm::CubicBSplineKernel, 2>, Case<mpm::CubicBSplineKernel, 3>>;
-
-struct CaseName {
-  template <class C>
-  static std::string GetName(int) {
-    return std::string(C::Kernel::name) + "_" + std::to_string(C::dim) + "d";
-  }
-};
+using Cases = mpm::testing::KernelCases1D2D3D;
+using CaseName = mpm::testing::KernelCaseName;
 
 template <class C>
 class TransferTest : public ::testing::Test {};

@@ -46,7 +46,7 @@ Deposit collapse(const std::string& name, double a, const std::string& end_time,
   std::size_t last = 0;
   for (std::size_t k = 0; k < top.size(); ++k)
     if (top[k] > h) last = k;
-  return {((last + 1) * h - L0) / L0, (top[0] + s / 2) / L0};
+  return {(static_cast<double>(last + 1) * h - L0) / L0, (top[0] + s / 2) / L0};
 }
 
 TEST(ColumnCollapse, AShortColumnRunsOutAsTheExperimentsAndKeepsItsHeight) {

@@ -18,6 +18,7 @@
 #include "mpm/implicit/simulation.hpp"
 #include "mpm/scene/build.hpp"
 #include "mpm/scene/scene.hpp"
+#include "scene_simulation.hpp"
 #include "support.hpp"
 
 namespace {
@@ -60,16 +61,9 @@ double energy_after_a_period(const std::string& integrator, double flip_fraction
     return e;
   };
   double out = 0;
-  with_kernel(sc.kernel, [&]<class K>() {
-    if (sc.implicit) {
-      ImplicitSimulation<1, K> sim(make_implicit_spec<1>(sc), seed_bodies<1>(sc));
-      sim.run_until(sc.end_time);
-      out = energy(sim.particles());
-    } else {
-      Simulation<1, K> sim(make_spec<1>(sc), seed_bodies<1>(sc));
-      sim.run_until(sc.end_time);
-      out = energy(sim.particles());
-    }
+  mpm::testing::with_scene_simulation<1>(sc, [&](auto& sim) {
+    sim.run_until(sc.end_time);
+    out = energy(sim.particles());
   });
   return out;
 }

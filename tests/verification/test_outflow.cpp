@@ -12,6 +12,7 @@
 #include "mpm/implicit/simulation.hpp"
 #include "mpm/scene/build.hpp"
 #include "mpm/scene/scene.hpp"
+#include "scene_simulation.hpp"
 #include "support.hpp"
 
 namespace {
@@ -66,20 +67,11 @@ Account account(const Sim& sim) {
 /// The account at t = 0 and at the end time.
 std::pair<Account, Account> run(const Scene& sc) {
   std::pair<Account, Account> result;
-  with_kernel(sc.kernel, [&]<class K>() {
-    const auto go = [&](auto& sim) {
-      result.first = account(sim);
-      sim.run_until(sc.end_time);
-      sim.remove_outflow();
-      result.second = account(sim);
-    };
-    if (sc.implicit) {
-      ImplicitSimulation<2, K> sim(make_implicit_spec<2>(sc), seed_bodies<2>(sc));
-      go(sim);
-    } else {
-      Simulation<2, K> sim(make_spec<2>(sc), seed_bodies<2>(sc));
-      go(sim);
-    }
+  mpm::testing::with_scene_simulation<2>(sc, [&](auto& sim) {
+    result.first = account(sim);
+    sim.run_until(sc.end_time);
+    sim.remove_outflow();
+    result.second = account(sim);
   });
   return result;
 }

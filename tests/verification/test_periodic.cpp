@@ -13,6 +13,7 @@
 #include "mpm/implicit/simulation.hpp"
 #include "mpm/scene/build.hpp"
 #include "mpm/scene/scene.hpp"
+#include "scene_simulation.hpp"
 #include "support.hpp"
 
 namespace {
@@ -63,16 +64,9 @@ Final by_id(const mpm::ParticleSet<2>& p) {
 
 Final run(const Scene& sc) {
   Final out;
-  with_kernel(sc.kernel, [&]<class K>() {
-    if (sc.implicit) {
-      ImplicitSimulation<2, K> sim(make_implicit_spec<2>(sc), seed_bodies<2>(sc));
-      sim.run_until(sc.end_time);
-      out = by_id(sim.particles());
-    } else {
-      Simulation<2, K> sim(make_spec<2>(sc), seed_bodies<2>(sc));
-      sim.run_until(sc.end_time);
-      out = by_id(sim.particles());
-    }
+  mpm::testing::with_scene_simulation<2>(sc, [&](auto& sim) {
+    sim.run_until(sc.end_time);
+    out = by_id(sim.particles());
   });
   return out;
 }

@@ -12,6 +12,7 @@
 #include "mpm/implicit/simulation.hpp"
 #include "mpm/scene/build.hpp"
 #include "mpm/scene/scene.hpp"
+#include "scene_simulation.hpp"
 #include "support.hpp"
 
 namespace {
@@ -47,16 +48,9 @@ velocity = ["0.8 * (x - 0.5) - 0.5 * (y - 0.5)", "0.5 * (x - 0.5)"]
 /// The particle positions at the end of the scene.
 std::vector<Vec<2>> final_positions(const Scene& sc) {
   std::vector<Vec<2>> x;
-  with_kernel(sc.kernel, [&]<class K>() {
-    if (sc.implicit) {
-      ImplicitSimulation<2, K> sim(make_implicit_spec<2>(sc), seed_bodies<2>(sc));
-      sim.run_until(sc.end_time);
-      x = sim.particles().x;
-    } else {
-      Simulation<2, K> sim(make_spec<2>(sc), seed_bodies<2>(sc));
-      sim.run_until(sc.end_time);
-      x = sim.particles().x;
-    }
+  mpm::testing::with_scene_simulation<2>(sc, [&](auto& sim) {
+    sim.run_until(sc.end_time);
+    x = sim.particles().x;
   });
   return x;
 }

@@ -1,7 +1,7 @@
 """Log-log convergence plot for `mpm converge --plot`, in the style of Wallstedt & Guilkey 2008, Figs 3-7.
 
 Usage: python3 convergence.py ROWS.json OUT.png VARY TITLE
-ROWS.json is the list `mpm converge --json` prints; one line per (kernel, integrator) series.
+ROWS.json is the list `mpm converge --json` prints; one line per (kernel, integrator, transfer) series.
 """
 import json
 import sys
@@ -20,8 +20,9 @@ NAMES = {"cpgimp": "cpGIMP", "ugimp": "uGIMP", "linear": "MPM", "bspline2": "B2"
          "bspline2-clamped": "B2c", "bspline3-clamped": "B3c"}
 
 
-def label(kernel, integrator):
-    return f"{'UVF' if integrator == 'musl' else integrator.upper()}-{NAMES.get(kernel, kernel)}"
+def label(kernel, integrator, transfer):
+    name = f"{'UVF' if integrator == 'musl' else integrator.upper()}-{NAMES.get(kernel, kernel)}"
+    return name + ("-APIC" if transfer == "apic" else "")
 
 
 def main(rows_path, png_path, vary, title):
@@ -29,11 +30,11 @@ def main(rows_path, png_path, vary, title):
         rows = json.load(f)
     series = {}
     for r in rows:
-        series.setdefault((r["kernel"], r["integrator"]), []).append(r)
+        series.setdefault((r["kernel"], r["integrator"], r.get("transfer", "flip")), []).append(r)
     fig, ax = plt.subplots(figsize=(5.5, 4))
-    for (kernel, integrator), points in series.items():
+    for (kernel, integrator, transfer), points in series.items():
         xs = [1 / r["cells"] if vary == "cells" else r["cfl"] for r in points]
-        ax.loglog(xs, [r["linf"] for r in points], marker="o", label=label(kernel, integrator))
+        ax.loglog(xs, [r["linf"] for r in points], marker="o", label=label(kernel, integrator, transfer))
     ax.set_xlabel("cell size h / body extent" if vary == "cells" else "CFL number")
     ax.set_ylabel("L-infinity displacement error (1 = failed)")
     ax.set_title(title)

@@ -76,6 +76,10 @@ class Simulation {
   }
   /// Whether the particles carry a rate-form material state (ParticleSet::state): some material is rate-form.
   bool has_material_state() const { return neo_hookean_.empty(); }
+  /// The particles' APIC matrices for P2G (AffineMomentum), or none without APIC.
+  const std::vector<Mat<Dim>>* affine() const {
+    return spec_.transfer == Transfer::apic ? &particles_.B : nullptr;
+  }
   /// Locate the particles and store them in scatter order (by tile, then id), as every step leaves them.
   void settle();
   /// The power of gravity and the body force over the last step, sum_p m_p (g + b_p) . (v_p^n + v_p^{n+1}) / 2

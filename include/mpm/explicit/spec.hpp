@@ -49,6 +49,10 @@ inline int clamped_cells_needed(KernelKind k) {
 template <int Dim>
 void validate_clamped_cells(KernelKind k, const BoundarySpec<Dim>& spec, const IVec<Dim>& cells, const std::string& at);
 
+/// How particle velocities come from the grid: FLIP (blended with PIC by flip_fraction), or APIC (Jiang et al.
+/// 2015), which keeps an affine matrix B_p per particle and carries the particle's angular momentum both ways.
+enum class Transfer { flip, apic };
+
 /// Body acceleration b(X, t) as a function of reference position and time [m/s^2].
 template <int Dim>
 using BodyForceFn = std::function<Vec<Dim>(const Vec<Dim>& X, Real t)>;
@@ -79,6 +83,9 @@ struct SimulationSpec {
   /// Eq. (18)), 0 is PIC, which filters each velocity mode by the kernel's P2G-G2P round trip every step (it
   /// dissipates; docs/transfers.md).
   Real flip_fraction = 1;
+  /// APIC: v_p = sum_i S_ip v_i and B_p = sum_i S_ip v_i (x) (x_i - x_p) after the velocity update, P2G with
+  /// m_p (v_p + B_p D_p^-1 (x_i - x_p)) (transfer/g2p.hpp, p2g.hpp; docs/transfers.md). flip_fraction stays 1.
+  Transfer transfer = Transfer::flip;
   BodyForceFn<Dim> body_force;          ///< optional b(X, t), evaluated at the start of each step
   /// Pressures and tractions on the surfaces of bodies, carried by their surface particles as body forces.
   SurfaceLoads<Dim> surface_loads;

@@ -127,13 +127,21 @@ class ImplicitSimulation {
   bool try_step(Real dt);
   void project(Real dt);
   void build_dofs(Real t_new);
-  void scatter_momentum(const std::vector<Vec<Dim>>& v_p);  ///< sum_p N_i m_p v_p into GridNode::v_new
+  /// sum_p N_i m_p v_p into GridNode::v_new, with APIC's affine part (AffineMomentum) when the run has one
+  void scatter_momentum(const std::vector<Vec<Dim>>& v_p);
+  /// The particles' APIC matrices for P2G, or none without APIC.
+  const std::vector<Mat<Dim>>* affine() const {
+    return spec_.transfer == Transfer::apic ? &particles_.B : nullptr;
+  }
   void scatter_force(const std::vector<SymTensor<3>>& sigma, std::vector<Vec<Dim>>& f);
   void add_body_force(Real dt);
   /// G2P of a node vector field over the nodes that carry mass: out_p = sum_i N_i(x_p) value(node_i, i), with
   /// the value taken as zero at nodes of mass min_node_mass_ or less. Uses GridNode::a as scratch.
   template <class Value>
   void gather_over_active_nodes(Value value, std::vector<Vec<Dim>>& out);
+  /// GridNode::a = value(node, n) on the nodes that carry mass, zero on the others.
+  template <class Value>
+  void put_on_active_nodes(Value value);
   void node_velocity_from(const Eigen::VectorXd& x);
   /// The consistent mass matrix (implicit.mass = "consistent"): u <- M u on the node field u, the projection of
   /// v^k with it, and the residual's inertia term M (v^L - v^k) into mass_dv_.
@@ -171,6 +179,7 @@ class ImplicitSimulation {
   std::vector<Vec<Dim>> momentum_velocity_;  // momentum formulation: P_i^L / m_i
   std::vector<Vec<Dim>> dv_, v_move_;  // per particle: sum_i N_i (v_i^L - v_i^k), and the velocity that moves it
   std::vector<Vec<Dim>> pic_velocity_;  // flip_fraction < 1, moved by the re-projected velocity: sum_i N_i P_i^L / m_i
+  std::vector<Mat<Dim>> affine_;        // APIC: the step's B_p, kept until the step is accepted
   std::vector<Vec<Dim>> mass_dv_, u_p_;  // consistent mass: M (v^L - v^k) per node; a node field at the particles
   // Unknowns: free (node, component) pairs; constrained ones with their value and owner (face group or rigid body).
   std::vector<std::int32_t> dof_node_;

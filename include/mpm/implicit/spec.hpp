@@ -55,6 +55,9 @@ struct ImplicitSpec {
   /// formulation's update (Sulsky & Kaul 2004, Eq. (2.3.3) or Eq. (3.2.6)) plus 1 - alpha times sum_i S_ip v_i.
   /// 1 is the papers' update; see SimulationSpec::flip_fraction.
   Real flip_fraction = 1;
+  /// APIC at the end of a step: v_p = sum_i S_ip v_i, B_p = sum_i S_ip v_i (x) (x_i - x_p) of the step's velocity
+  /// field, and the next step's P2G carries B_p; see SimulationSpec::transfer.
+  Transfer transfer = Transfer::flip;
   numerics::NewtonSettings newton;
   /// Precondition the Krylov solves with a sparse LU factorisation of the Jacobian, assembled by coloured
   /// forward differences and reused while the unknowns, the step and the Krylov counts stay the same (not in

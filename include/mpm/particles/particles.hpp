@@ -32,6 +32,9 @@ struct ParticleSet {
   /// State of the rate-form materials (sized by the engine when a rate-form material is present). Its sigma is
   /// then every particle's stress, the one P2G reads; sigma above is kept for the Neo-Hookean particles only.
   MaterialState state;
+  /// APIC's affine matrix B_p [m^2/s] (Jiang et al. 2015; transfer/g2p.hpp's g2p_affine); empty unless the run
+  /// transfers with APIC.
+  std::vector<Mat<Dim>> B;
 
   std::size_t size() const { return x.size(); }
 
@@ -64,10 +67,16 @@ struct ParticleSet {
     id.reserve(n);
   }
 
-  /// Call fn(array) for every per-particle array, the material state's included (some may be empty).
+  /// Call fn(array) for every per-particle array, the material state's and APIC's included (some may be empty).
   template <class Fn>
   void for_each_array(Fn&& fn) {
     for_each_field(fn);
+    for_each_state_array(fn);
+    fn(B);
+  }
+  /// Call fn(array) for every array of the material state.
+  template <class Fn>
+  void for_each_state_array(Fn&& fn) {
     fn(state.sigma), fn(state.eps_bar), fn(state.temperature), fn(state.energy), fn(state.stretch3);
   }
   /// Call fn(array) for every per-particle array but the material state's.

@@ -118,6 +118,7 @@ struct Scene {
   bool reproject_light_nodes = true;  ///< light_nodes = "reproject" (see SimulationSpec::reproject_light_nodes)
   double local_damping = 0;           ///< SimulationSpec::local_damping
   double flip_fraction = 1;           ///< [simulation] transfer = "flip": SimulationSpec::flip_fraction
+  Transfer transfer = Transfer::flip;  ///< [simulation] transfer: SimulationSpec::transfer
 
   // [output]
   double output_every = 0;  ///< simulated time between particle outputs; 0: first and last only

@@ -38,15 +38,17 @@ struct ParticleFault {
 
 /// What a G2P pass gathers at each particle from the nodes of its stencil.
 struct Sums {
-  bool acceleration;  ///< sum_i S_ip a_i
-  bool velocity;      ///< sum_i S_ip v_i, v a chosen node velocity field
-  bool gradient;      ///< grad v_p = sum_i v_i (x) grad S_ip
+  bool acceleration;   ///< sum_i S_ip a_i
+  bool velocity;       ///< sum_i S_ip v_i, v a chosen node velocity field
+  bool gradient;       ///< grad v_p = sum_i v_i (x) grad S_ip
+  bool affine = false;  ///< APIC's B_p = sum_i S_ip v_i (x) (x_i - x_p) (Jiang et al. 2015)
 };
 
-/// A block's gathered sums in lanes (zero where not gathered); grad_v[a][c] = d v_a / d x_c.
+/// A block's gathered sums in lanes (zero where not gathered); grad_v[a][c] = d v_a / d x_c, B[a][c] the (a, c)
+/// entry of B_p.
 template <int Dim>
 struct GatheredLanes {
-  RealLanes a[Dim] = {}, v[Dim] = {}, grad_v[Dim][Dim] = {};
+  RealLanes a[Dim] = {}, v[Dim] = {}, grad_v[Dim][Dim] = {}, B[Dim][Dim] = {};
 };
 
 /// G2P: for the particles of `range` in blocks of simd::lanes (in parallel), gather `what` from the nodes of their
@@ -58,21 +60,28 @@ void g2p_gather(const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<Di
   const auto& nodes = grid.nodes;
   parallel_for(LaneBlock::count(range), [&](std::ptrdiff_t b) {
     const LaneBlock block(b, range);
-    const LaneStencil<Dim, Kernel> s(stencils, block, layout.inv_h);
+    LaneStencil<Dim, Kernel> s(stencils, block, layout.inv_h);
+    if constexpr (what.affine) s.locate_nodes(grid.geometry.h);
     GatheredLanes<Dim> sum;
-    for_each_node(s, layout, [&](std::int32_t offset, const RealLanes& S_ip, const RealLanes(&dS_ip)[Dim]) {
-      for (int c = 0; c < Dim; ++c) {
-        if constexpr (what.acceleration)
-          sum.a[c] += S_ip * s.gather(nodes, offset, [&](const GridNode<Dim>& node) -> const Real& { return node.a[c]; });
-        if constexpr (what.velocity || what.gradient) {
-          const RealLanes v_i =
-              s.gather(nodes, offset, [&](const GridNode<Dim>& node) -> const Real& { return (node.*v_grid)[c]; });
-          if constexpr (what.velocity) sum.v[c] += S_ip * v_i;
-          if constexpr (what.gradient)
-            for (int e = 0; e < Dim; ++e) sum.grad_v[c][e] += dS_ip[e] * v_i;
-        }
-      }
-    });
+    for_each_node<what.affine ? NodeMoment::offset : NodeMoment::none>(
+        s, layout, [&](std::int32_t offset, const RealLanes& S_ip, const RealLanes(&dS_ip)[Dim], const auto&... Sx_ip) {
+          for (int c = 0; c < Dim; ++c) {
+            if constexpr (what.acceleration)
+              sum.a[c] +=
+                  S_ip * s.gather(nodes, offset, [&](const GridNode<Dim>& node) -> const Real& { return node.a[c]; });
+            if constexpr (what.velocity || what.gradient || what.affine) {
+              const RealLanes v_i =
+                  s.gather(nodes, offset, [&](const GridNode<Dim>& node) -> const Real& { return (node.*v_grid)[c]; });
+              if constexpr (what.velocity) sum.v[c] += S_ip * v_i;
+              if constexpr (what.gradient)
+                for (int e = 0; e < Dim; ++e) sum.grad_v[c][e] += dS_ip[e] * v_i;
+              if constexpr (what.affine) {
+                const auto& Sx = [](const auto& moment) -> const auto& { return moment; }(Sx_ip...);
+                for (int e = 0; e < Dim; ++e) sum.B[c][e] += v_i * Sx[e];
+              }
+            }
+          }
+        });
     use(block, sum);
   }, 1024 / LaneBlock::width);  // a chunk of about 1024 particles
 }
@@ -88,6 +97,27 @@ void g2p_interpolate(const std::vector<Stencil<Dim, Kernel>>& stencils, const Gr
         RecordLanes<Vec<Dim>> v;
         for (int d = 0; d < Dim; ++d) v[d] = sum.v[d];
         block.store(out, v);
+      });
+}
+
+/// APIC's G2P of one node velocity field (Jiang et al. 2015): v_p = sum_i S_ip v_i into `v` and
+/// B_p = sum_i S_ip v_i (x) (x_i - x_p) into `B`, for the particles of `range` (all by default).
+template <int Dim, class Kernel>
+void g2p_affine(const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<Dim>& grid, NodeVelocity<Dim> field,
+                std::vector<Vec<Dim>>& v, std::vector<Mat<Dim>>& B, std::optional<ParticleRange> range = {}) {
+  v.resize(stencils.size());
+  B.resize(stencils.size());
+  g2p_gather<Sums{.acceleration = false, .velocity = true, .gradient = false, .affine = true}>(
+      stencils, grid, field, range.value_or(ParticleRange{0, static_cast<std::ptrdiff_t>(stencils.size())}),
+      [&](const LaneBlock& block, const GatheredLanes<Dim>& sum) {
+        RecordLanes<Vec<Dim>> v_p;
+        RecordLanes<Mat<Dim>> B_p;
+        for (int c = 0; c < Dim; ++c) {
+          v_p[c] = sum.v[c];
+          for (int e = 0; e < Dim; ++e) B_p[c + e * Dim] = sum.B[c][e];
+        }
+        block.store(v, v_p);
+        block.store(B, B_p);
       });
 }
 

@@ -39,6 +39,43 @@ struct Momentum {
   }
 };
 
+/// APIC's mass and momentum (Jiang et al. 2015): m_p S_ip and m_p S_ip (v_p + B_p D_p^-1 (x_i - x_p)) into the node
+/// field at `slot`, B_p the particle's affine matrix (g2p_affine) and D_p its inertia tensor at its current position
+/// (LaneStencil::locate_nodes). It carries the particle's angular momentum m_p (x_p x v_p + eps : B_p^T) to the
+/// grid; with B_p = 0 it is Momentum.
+template <int Dim, int slot = NodeSlots<Dim>::v, bool with_mass = true>
+struct AffineMomentum {
+  static constexpr bool affine = true;  ///< its add takes S_ip D_p^-1 (x_i - x_p) (NodeMoment::affine)
+  const std::vector<Real>& m;
+  const std::vector<Vec<Dim>>& v;
+  const std::vector<Mat<Dim>>& B;
+
+  [[gnu::always_inline]] auto operator()(const LaneBlock& block) const {
+    const RealLanes m_p = block.load(m)[0];
+    const RecordLanes<Vec<Dim>> v_p = block.load(v);
+    const RecordLanes<Mat<Dim>> B_p = block.load(B);  // column-major: B(c, d) is Real c + d Dim
+    std::array<RealLanes, Dim> mv_p;
+    std::array<std::array<RealLanes, Dim>, Dim> mB_p;
+    for (int c = 0; c < Dim; ++c) {
+      mv_p[c] = m_p * v_p[c];
+      for (int d = 0; d < Dim; ++d) mB_p[c][d] = m_p * B_p[c + d * Dim];
+    }
+    return [m_p, mv_p, mB_p](auto& record, const RealLanes& S_ip, const RealLanes(&)[Dim], const RealLanes(&Sq_ip)[Dim])
+               __attribute__((always_inline)) {
+      if constexpr (with_mass) record[NodeSlots<Dim>::m] += S_ip * m_p;
+      for (int c = 0; c < Dim; ++c) {
+        RealLanes p = S_ip * mv_p[c];
+        for (int d = 0; d < Dim; ++d) p += mB_p[c][d] * Sq_ip[d];
+        record[slot + c] += p;
+      }
+    };
+  }
+};
+
+/// Whether a P2G contribution's add takes APIC's moment S_ip D_p^-1 (x_i - x_p).
+template <class Contribution>
+inline constexpr bool takes_affine_moment = requires { Contribution::affine; };
+
 /// Internal force f_i = -sum_p grad S_ip . sigma_p V_p (Wallstedt & Guilkey 2008, Eq. (14); Sulsky & Kaul 2004,
 /// Eq. (2.2.10)) into the force slot. `Stress` is SymTensor<Dim>, or SymTensor<3> of which the in-plane part acts;
 /// when `state` is set, its 3 x 3 stresses (a rate-form material state's) are read instead of `sigma`.
@@ -131,22 +168,30 @@ void p2g_add_keeping(const Keep& keep, const std::vector<Stencil<Dim, Kernel>>& 
   // The footprint buffer's strides: Lanes::footprint records per axis.
   NodeLayout<Dim> layout(grid.geometry);
   for (int d = 0, stride = 1; d < Dim; ++d, stride *= Lanes::footprint) layout.stride[d] = stride;
+  constexpr bool affine = (takes_affine_moment<Contributions> || ...);
   order.template scatter<LaneBlock::width>(grid, [&](Real* buffer, const std::int32_t* particles, int count) {
     const LaneBlock block(particles, count);
-    const Lanes s(stencils, block, layout.inv_h);
+    Lanes s(stencils, block, layout.inv_h);
+    if constexpr (affine) s.locate_nodes(grid.geometry.h);
     const auto add = std::make_tuple(contributions(block)...);
     std::array<std::array<RealLanes, R>, stencil_nodes> records;
     std::array<std::int32_t, stencil_nodes> offsets;
     int o = 0;
-    for_each_node(s, layout,
-                  [&](std::int32_t offset, const RealLanes& S_ip, const RealLanes(&dS_ip)[Dim]) __attribute__((always_inline)) {
-                    std::array<RealLanes, R>& record = records[o];
-                    record = {};  // the slots no contribution adds to add zero
-                    offsets[o++] = offset;
-                    std::apply([&](const auto&... add_one) __attribute__((always_inline)) {
-                      (add_one(record, S_ip, dS_ip), ...);
-                    }, add);
-                  });
+    for_each_node<affine ? NodeMoment::affine : NodeMoment::none>(
+        s, layout,
+        [&](std::int32_t offset, const RealLanes& S_ip, const RealLanes(&dS_ip)[Dim], const auto&... Sq_ip)
+            __attribute__((always_inline)) {
+          std::array<RealLanes, R>& record = records[o];
+          record = {};  // the slots no contribution adds to add zero
+          offsets[o++] = offset;
+          const auto add_to = [&](const auto& add_one) __attribute__((always_inline)) {
+            if constexpr (requires { add_one(record, S_ip, dS_ip, Sq_ip...); })
+              add_one(record, S_ip, dS_ip, Sq_ip...);
+            else
+              add_one(record, S_ip, dS_ip);
+          };
+          std::apply([&](const auto&... add_one) __attribute__((always_inline)) { (add_to(add_one), ...); }, add);
+        });
     simd::add_stencil_records<R>(buffer, s.slot, offsets, records, block.active);
   }, keep, field);
 }
@@ -175,11 +220,13 @@ struct Scatter {
 /// momentum (Wallstedt & Guilkey 2008, Eq. (8), Eq. (9)) with, for contact, the volume gradient, and the internal
 /// force plus, when per-particle body accelerations are given, the body force (Wallstedt & Guilkey 2008,
 /// Eq. (14), Eq. (15)). Each tile's sums are shown to keep (p2g_add_keeping). The stress is p.sigma, or with
-/// `state_stress` the 3 x 3 stress of the material state (the engine's when it keeps one).
+/// `state_stress` the 3 x 3 stress of the material state (the engine's when it keeps one). With `affine`, the
+/// particles' APIC matrices B_p, the momentum is APIC's (AffineMomentum).
 template <Scatter what, int Dim, class Kernel, class Keep = KeepNothing>
 void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils,
          const ScatterOrder<Dim>& order, const std::vector<Vec<Dim>>& body_accel, Grid<Dim>& grid,
-         const Keep& keep = {}, int field = 0, bool state_stress = false) {
+         const Keep& keep = {}, int field = 0, bool state_stress = false,
+         const std::vector<Mat<Dim>>* affine = nullptr) {
   static_assert(!what.volume_gradient || what.mass_momentum, "the volume gradient comes with the mass");
   parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) {
     GridNode<Dim>& node = grid.nodes[n];
@@ -194,7 +241,6 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
     if constexpr (what.volume_gradient) node.v_new.setZero();
     if constexpr (what.force) node.a.setZero();
   });
-  const Momentum<Dim> momentum{p.m, p.v};
   const InternalForce<Dim, SymTensor<Dim>> internal{p.V, p.sigma, state_stress ? &p.state.sigma : nullptr};
   const bool body = what.force && !body_accel.empty();
   const auto add = [&](const auto&... contributions) {
@@ -206,13 +252,19 @@ void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& ste
     else
       add(contributions...);
   };
+  const auto with_momentum = [&](const auto&... contributions) {
+    if (affine)
+      with_gradient(AffineMomentum<Dim>{p.m, p.v, *affine}, contributions...);
+    else
+      with_gradient(Momentum<Dim>{p.m, p.v}, contributions...);
+  };
   if constexpr (what.mass_momentum && what.force) {
     if (body)
-      with_gradient(momentum, internal, BodyForce<Dim>{p.m, body_accel});
+      with_momentum(internal, BodyForce<Dim>{p.m, body_accel});
     else
-      with_gradient(momentum, internal);
+      with_momentum(internal);
   } else if constexpr (what.mass_momentum) {
-    with_gradient(momentum);
+    with_momentum();
   } else if (body) {
     add(internal, BodyForce<Dim>{p.m, body_accel});
   } else {

@@ -38,6 +38,7 @@ enum class HalfStepStart {
 struct VerifyOptions {
   int dim = 0;  ///< 0: the case's own (axis-aligned: 2, or 3 when asked)
   KernelKind kernel = KernelKind::cpgimp;
+  Transfer transfer = Transfer::flip;  ///< the particle velocity update: FLIP, or APIC (Jiang et al. 2015)
   Integrator integrator = Integrator::cd;  ///< the explicit integrator, unless `implicit`
   /// The implicit integrator of Sulsky & Kaul 2004: theta-blended steps of the explicit
   /// CFL step, solved by Newton-GMRES to a residual of 1e-10 (linear tolerance 1e-6), far below the errors.
