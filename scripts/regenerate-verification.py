@@ -27,6 +27,8 @@ LINEAR_MPM = [("linear", "usf"), ("linear", "usl")]
 # APIC (docs/transfers.md) beside FLIP: (kernel, integrator, transfer).
 APIC = [("cpgimp", "usl", "flip"), ("cpgimp", "usl", "apic"), ("cpgimp", "cd", "flip"), ("cpgimp", "cd", "apic"),
         ("bspline2", "cd", "flip"), ("bspline2", "cd", "apic"), ("bspline3", "cd", "flip"), ("bspline3", "cd", "apic")]
+# CPDI (docs/kernels.md) beside GIMP: (kernel, integrator).
+CPDI = [("cpgimp", "cd"), ("ugimp", "cd"), ("cpdi", "cd"), ("cpdi", "usl")]
 # The paper's CFL number: dt = CFL h / c with c^2 = E / rho0, the wave speed of its manufactured solutions.
 PAPER_CFL = ["--cfl-speed", "reference"]
 
@@ -44,7 +46,7 @@ def converge(mpm, case, vary, values, extra, title, png, series_list):
 
 
 def label(kernel, integrator, transfer):
-    names = {"cpgimp": "cpGIMP", "ugimp": "uGIMP", "linear": "MPM", "bspline2": "B2", "bspline3": "B3"}
+    names = {"cpgimp": "cpGIMP", "ugimp": "uGIMP", "linear": "MPM", "bspline2": "B2", "bspline3": "B3", "cpdi": "CPDI"}
     name = f"{'UVF' if integrator == 'musl' else integrator.upper()}-{names[kernel]}"
     return name + ("-APIC" if transfer == "apic" else "")
 
@@ -132,6 +134,15 @@ def main():
          "Axis-aligned: APIC against FLIP (issue 20, docs/transfers.md)", "axis_aligned_cells_apic.png"),
         ("expanding-ring", "cells", cells[:4], ["--cfl", "0.4"] + PAPER_CFL, APIC,
          "Expanding ring: APIC against FLIP (issue 20, docs/transfers.md)", "ring_cells_apic.png"),
+        ("axis-aligned", "cells", cells[:4], ["--cfl", "0.4"] + PAPER_CFL, CPDI,
+         "Axis-aligned: CPDI against GIMP (issue 20, docs/kernels.md)", "axis_aligned_cells_cpdi.png"),
+        ("expanding-ring", "cells", cells[:4], ["--cfl", "0.4"] + PAPER_CFL, CPDI,
+         "Expanding ring: CPDI against GIMP (issue 20, docs/kernels.md)", "ring_cells_cpdi.png"),
+        ("shear-wave", "cells", cells[:4], ["--cfl", "0.4", "--amplitude", "0.1"], CPDI,
+         "Diagonal shear wave, A = 0.1 (largest shear 0.89): CPDI against GIMP", "shear_wave_cells.png"),
+        ("shear-wave", "cells", cells[:4], ["--cfl", "0.4", "--amplitude", "0.3"], CPDI[1:],
+         "Diagonal shear wave, A = 0.3 (largest shear 2.67, cpGIMP cannot start): CPDI against uGIMP",
+         "shear_wave_large_cells.png"),
     ]
     sections = []
     for case, vary, values, fixed, series, title, file in studies:

@@ -55,9 +55,9 @@ struct CaseOptions {
   bool json = false;
 
   void add_to(CLI::App* cmd) {
-    cmd->add_option("case", case_name, "axis-aligned, bar-1d or expanding-ring")->required();
+    cmd->add_option("case", case_name, "axis-aligned, bar-1d, expanding-ring or shear-wave")->required();
     cmd->add_option("--dim", options.dim, "dimension (axis-aligned: 2 or 3)");
-    cmd->add_option("--kernel", kernel, "linear, ugimp, cpgimp, bspline2, bspline3, bspline2-clamped or bspline3-clamped");
+    cmd->add_option("--kernel", kernel, "linear, ugimp, cpgimp, bspline2, bspline3, bspline2-clamped, bspline3-clamped, cpdi, ugimp-wide or cpgimp-wide");
     cmd->add_option("--transfer", transfer, "particle velocity update: flip or apic");
     cmd->add_option("--integrator", integrator, "usf, usl, cd, musl or implicit");
     cmd->add_option("--theta", options.theta, "implicit blend in [0, 1] (1: backward Euler, 0.5: midpoint)");
@@ -73,7 +73,7 @@ struct CaseOptions {
                     "acceleration on the symmetry planes' nodes: zero or velocity-difference (Steffen et al. 2008, "
                     "Eq. 30)");
     cmd->add_option("--amplitude", options.amplitude, "displacement amplitude A");
-    cmd->add_option("--nu", options.poisson, "Poisson's ratio of the axis-aligned case in [0, 0.5) (default 0.3)");
+    cmd->add_option("--nu", options.poisson, "Poisson's ratio of the axis-aligned and shear-wave cases in [0, 0.5) (default 0.3)");
     cmd->add_option("--end-time", options.end_time, "end time (default: one period)");
     cmd->add_option("--threads", threads, "threads (0: all cores)")->check(CLI::NonNegativeNumber);
     cmd->add_flag("--json", json, "print JSON");

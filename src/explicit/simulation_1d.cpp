@@ -3,6 +3,8 @@
 namespace mpm {
 template class Simulation<1, LinearKernel>;
 template class Simulation<1, GimpKernel>;
+template class Simulation<1, WideGimpKernel>;
 template class Simulation<1, QuadraticBSplineKernel>;
 template class Simulation<1, CubicBSplineKernel>;
+template class Simulation<1, CpdiKernel<1>>;
 }  // namespace mpm

@@ -3,6 +3,8 @@
 namespace mpm {
 template class Simulation<2, LinearKernel>;
 template class Simulation<2, GimpKernel>;
+template class Simulation<2, WideGimpKernel>;
 template class Simulation<2, QuadraticBSplineKernel>;
 template class Simulation<2, CubicBSplineKernel>;
+template class Simulation<2, CpdiKernel<2>>;
 }  // namespace mpm

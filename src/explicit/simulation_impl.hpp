@@ -69,7 +69,7 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
       halo_(grid_.geometry),
       constraints_(spec.boundary, grid_.geometry, box_halo_.owned_layers()),
       rigid_(spec.rigid_bodies, grid_.geometry),
-      sizes_(spec.kernel == KernelKind::cpgimp ? SizeUpdate::deformed : SizeUpdate::fixed),
+      sizes_(deforms_half_lengths(spec.kernel) ? SizeUpdate::deformed : SizeUpdate::fixed),
       neo_hookean_(neo_hookean_only(spec.materials)),
       drucker_prager_(drucker_prager_rows(spec.materials)),
       axisymmetric_(Dim == 2 && spec.geometry == Geometry::axisymmetric),
@@ -103,10 +103,7 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
       p.m[i] *= p.X[i][0];  // per radian: m_p = rho r_p A_p
       p.V0[i] *= p.X[i][0];
     }
-    if (spec.kernel == KernelKind::ugimp || spec.kernel == KernelKind::cpgimp)
-      for (int d = 0; d < Dim; ++d)
-        if (!(p.l[i][d] > 0 && p.l[i][d] <= 0.5 * g.h))
-          throw InputError(at + ": GIMP half-length " + std::to_string(p.l[i][d]) + " must lie in (0, h/2]");
+    validate_half_lengths<Dim>(spec.kernel, p.l[i], g.h, at);
     const Real J = p.F[i].determinant();
     p.V[i] = p.V0[i] * J;
     if (!(J > 0)) throw InputError(at + ": deformation gradient must have det F > 0");

@@ -20,9 +20,9 @@ template <int Dim, class Kernel>
 IVec<Dim> base_layer(const GridGeometry<Dim>& whole, const Vec<Dim>& x, const Vec<Dim>& l) {
   const Real inv_h = 1 / whole.h;
   IVec<Dim> s;
-  typename Kernel::Axis axis;
+  typename BoxKernel<Kernel>::Axis axis;
   for (int d = 0; d < Dim; ++d)
-    s[d] = locate_axis<Kernel>(whole, d, (x[d] - whole.lo[d]) * inv_h, l[d] * inv_h, axis) + whole.ghost;
+    s[d] = locate_axis<BoxKernel<Kernel>>(whole, d, (x[d] - whole.lo[d]) * inv_h, l[d] * inv_h, axis) + whole.ghost;
   return s;
 }
 
@@ -157,7 +157,7 @@ void Simulation<Dim, Kernel>::migrate() {
   stencils_.resize(particles_.size());
   tile_.resize(particles_.size());
   for (std::size_t i = first; i < particles_.size(); ++i) {
-    stencils_[i] = make_stencil<Dim, Kernel>(grid_.geometry, layout, particles_.x[i], particles_.l[i]);
+    stencils_[i] = make_stencil<Dim, Kernel>(grid_.geometry, layout, particles_.x[i], domain_of<Dim, Kernel>(particles_, i));
     tile_[i] = stencils_[i].tile_slot >> GridGeometry<Dim>::slot_bits;
   }
 }

@@ -176,7 +176,7 @@ std::string Simulation<Dim, Kernel>::failure_message(std::size_t i, Real dt) con
   else if (!p.state.empty() && !p.state.sigma[i].full().allFinite())
     cause = "non-finite stress from the material update";
   else
-    cause = "cpGIMP half-lengths " + detail::format<Dim>(p.l[i]) + " left (0, h/2] (deformation too large)";
+    cause = "cpGIMP half-lengths " + detail::format<Dim>(p.l[i]) + " left " + half_length_bound(spec_.kernel);
   std::ostringstream os;
   os.precision(9);
   os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << p.id[i] << ": " << cause;

@@ -10,8 +10,9 @@ namespace mpm {
 
 namespace {
 constexpr std::array<std::string_view, 4> integrator_names{"usf", "usl", "cd", "musl"};
-constexpr std::array<std::string_view, 7> kernel_names{"linear",   "ugimp",           "cpgimp",          "bspline2",
-                                                       "bspline3", "bspline2-clamped", "bspline3-clamped"};
+constexpr std::array<std::string_view, 10> kernel_names{
+    "linear", "ugimp", "cpgimp", "bspline2", "bspline3", "bspline2-clamped", "bspline3-clamped", "cpdi", "ugimp-wide",
+    "cpgimp-wide"};
 
 template <class Names>
 std::string join(const Names& names) {
@@ -45,6 +46,24 @@ std::string_view to_string(Integrator i) {
 std::string_view to_string(KernelKind k) {
   return kernel_names[static_cast<std::size_t>(k)];
 }
+
+std::string half_length_bound(KernelKind k) {
+  if (max_half_length(k) < 1)
+    return "(0, h/2] (kernel = \"" + std::string(to_string(k)) + "-wide\" takes half-lengths up to h, kernel = \"cpdi\" "
+           "follows any deformation)";
+  return "(0, h] (kernel = \"cpdi\" follows any deformation)";
+}
+
+template <int Dim>
+void validate_half_lengths(KernelKind k, const Vec<Dim>& l, Real h, const std::string& at) {
+  if (!is_gimp(k)) return;
+  for (int d = 0; d < Dim; ++d)
+    require(l[d] > 0 && l[d] <= max_half_length(k) * h,
+            at + ": GIMP half-length " + std::to_string(l[d]) + " must lie in " + half_length_bound(k));
+}
+template void validate_half_lengths<1>(KernelKind, const Vec<1>&, Real, const std::string&);
+template void validate_half_lengths<2>(KernelKind, const Vec<2>&, Real, const std::string&);
+template void validate_half_lengths<3>(KernelKind, const Vec<3>&, Real, const std::string&);
 
 template <int Dim>
 void validate_clamped_cells(KernelKind k, const BoundarySpec<Dim>& spec, const IVec<Dim>& cells, const std::string& at) {

@@ -4,6 +4,8 @@
 namespace mpm {
 template class ImplicitSimulation<1, LinearKernel>;
 template class ImplicitSimulation<1, GimpKernel>;
+template class ImplicitSimulation<1, WideGimpKernel>;
 template class ImplicitSimulation<1, QuadraticBSplineKernel>;
 template class ImplicitSimulation<1, CubicBSplineKernel>;
+template class ImplicitSimulation<1, CpdiKernel<1>>;
 }  // namespace mpm

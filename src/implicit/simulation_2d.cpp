@@ -4,6 +4,8 @@
 namespace mpm {
 template class ImplicitSimulation<2, LinearKernel>;
 template class ImplicitSimulation<2, GimpKernel>;
+template class ImplicitSimulation<2, WideGimpKernel>;
 template class ImplicitSimulation<2, QuadraticBSplineKernel>;
 template class ImplicitSimulation<2, CubicBSplineKernel>;
+template class ImplicitSimulation<2, CpdiKernel<2>>;
 }  // namespace mpm

@@ -4,6 +4,8 @@
 namespace mpm {
 template class ImplicitSimulation<3, LinearKernel>;
 template class ImplicitSimulation<3, GimpKernel>;
+template class ImplicitSimulation<3, WideGimpKernel>;
 template class ImplicitSimulation<3, QuadraticBSplineKernel>;
 template class ImplicitSimulation<3, CubicBSplineKernel>;
+template class ImplicitSimulation<3, CpdiKernel<3>>;
 }  // namespace mpm

@@ -68,6 +68,7 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
     const Material& material = spec_.materials[p.material[i]];
     if (is_rate_form(material) && !(p.F[i] - Mat<Dim>::Identity()).isZero(0))
       throw InputError(at + ": the rate-form materials start undeformed (F = I)");
+    validate_half_lengths<Dim>(spec_.kernel, p.l[i], g.h, at);
     const Real J = p.F[i].determinant();
     if (!(J > 0)) throw InputError(at + ": deformation gradient must have det F > 0");
     if (axisymmetric) {
@@ -268,7 +269,7 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
   ParticleSet<Dim>& p = particles_;
   const bool momentum = spec_.formulation == Formulation::momentum;
   const bool with_momentum = momentum && !spec_.move_with_projected_velocity;
-  const bool deformed_sizes = spec_.kernel == KernelKind::cpgimp;
+  const bool deformed_sizes = deforms_half_lengths(spec_.kernel);
   const bool axisymmetric = Dim == 2 && spec_.geometry == Geometry::axisymmetric;
   trial_.x.resize(p.size());
   if (!momentum) trial_.v.resize(p.size());
@@ -294,13 +295,23 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
     trial_.x[i] = grid_.geometry.onto_walls(grid_.geometry.wrap(p.x[i] + dt * v_move_[i]));
     if (!momentum) trial_.v[i] = p.v[i] + dv_[i];  // Sulsky & Kaul 2004, Eq. (2.3.3); else Eq. (3.2.6)
   });
-  for (std::size_t i = 0; i < p.size(); ++i)
-    if (!grid_.geometry.contains(trial_.x[i]) && !grid_.geometry.beyond_outflow(trial_.x[i])) {
-      std::ostringstream os;
-      os.precision(9);
-      os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << i << " would leave the grid";
-      throw SimulationFailure(os.str());
+  const auto fail = [&](std::size_t i, const std::string& cause) {
+    std::ostringstream os;
+    os.precision(9);
+    os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << i << " " << cause;
+    throw SimulationFailure(os.str());
+  };
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!grid_.geometry.contains(trial_.x[i]) && !grid_.geometry.beyond_outflow(trial_.x[i]))
+      fail(i, "would leave the grid");
+    if (deformed_sizes) {  // the half-lengths l_p0 diag(F) the GIMP stencil holds
+      const Mat<Dim> F = (Mat<Dim>::Identity() + dt * trial_.grad_v[i]) * p.F[i];
+      for (int d = 0; d < Dim; ++d)
+        if (!(p.l0[i][d] * F(d, d) > 0 && p.l0[i][d] * F(d, d) <= max_half_length(spec_.kernel) * grid_.geometry.h))
+          fail(i, "would take its cpGIMP half-length " + std::to_string(p.l0[i][d] * F(d, d)) + " out of " +
+                      half_length_bound(spec_.kernel));
     }
+  }
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
     p.x[i] = trial_.x[i];
     p.v[i] = apic    ? pic_velocity_[i]

@@ -86,7 +86,7 @@ double wave_speed_at_rest(const Scene& sc) {
 
 template <int Dim>
 MemoryModel engine_memory(const Scene& sc) {
-  return with_kernel(sc.kernel, [&]<class Kernel>() {
+  return with_kernel<Dim>(sc.kernel, [&]<class Kernel>() {
     if (sc.implicit)
         return ImplicitSimulation<Dim, Kernel>::memory_model(sc.implicit_step.newton.restart,
                                                              sc.implicit_step.frozen_jacobian ||
@@ -152,7 +152,7 @@ Budget estimate_budget(const Scene& sc) {
     b.bodies.push_back({"bodies[" + std::to_string(k) + "] (" + sc.bodies[k].name + ")", n});
     b.particles += n;
   }
-  const int ghost = with_kernel(sc.kernel, []<class Kernel>() { return Kernel::ghost; });
+  const int ghost = with_kernel<3>(sc.kernel, []<class Kernel>() { return Kernel::ghost; });  // the same in every Dim
   b.nodes = 1;
   for (int d = 0; d < sc.dim; ++d) b.nodes *= sc.cells[d] + 1.0 + 2.0 * ghost;
 

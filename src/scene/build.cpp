@@ -296,7 +296,7 @@ ParticleSet<Dim> seed_bodies(const Scene& sc) {
         } else {
           p.F[i] = gradient_of_displacement<Dim>(b.displacement, X, sc.h);
         }
-        if (sc.kernel == KernelKind::cpgimp)  // l_p = l_p0 diag(F): Wallstedt & Guilkey 2008, Eq. (63)
+        if (deforms_half_lengths(sc.kernel))  // l_p = l_p0 diag(F): Wallstedt & Guilkey 2008, Eq. (63)
           for (int d = 0; d < Dim; ++d) p.l[i][d] = p.l0[i][d] * p.F[i](d, d);
       }
       if (!b.velocity.empty()) p.v[i] = vector_value<Vec<Dim>>(b.velocity, std::span<const double>(X.data(), Dim));

@@ -89,7 +89,7 @@ void read_simulation(const Section& s, Scene& sc) {
   if (!sc.implicit) sc.integrator = parse_integrator(integrator);
   sc.kernel = parse_kernel(s.choice("kernel", "cpgimp",
                                      {"linear", "ugimp", "cpgimp", "bspline2", "bspline3", "bspline2-clamped",
-                                      "bspline3-clamped"}));
+                                      "bspline3-clamped", "cpdi", "ugimp-wide", "cpgimp-wide"}));
   if (s.has("gimp_length")) {
     sc.gimp_length = s.number("gimp_length", 0);
     if (!(*sc.gimp_length >= 0)) s.fail("gimp_length", "expected a smoothing length >= 0 [m] (0: linear MPM)");

@@ -351,7 +351,7 @@ class SceneRun {
 
 template <int Dim>
 int run_in(const Scene& sc, const RunOptions& o) {
-  return with_kernel(sc.kernel, [&]<class Kernel>() {
+  return with_kernel<Dim>(sc.kernel, [&]<class Kernel>() {
     if (sc.implicit) return SceneRun<Dim, scene_engines::Implicit<Dim, Kernel>>(sc, o).run();
     return SceneRun<Dim, scene_engines::Explicit<Dim, Kernel>>(sc, o).run();
   });

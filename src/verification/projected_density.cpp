@@ -13,9 +13,12 @@ namespace mpm {
 
 namespace {
 /// The grid basis phi_i a nodal field is reconstructed with: GIMP weights are particle-averaged linear hats
-/// (Steffen et al. 2008, Eq. (31)), so its grid basis is the hat itself.
+/// (Steffen et al. 2008, Eq. (31)), and CPDI's average them over the domain's corners (Sadeghirad et al. 2011), so
+/// their grid basis is the hat itself.
 template <class Kernel>
-using GridBasis = std::conditional_t<std::is_same_v<Kernel, GimpKernel>, LinearKernel, Kernel>;
+using GridBasis = std::conditional_t<std::is_same_v<Kernel, GimpKernel> || std::is_same_v<Kernel, WideGimpKernel> ||
+                                         is_cpdi<Kernel>,
+                                     LinearKernel, Kernel>;
 
 /// Half-width of a grid basis function in cells.
 template <class Basis>
@@ -44,7 +47,7 @@ DensityProjection project(const DensityCase& c) {
   std::vector<Real> mass(g.node_count(), 0.0), volume(g.node_count(), 0.0);
   for (std::size_t i = 0; i < p.size(); ++i) {
     out.particle_x.push_back(p.x[i][0]);
-    for_each_node(make_stencil<1, Kernel>(g, layout, p.x[i], p.l[i]), layout,
+    for_each_node(make_stencil<1, Kernel>(g, layout, p.x[i], domain_of<1, Kernel>(p, i)), layout,
                   [&](std::int32_t n, Real S, const Vec<1>&) {
                     mass[n] += S * p.m[i];
                     volume[n] += S * p.V0[i];
@@ -91,7 +94,7 @@ DensityProjection project_density_1d(const DensityCase& c) {
   if (c.gimp_length && c.kernel != KernelKind::ugimp) throw InputError("--gimp-length: applies to --kernel ugimp only");
   if (c.gimp_length && !(*c.gimp_length > 0 && *c.gimp_length <= 1.0 / c.cells))
     throw InputError("--gimp-length: expected a smoothing length in (0, h], h = 1 / cells");
-  return with_kernel(c.kernel, [&]<class Kernel>() { return project<Kernel>(c); });
+  return with_kernel<1>(c.kernel, [&]<class Kernel>() { return project<Kernel>(c); });
 }
 
 }  // namespace mpm

@@ -8,12 +8,13 @@
 #include "mpm/verification/bar_1d.hpp"
 #include "mpm/verification/expanding_ring.hpp"
 #include "mpm/verification/nodal_error.hpp"
+#include "mpm/verification/shear_wave.hpp"
 #include "mpm/verification/study.hpp"
 
 namespace mpm {
 
 namespace {
-constexpr std::array<std::string_view, 3> case_names{"axis-aligned", "bar-1d", "expanding-ring"};
+constexpr std::array<std::string_view, 4> case_names{"axis-aligned", "bar-1d", "expanding-ring", "shear-wave"};
 
 template <int Dim, class Exact>
 ParticleTable table_of(const ParticleSet<Dim>& p, const Exact& exact, Real t) {
@@ -34,7 +35,7 @@ ParticleTable table_of(const ParticleSet<Dim>& p, const Exact& exact, Real t) {
     row.push_back(p.F[i].determinant());
     for (int a = 0; a < Dim; ++a)
       for (int b = a; b < Dim; ++b) row.push_back(p.sigma[i](a, b));
-    row.push_back(((p.x[i] - p.X[i]) - exact.displacement(p.X[i], t)).norm());
+    row.push_back(displacement_error<Dim>(exact, p.x[i], p.X[i], t));
     tab.rows.push_back(std::move(row));
   }
   return tab;
@@ -111,15 +112,17 @@ VerifyResult run_case(const Exact& exact, const VerifyOptions& o, ParticleTable*
   exact.seed(p, spec.h / o.ppc);
   for (std::size_t i = 0; i < p.size(); ++i) {
     p.x[i] = p.X[i] + exact.displacement(p.X[i], 0);
+    if constexpr (requires { Exact::periodic; })  // into the unit square the grid spans
+      for (int d = 0; d < Dim; ++d) p.x[i][d] -= std::floor(p.x[i][d]);
     p.v[i] = exact.velocity(p.X[i], o.start == HalfStepStart::exact ? -spec.dt / 2 : 0);
     p.F[i] = exact.deformation_gradient(p.X[i], 0);
-    if (o.kernel == KernelKind::cpgimp)  // l_p = l_p0 diag(F): Wallstedt & Guilkey 2008, Eq. (63)
+    if (deforms_half_lengths(o.kernel))  // l_p = l_p0 diag(F): Wallstedt & Guilkey 2008, Eq. (63)
       for (int d = 0; d < Dim; ++d) p.l[i][d] = p.l0[i][d] * p.F[i](d, d);
   }
 
   VerifyResult r;
   r.end_time = o.end_time > 0 ? o.end_time : exact.period();
-  with_kernel(o.kernel, [&]<class K>() {
+  with_kernel<Dim>(o.kernel, [&]<class K>() {
     if (o.implicit) {
       ImplicitSimulation<Dim, K> sim(implicit_spec_of(spec, o.theta), std::move(p));
       return run_to_end(sim, exact, o, final_state, r);
@@ -135,7 +138,7 @@ VerifyCase parse_case(std::string_view name) {
   for (std::size_t k = 0; k < case_names.size(); ++k)
     if (name == case_names[k]) return static_cast<VerifyCase>(k);
   throw InputError("case: unknown case '" + std::string(name) +
-                   "' (expected axis-aligned, bar-1d or expanding-ring)");
+                   "' (expected axis-aligned, bar-1d, expanding-ring or shear-wave)");
 }
 
 std::string_view to_string(VerifyCase c) {
@@ -163,7 +166,7 @@ int dimension(VerifyCase c, const VerifyOptions& o) {
 }
 
 Real poisson_ratio(VerifyCase c, const VerifyOptions& o) {
-  return o.poisson ? *o.poisson : (c == VerifyCase::axis_aligned ? 0.3 : 0.0);
+  return o.poisson ? *o.poisson : (c == VerifyCase::axis_aligned || c == VerifyCase::shear_wave ? 0.3 : 0.0);
 }
 
 void validate(const VerifyOptions& o) {
@@ -197,9 +200,9 @@ VerifyResult verify(VerifyCase c, const VerifyOptions& o, ParticleTable* final_s
     throw InputError("--dim: the " + std::string(to_string(c)) + " case is " +
                      (c == VerifyCase::axis_aligned ? std::string("2-D or 3-D")
                                                     : std::to_string(dimension(c, o)) + "-D only"));
-  if (c != VerifyCase::axis_aligned && o.poisson)
+  if (c != VerifyCase::axis_aligned && c != VerifyCase::shear_wave && o.poisson)
     throw InputError("--nu: the " + std::string(to_string(c)) + " solution is written for nu = 0; only the "
-                     "axis-aligned case takes --nu");
+                     "axis-aligned and shear-wave cases take --nu");
   switch (c) {
     case VerifyCase::bar_1d:
       return run_case(Bar1D{o.amplitude, NeoHookean::from_young_poisson(1e7, 0.0, 1000)}, o, final_state);
@@ -207,9 +210,11 @@ VerifyResult verify(VerifyCase c, const VerifyOptions& o, ParticleTable* final_s
       return run_case(ExpandingRing{o.amplitude, NeoHookean::from_young_poisson(1e7, 0.0, 1000)}, o,
                       final_state);
     case VerifyCase::axis_aligned:
+    case VerifyCase::shear_wave:
       break;
   }
   const NeoHookean steel_like = NeoHookean::from_young_poisson(1e7, poisson_ratio(c, o), 1000);
+  if (c == VerifyCase::shear_wave) return run_case(DiagonalShearWave{o.amplitude, steel_like}, o, final_state);
   if (o.dim == 3) return run_case(AxisAligned<3>{o.amplitude, steel_like}, o, final_state);
   return run_case(AxisAligned<2>{o.amplitude, steel_like}, o, final_state);
 }

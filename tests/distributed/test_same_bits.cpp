@@ -111,14 +111,15 @@ template <int Dim>
 void scene_case(const std::string& file, const std::vector<std::string>& overrides, const std::vector<int>& checks) {
   const Scene sc = read_scene(std::string(MPM_SOURCE_DIR) + "/" + file, overrides);
   const SimulationSpec<Dim> spec = make_spec<Dim>(sc);
-  with_kernel(sc.kernel, [&]<class K>() {
+  with_kernel<Dim>(sc.kernel, [&]<class K>() {
     expect_same_bits<Dim, K>(spec, seed_bodies<Dim>(sc), checks, file + " " + std::string(to_string(sc.kernel)));
   });
 }
 
 TEST(SameBits, CollidingDisksEveryKernel) {
   // 150 steps to t = 3 s: the disks meet near step 60 and part; particles cross between boxes throughout.
-  for (const char* kernel : {"linear", "ugimp", "cpgimp", "bspline2", "bspline3", "bspline2-clamped", "bspline3-clamped"})
+  for (const char* kernel : {"linear", "ugimp", "cpgimp", "bspline2", "bspline3", "bspline2-clamped", "bspline3-clamped",
+                             "cpdi", "cpgimp-wide"})
     scene_case<2>("examples/colliding-disks/scene.toml", {std::string("simulation.kernel=") + kernel}, {1, 40, 150});
 }
 

@@ -80,7 +80,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadArgument{"verify axis-aligned --integrator implicit --constrained-acceleration velocity-difference",
                     "--constrained-acceleration: the implicit integrator solves for the end-of-step velocities"},
         BadArgument{"verify ring",
-                    "case: unknown case 'ring' (expected axis-aligned, bar-1d or expanding-ring)"},
+                    "case: unknown case 'ring' (expected axis-aligned, bar-1d, expanding-ring or shear-wave)"},
         BadArgument{"verify axis-aligned --amplitude 0.5", "--amplitude"},
         BadArgument{"verify bar-1d --amplitude 0.2", "--amplitude: expected A < 0.159"},
         BadArgument{"verify axis-aligned --nu 0.5", "--nu: expected a Poisson's ratio in [0, 0.5)"},
@@ -175,7 +175,7 @@ TEST(Cli, BenchRejectsBadKernelAndDimension) {
   EXPECT_EQ(o.status, 2);
   EXPECT_NE(o.err.find(
                 "--kernel: unknown name 'cubic' (expected one of linear, ugimp, cpgimp, bspline2, bspline3, "
-                "bspline2-clamped, bspline3-clamped)"),
+                "bspline2-clamped, bspline3-clamped, cpdi, ugimp-wide, cpgimp-wide)"),
             std::string::npos)
       << o.err;
   o = run_mpm("bench --dim 4 --steps 1");

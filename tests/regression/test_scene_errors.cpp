@@ -219,8 +219,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"UnknownIntegrator", {{"\"musl\"", "\"rk4\""}}, "simulation.integrator",
                  {"expected one of usf, usl, cd, musl, implicit, got 'rk4'"}, 5},
         BadScene{"UnknownKernel", {{"\"linear\"", "\"cubic\""}}, "simulation.kernel",
-                 {"expected one of linear, ugimp, cpgimp, bspline2, bspline3, bspline2-clamped, bspline3-clamped, got "
-                  "'cubic'"},
+                 {"expected one of linear, ugimp, cpgimp, bspline2, bspline3, bspline2-clamped, bspline3-clamped, cpdi, "
+                  "ugimp-wide, cpgimp-wide, got 'cubic'"},
                  6},
         BadScene{"ClampedCubicSplineOnTwoCells",
                  {{"\"linear\"", "\"bspline3-clamped\""}, {"cells = [10, 10]", "cells = [2, 2]"}}, "grid.cells",

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "mpm/shape/cpdi.hpp"
 #include "mpm/shape/kernels.hpp"
 
 namespace mpm::testing {
@@ -19,7 +20,8 @@ using KernelCases2D3D =
     ::testing::Types<KernelCase<LinearKernel, 2>, KernelCase<LinearKernel, 3>, KernelCase<GimpKernel, 2>,
                      KernelCase<GimpKernel, 3>, KernelCase<QuadraticBSplineKernel, 2>,
                      KernelCase<QuadraticBSplineKernel, 3>, KernelCase<CubicBSplineKernel, 2>,
-                     KernelCase<CubicBSplineKernel, 3>>;
+                     KernelCase<CubicBSplineKernel, 3>, KernelCase<CpdiKernel<2>, 2>, KernelCase<CpdiKernel<3>, 3>,
+                     KernelCase<WideGimpKernel, 2>, KernelCase<WideGimpKernel, 3>>;
 
 /// Every kernel in 1-D, 2-D and 3-D.
 using KernelCases1D2D3D =
@@ -27,7 +29,9 @@ using KernelCases1D2D3D =
                      KernelCase<GimpKernel, 1>, KernelCase<GimpKernel, 2>, KernelCase<GimpKernel, 3>,
                      KernelCase<QuadraticBSplineKernel, 1>, KernelCase<QuadraticBSplineKernel, 2>,
                      KernelCase<QuadraticBSplineKernel, 3>, KernelCase<CubicBSplineKernel, 1>,
-                     KernelCase<CubicBSplineKernel, 2>, KernelCase<CubicBSplineKernel, 3>>;
+                     KernelCase<CubicBSplineKernel, 2>, KernelCase<CubicBSplineKernel, 3>, KernelCase<CpdiKernel<1>, 1>,
+                     KernelCase<CpdiKernel<2>, 2>, KernelCase<CpdiKernel<3>, 3>, KernelCase<WideGimpKernel, 1>,
+                     KernelCase<WideGimpKernel, 2>, KernelCase<WideGimpKernel, 3>>;
 
 /// "bspline2_3d" and so on.
 struct KernelCaseName {

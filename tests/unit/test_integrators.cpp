@@ -16,7 +16,7 @@ namespace {
 
 constexpr Integrator all_integrators[] = {Integrator::usf, Integrator::usl, Integrator::cd, Integrator::musl};
 constexpr KernelKind all_kernels[] = {KernelKind::linear, KernelKind::ugimp, KernelKind::cpgimp,
-                                      KernelKind::bspline2, KernelKind::bspline3};
+                                      KernelKind::bspline2, KernelKind::bspline3, KernelKind::cpdi};
 
 /// An elastic block with a velocity field that translates (speed `drift` per axis) and rotates and stretches
 /// it (rate `rate`), centred in a grid of free faces, no gravity.
@@ -76,12 +76,12 @@ void expect_momentum_conserved(KernelKind kind, Integrator integrator) {
 TEST(Integrators, FreeFlyingBodyConservesLinearMomentum2D) {
   for (Integrator in : all_integrators)
     for (KernelKind k : all_kernels)
-      with_kernel(k, [&]<class K>() { expect_momentum_conserved<2, K>(k, in); });
+      with_kernel<2>(k, [&]<class K>() { expect_momentum_conserved<2, K>(k, in); });
 }
 
 TEST(Integrators, FreeFlyingBodyConservesLinearMomentum3D) {
   for (Integrator in : all_integrators)
-    with_kernel(KernelKind::cpgimp,
+    with_kernel<3>(KernelKind::cpgimp,
                 [&]<class K>() { expect_momentum_conserved<3, K>(KernelKind::cpgimp, in); });
 }
 
@@ -118,15 +118,11 @@ void expect_thread_count_invariant(KernelKind kind, Integrator integrator, int c
 
 TEST(Integrators, BitwiseIdenticalWithOneTwoAndThreeThreads) {
   // 100 cells: ~10^4 particles, enough for several sort chunks and scatter strips per thread.
-  for (Integrator in : all_integrators) {
-    with_kernel(KernelKind::linear,
-                [&]<class K>() { expect_thread_count_invariant<2, K>(KernelKind::linear, in, 100); });
-    with_kernel(KernelKind::cpgimp,
-                [&]<class K>() { expect_thread_count_invariant<2, K>(KernelKind::cpgimp, in, 100); });
-  }
-  with_kernel(KernelKind::bspline3, [&]<class K>() {
-    expect_thread_count_invariant<3, K>(KernelKind::bspline3, Integrator::usl, 24);
-  });
+  for (Integrator in : all_integrators)
+    for (KernelKind k : {KernelKind::linear, KernelKind::cpgimp, KernelKind::cpdi})
+      with_kernel<2>(k, [&]<class K>() { expect_thread_count_invariant<2, K>(k, in, 100); });
+  for (KernelKind k : {KernelKind::bspline3, KernelKind::cpdi})
+    with_kernel<3>(k, [&]<class K>() { expect_thread_count_invariant<3, K>(k, Integrator::usl, 24); });
 }
 
 /// Run a 1-D bar until it fails and return the failure message (empty if it did not fail).

@@ -30,8 +30,9 @@ constexpr Real kEps = std::numeric_limits<Real>::epsilon();
 // 1e-14 is ~45 ulps of 1.
 constexpr Real kSumTol = 1e-14;
 
-// The GIMP half-lengths l_p/h tested, spanning (0, 1/2].
+// The GIMP half-lengths l_p/h tested, spanning (0, 1/2], and (0, 1] for the wide stencil.
 const std::vector<Real> kGimpHalfLengths = {0.05, 0.125, 0.25, 0.4, 0.5};
+const std::vector<Real> kWideGimpHalfLengths = {0.05, 0.25, 0.5, 0.6, 0.75, 0.9, 1.0};
 
 // Weights, gradients and base node of one kernel at one position.
 template <class Kernel>
@@ -62,6 +63,8 @@ template <class Kernel>
 std::vector<Real> half_lengths_for() {
   if constexpr (std::is_same_v<Kernel, mpm::GimpKernel>)
     return kGimpHalfLengths;
+  else if constexpr (std::is_same_v<Kernel, mpm::WideGimpKernel>)
+    return kWideGimpHalfLengths;
   else
     return {std::numeric_limits<Real>::quiet_NaN()};
 }
@@ -112,8 +115,8 @@ Real hat_average(Real r, Real l) {
 template <class Kernel>
 class KernelTest : public ::testing::Test {};
 
-using Kernels = ::testing::Types<mpm::LinearKernel, mpm::GimpKernel, mpm::QuadraticBSplineKernel,
-                                 mpm::CubicBSplineKernel>;
+using Kernels = ::testing::Types<mpm::LinearKernel, mpm::GimpKernel, mpm::WideGimpKernel,
+                                 mpm::QuadraticBSplineKernel, mpm::CubicBSplineKernel>;
 
 struct KernelName {
   template <class Kernel>
@@ -191,19 +194,15 @@ TYPED_TEST(KernelTest, node_weights_are_continuous_where_the_base_node_switches)
 // ---------------------------------------------------------------------------------------------------------------
 // GIMP: closed form (Wallstedt & Guilkey 2008, Eqs 5-6) against its definition, for several half-lengths.
 
-class GimpHalfLength : public ::testing::TestWithParam<Real> {};
-
-INSTANTIATE_TEST_SUITE_P(kernels, GimpHalfLength, ::testing::ValuesIn(kGimpHalfLengths));
-
-TEST_P(GimpHalfLength, closed_form_equals_convolution_of_hat_and_top_hat) {
-  const Real l = GetParam();
+template <class Kernel>
+void expect_closed_form_equals_convolution(Real l) {
   // The end points x_p -+ l_p are rounded (|r| <= 2.5, error <= eps), which moves the integral of a function
   // bounded by 1 by ~2 eps and the average by ~eps/l_p; the closed form itself is a few ulps.
   const Real tol = 8 * kEps * (1 + 1 / l);
   for (Real xi : sample_positions()) {
     SCOPED_TRACE(::testing::Message() << "xi = " << xi);
-    const Weights<mpm::GimpKernel> s = evaluate<mpm::GimpKernel>(xi, l);
-    for (int k = 0; k < mpm::GimpKernel::width; ++k)
+    const Weights<Kernel> s = evaluate<Kernel>(xi, l);
+    for (int k = 0; k < Kernel::width; ++k)
       EXPECT_NEAR(s.w[k], hat_average(xi - (s.base + k), l), tol)
           << "node " << s.base + k;  // Eq. (5) vs Eq. (1)
     // The stencil holds the whole support |x_p - x_i| < h + l_p: the neighbours just outside it get nothing.
@@ -211,12 +210,12 @@ TEST_P(GimpHalfLength, closed_form_equals_convolution_of_hat_and_top_hat) {
     // one node early, dropping a node whose exact weight is O(eps^2), e.g. 2.5e-32 at xi = -1.5 - ulp; that
     // is far below round-off, so the same tolerance applies.)
     EXPECT_NEAR(hat_average(xi - (s.base - 1), l), 0.0, tol);
-    EXPECT_NEAR(hat_average(xi - (s.base + mpm::GimpKernel::width), l), 0.0, tol);
+    EXPECT_NEAR(hat_average(xi - (s.base + Kernel::width), l), 0.0, tol);
   }
 }
 
-TEST_P(GimpHalfLength, gradient_equals_central_difference_of_weight) {
-  const Real l = GetParam();
+template <class Kernel>
+void expect_gradient_equals_central_difference(Real l) {
   // Step e = 2^-14. The central-difference error is e^2/6 S''' + O(e^4), and S''' = 0 on each quadratic piece
   // of Eq. (5), so away from the branch points only round-off remains: ~(4 eps + 2 ulp(xi)) / (2 e) ~ 2e-11,
   // hence 1e-9. Within e of a branch point the C^1 weight has a jump in S'' of at most 3/(2 l_p) (at l_p =
@@ -225,19 +224,55 @@ TEST_P(GimpHalfLength, gradient_equals_central_difference_of_weight) {
   const std::array<Real, 6> branch_points = {-1 - l, -1 + l, -l, l, 1 - l, 1 + l};  // Eqs (5)-(6)
   for (Real xi : sample_positions()) {
     SCOPED_TRACE(::testing::Message() << "xi = " << xi);
-    const Weights<mpm::GimpKernel> s = evaluate<mpm::GimpKernel>(xi, l);
-    for (int k = 0; k < mpm::GimpKernel::width; ++k) {
+    const Weights<Kernel> s = evaluate<Kernel>(xi, l);
+    for (int k = 0; k < Kernel::width; ++k) {
       const int node = s.base + k;
       const Real r = xi - node;
       bool near_branch = false;
       for (Real b : branch_points) near_branch = near_branch || std::abs(r - b) < e;
       const Real tol = 1e-9 + (near_branch ? 3 * e / (8 * l) : 0);
-      const Real central = (node_weight<mpm::GimpKernel>(xi + e, l, node)[0] -
-                            node_weight<mpm::GimpKernel>(xi - e, l, node)[0]) /
-                           (2 * e);
+      const Real central =
+          (node_weight<Kernel>(xi + e, l, node)[0] - node_weight<Kernel>(xi - e, l, node)[0]) / (2 * e);
       EXPECT_NEAR(s.dw[k], central, tol) << "node " << node;  // Eq. (6)
     }
   }
+}
+
+class GimpHalfLength : public ::testing::TestWithParam<Real> {};
+INSTANTIATE_TEST_SUITE_P(kernels, GimpHalfLength, ::testing::ValuesIn(kGimpHalfLengths));
+
+TEST_P(GimpHalfLength, closed_form_equals_convolution_of_hat_and_top_hat) {
+  expect_closed_form_equals_convolution<mpm::GimpKernel>(GetParam());
+}
+
+TEST_P(GimpHalfLength, gradient_equals_central_difference_of_weight) {
+  expect_gradient_equals_central_difference<mpm::GimpKernel>(GetParam());
+}
+
+// The wide stencil: half-lengths up to a cell, where the support reaches 4 nodes (l_p > 1/2).
+class WideGimpHalfLength : public ::testing::TestWithParam<Real> {};
+INSTANTIATE_TEST_SUITE_P(kernels, WideGimpHalfLength, ::testing::ValuesIn(kWideGimpHalfLengths));
+
+TEST_P(WideGimpHalfLength, closed_form_equals_convolution_of_hat_and_top_hat) {
+  expect_closed_form_equals_convolution<mpm::WideGimpKernel>(GetParam());
+}
+
+TEST_P(WideGimpHalfLength, gradient_equals_central_difference_of_weight) {
+  expect_gradient_equals_central_difference<mpm::WideGimpKernel>(GetParam());
+}
+
+TEST_P(WideGimpHalfLength, equals_the_narrow_stencil_where_both_hold) {
+  // l_p <= 1/2: the same closed form on one node more, which gets 0; node by node to a few ulps (the wide kernel
+  // evaluates both corrections on every node, the narrow one only the one that can be non-zero).
+  const Real l = GetParam();
+  if (l > 0.5) GTEST_SKIP() << "the narrow stencil holds l_p <= 1/2";
+  for (Real xi : sample_positions())
+    for (int node = static_cast<int>(std::floor(xi)) - 2; node <= static_cast<int>(std::floor(xi)) + 3; ++node) {
+      const auto wide = node_weight<mpm::WideGimpKernel>(xi, l, node);
+      const auto narrow = node_weight<mpm::GimpKernel>(xi, l, node);
+      EXPECT_NEAR(wide[0], narrow[0], 4 * kEps) << "xi = " << xi << ", node " << node;
+      EXPECT_NEAR(wide[1], narrow[1], 4 * kEps / l) << "xi = " << xi << ", node " << node;
+    }
 }
 
 // ---------------------------------------------------------------------------------------------------------------

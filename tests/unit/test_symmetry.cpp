@@ -53,7 +53,7 @@ mpm::SimulationSpec<2> base_spec(mpm::KernelKind kernel, mpm::Integrator integra
 /// particles.
 template <class Fn>
 Particles run(const mpm::SimulationSpec<2>& spec, Particles particles, int steps, Fn&& inspect) {
-  return mpm::with_kernel(spec.kernel, [&]<class Kernel>() {
+  return mpm::with_kernel<2>(spec.kernel, [&]<class Kernel>() {
     mpm::Simulation<2, Kernel> sim(spec, std::move(particles));
     for (int k = 0; k < steps; ++k) {
       sim.step();
@@ -156,6 +156,9 @@ bool reaches_ghost(mpm::KernelKind kernel, Real x, Real half_length) {
       return false;
     case mpm::KernelKind::ugimp:
     case mpm::KernelKind::cpgimp:
+    case mpm::KernelKind::ugimp_wide:
+    case mpm::KernelKind::cpgimp_wide:
+    case mpm::KernelKind::cpdi:  // an axis-aligned domain's corners are l_p from its centre
       return x < half_length;
     case mpm::KernelKind::bspline2:
       return x < 0.5 * kH;

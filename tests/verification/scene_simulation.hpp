@@ -11,7 +11,7 @@ namespace mpm::testing {
 /// its kernel) from its seeded bodies, and call fn(simulation).
 template <int Dim, class Fn>
 void with_scene_simulation(const Scene& sc, Fn&& fn) {
-  with_kernel(sc.kernel, [&]<class K>() {
+  with_kernel<Dim>(sc.kernel, [&]<class K>() {
     if (sc.implicit) {
       ImplicitSimulation<Dim, K> sim(make_implicit_spec<Dim>(sc), seed_bodies<Dim>(sc));
       fn(sim);

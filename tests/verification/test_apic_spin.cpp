@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <sstream>
 #include <string>
 
 #include "mpm/explicit/simulation.hpp"
@@ -11,35 +10,17 @@
 #include "mpm/scene/build.hpp"
 #include "mpm/scene/scene.hpp"
 #include "scene_simulation.hpp"
+#include "spinning_disk.hpp"
 #include "support.hpp"
 
 namespace {
 using namespace mpm;
 
-/// A Neo-Hookean disk of radius 0.3 spinning at 1 rad/s (rim speed 0.3, against a wave speed of 37) on a unit
-/// grid of 64 cells per axis, quadratic B-splines, 2 particles per cell.
+/// The spinning disk (spinning_disk.hpp) on 64 cells per axis, quadratic B-splines, E = 1000: rim speed 0.3 against a
+/// wave speed of 37.
 Scene spinning_disk(const std::string& integrator, const std::string& transfer) {
-  std::ostringstream text;
-  text << "[simulation]\ndimension = 2\nend_time = 1\ncfl = 0.4\nintegrator = \"" << integrator
-       << "\"\nkernel = \"bspline2\"\n"
-       << (transfer == "pic" ? "flip_fraction = 0\n" : "transfer = \"" + transfer + "\"\n") << R"toml(
-[grid]
-lo = [0.0, 0.0]
-hi = [1.0, 1.0]
-cells = [64, 64]
-[[materials]]
-name = "m"
-E = 1000.0
-nu = 0.3
-density = 1.0
-[[bodies]]
-shape = "disk"
-center = [0.5, 0.5]
-radius = 0.3
-velocity = ["-(y - 0.5)", "x - 0.5"]
-)toml";
-  if (integrator == "implicit") text << "[implicit]\ntheta = 0.5\n";
-  return mpm::testing::scene_from_text("apic-spin", text.str());
+  return mpm::testing::spinning_disk_scene(
+      {integrator, "bspline2", transfer == "pic" ? "flip_fraction = 0" : "transfer = \"" + transfer + "\"", 64, 1000, 1});
 }
 
 Real angular_momentum(const ParticleSet<2>& p) {

@@ -51,7 +51,7 @@ Real bar_error(K kernel, bool implicit, int cells) {
     spec.materials = {material};
     spec.boundary = boundary;
   };
-  with_kernel(kernel, [&]<class Kernel>() {
+  with_kernel<1>(kernel, [&]<class Kernel>() {
     if (implicit) {
       ImplicitSpec<1> spec;
       common(spec);

@@ -169,7 +169,7 @@ BarResult run_bar(mpm::KernelKind kind, mpm::Integrator integrator, int cells) {
 }
 
 BarResult run_bar(mpm::KernelKind kind, mpm::Integrator integrator, int cells) {
-  return mpm::with_kernel(kind, [&]<class Kernel>() { return run_bar<Kernel>(kind, integrator, cells); });
+  return mpm::with_kernel<1>(kind, [&]<class Kernel>() { return run_bar<Kernel>(kind, integrator, cells); });
 }
 
 TEST(LightNodes, FixedFreeBarRunsToTheEndAndFollowsTheExactCentreOfMassVelocity) {

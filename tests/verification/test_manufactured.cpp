@@ -8,6 +8,7 @@
 #include "mpm/verification/axis_aligned.hpp"
 #include "mpm/verification/bar_1d.hpp"
 #include "mpm/verification/expanding_ring.hpp"
+#include "mpm/verification/shear_wave.hpp"
 #include "mpm/verification/study.hpp"
 
 namespace mpm {
@@ -78,6 +79,28 @@ TEST(Manufactured, AxisAlignedBodyForceSatisfiesTheEquationOfMotion) {
 TEST(Manufactured, AxisAligned3DBodyForceSatisfiesTheEquationOfMotion) {
   expect_body_force_matches<3>(AxisAligned<3>{0.1, NeoHookean::from_young_poisson(1e7, 0.3, 1000)},
                                in_unit_box<3>);
+}
+
+TEST(Manufactured, DiagonalShearWaveNeedsNoBodyForceAtAnyAmplitude) {
+  // b = 0: rho0 a = Div P holds for the simple shear at gamma up to A k = 8.9 (A = 1); and F is I + du/dX (central
+  // differences over 1e-5, truncation (k dX)^2 / 6 ~ 1e-9).
+  for (Real A : {0.1, 0.3, 1.0}) {
+    const DiagonalShearWave wave{A, NeoHookean::from_young_poisson(1e7, 0.3, 1000)};
+    expect_body_force_matches<2>(wave, in_unit_box<2>);
+    std::mt19937 rng(3);
+    for (int k = 0; k < 50; ++k) {
+      const Vec<2> X = in_unit_box<2>(rng);
+      const Real t = 0.37 * k / 50 * wave.period(), dX = 1e-5;
+      Mat<2> F = Mat<2>::Identity();
+      for (int J = 0; J < 2; ++J) {
+        Vec<2> e = Vec<2>::Zero();
+        e[J] = dX;
+        F.col(J) += (wave.displacement(X + e, t) - wave.displacement(X - e, t)) / (2 * dX);
+      }
+      EXPECT_LT((F - wave.deformation_gradient(X, t)).norm(), 1e-8 * (1 + A * wave.k()));
+      EXPECT_NEAR(wave.deformation_gradient(X, t).determinant(), 1, 1e-14 * (1 + A * A * wave.k() * wave.k()));
+    }
+  }
 }
 
 TEST(Manufactured, BarBodyForceSatisfiesTheEquationOfMotion) {

@@ -113,7 +113,7 @@ TEST(PeriodicMomentum, IsConservedThroughTheFace) {
     const ParticleSet<2> start = seed_bodies<2>(sc);
     Vec<2> p0 = Vec<2>::Zero();
     for (std::size_t i = 0; i < start.size(); ++i) p0 += start.m[i] * start.v[i];
-    with_kernel(sc.kernel, [&]<class K>() {
+    with_kernel<2>(sc.kernel, [&]<class K>() {
       Simulation<2, K> sim(make_spec<2>(sc), seed_bodies<2>(sc));
       sim.run_until(sc.end_time);
       Vec<2> p1 = Vec<2>::Zero();

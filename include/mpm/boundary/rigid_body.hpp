@@ -98,14 +98,15 @@ class RigidBodies {
         if (!g.contains(x)) throw SimulationFailure(when + ": rigid body '" + body.name + "' left the grid");
         if (body.holds_inside) continue;
         // The point's stencil as make_stencil locates it, its weights as for_each_node multiplies them.
-        constexpr int N = Kernel::width;
+        using Point = BoxKernel<Kernel>;  // an axis-aligned box: CPDI's is a tensor product too
+        constexpr int N = Point::width;
         IVec<Dim> first;
         Real w[Dim][N], dw[Dim][N];
         for (int d = 0; d < Dim; ++d) {
-          typename Kernel::Axis axis;
-          first[d] = locate_axis<Kernel>(g, d, (x[d] - g.lo[d]) * inv_h, body.half_length[d] * inv_h, axis) + g.ghost -
+          typename Point::Axis axis;
+          first[d] = locate_axis<Point>(g, d, (x[d] - g.lo[d]) * inv_h, body.half_length[d] * inv_h, axis) + g.ghost -
                      g.offset[d];
-          Kernel::weights_at(axis, w[d], dw[d]);
+          Point::weights_at(axis, w[d], dw[d]);
         }
         std::array<int, 3> k{};
         for (k[2] = 0; k[2] < (Dim > 2 ? N : 1); ++k[2])

@@ -284,15 +284,21 @@ class Simulation {
   std::int64_t steps_ = 0;
 };
 
-/// Call fn.template operator()<Kernel>() with the kernel policy for a kernel kind (coarse run-time choice).
-template <class Fn>
+/// Call fn.template operator()<Kernel>() with the kernel policy for a kernel kind in Dim dimensions (coarse run-time
+/// choice).
+template <int Dim, class Fn>
 decltype(auto) with_kernel(KernelKind k, Fn&& fn) {
   switch (k) {
+    case KernelKind::cpdi:
+      return fn.template operator()<CpdiKernel<Dim>>();
     case KernelKind::linear:
       return fn.template operator()<LinearKernel>();
     case KernelKind::ugimp:
     case KernelKind::cpgimp:
       return fn.template operator()<GimpKernel>();
+    case KernelKind::ugimp_wide:
+    case KernelKind::cpgimp_wide:
+      return fn.template operator()<WideGimpKernel>();
     case KernelKind::bspline2:
     case KernelKind::bspline2_clamped:
       return fn.template operator()<QuadraticBSplineKernel>();

@@ -21,9 +21,43 @@ namespace mpm {
 /// difference (CD) and the update-velocity-first / modified USL variant (UVF-MPM, "musl").
 enum class Integrator { usf, usl, cd, musl };
 
-/// Shape functions: linear MPM, GIMP with fixed (uGIMP) or deformed (cpGIMP) particle sizes, B-splines, and
-/// B-splines whose knots are clamped at the grid's faces (Steffen et al. 2008, Sec. 4.3).
-enum class KernelKind { linear, ugimp, cpgimp, bspline2, bspline3, bspline2_clamped, bspline3_clamped };
+/// Shape functions: linear MPM, GIMP with fixed (uGIMP) or deformed (cpGIMP) particle sizes, B-splines, B-splines
+/// whose knots are clamped at the grid's faces (Steffen et al. 2008, Sec. 4.3), CPDI (Sadeghirad et al. 2011), and
+/// the GIMP kinds on a stencil one node wider, for half-lengths up to a cell.
+enum class KernelKind {
+  linear,
+  ugimp,
+  cpgimp,
+  bspline2,
+  bspline3,
+  bspline2_clamped,
+  bspline3_clamped,
+  cpdi,
+  ugimp_wide,
+  cpgimp_wide
+};
+
+/// Whether a kernel kind is GIMP's, whose particles' half-lengths shape the weights.
+inline bool is_gimp(KernelKind k) {
+  return k == KernelKind::ugimp || k == KernelKind::cpgimp || k == KernelKind::ugimp_wide ||
+         k == KernelKind::cpgimp_wide;
+}
+
+/// Whether a kernel kind's half-lengths follow the diagonal of F, l_p = l_p0 diag(F) (cpGIMP, Wallstedt & Guilkey
+/// 2008, Eq. (63)).
+inline bool deforms_half_lengths(KernelKind k) { return k == KernelKind::cpgimp || k == KernelKind::cpgimp_wide; }
+
+/// The largest half-length a GIMP kind's stencil holds, in cells: 1/2, or 1 for the wide kinds.
+inline Real max_half_length(KernelKind k) {
+  return k == KernelKind::ugimp_wide || k == KernelKind::cpgimp_wide ? 1 : 0.5;
+}
+
+/// What a GIMP kind's particles may not outgrow, "(0, h/2]" or "(0, h]", and the kernel that takes larger ones.
+std::string half_length_bound(KernelKind k);
+
+/// Throws InputError (prefixed with `at`) when a GIMP kind's particle has a half-length outside (0, max_half_length h].
+template <int Dim>
+void validate_half_lengths(KernelKind k, const Vec<Dim>& l, Real h, const std::string& at);
 
 /// Whether a kernel kind clamps the B-splines' knots at the grid's faces.
 inline bool clamps_knots(KernelKind k) {

@@ -24,6 +24,24 @@ struct KernelWeights {
   }
 };
 
+/// The Axis of a kernel whose stencil keeps its `Width` weights and gradients (GIMP's, costly to evaluate), and
+/// their weights_at.
+template <int Width>
+struct StoredWeights {
+  template <class T>
+  struct AxisOf {
+    T w[Width], dw[Width];
+  };
+  using Axis = AxisOf<Real>;
+  template <class T>
+  static void weights_at(const AxisOf<T>& a, T* w, T* dw) {
+    for (int k = 0; k < Width; ++k) {
+      w[k] = a.w[k];
+      dw[k] = a.dw[k];
+    }
+  }
+};
+
 /// Piecewise-linear hat functions of classic MPM. Wallstedt & Guilkey 2008, Eq. (2).
 struct LinearKernel : KernelWeights<LinearKernel> {
   static constexpr int width = 2;
@@ -62,16 +80,11 @@ struct LinearKernel : KernelWeights<LinearKernel> {
 /// For q <= l this is 1 - (q^2 + l^2)/(2l); for l < q <= 1 - l, 1 - q; for 1 - l < q <= 1 + l,
 /// (1 + l - q)^2/(4l); beyond, 0. With the base node at distance r in [1/2, 3/2), the outer two nodes have
 /// q >= 1/2 >= l (no v term) and the middle one q <= 1/2 <= 1 - l (no u term).
-struct GimpKernel : KernelWeights<GimpKernel> {
+struct GimpKernel : KernelWeights<GimpKernel>, StoredWeights<3> {
   static constexpr int width = 3;
   static constexpr int ghost = 1;
+  static constexpr Real max_half_length = 0.5;  ///< in cells: the support h + l_p then spans 3 nodes
   static constexpr const char* name = "gimp";
-  /// GIMP weights are costly to evaluate, so the stencil keeps them.
-  template <class T>
-  struct AxisOf {
-    T w[width], dw[width];
-  };
-  using Axis = AxisOf<Real>;
 
   template <class T>
   static auto locate(const T& xi, const T& l, AxisOf<T>& a) {
@@ -96,12 +109,32 @@ struct GimpKernel : KernelWeights<GimpKernel> {
     a.dw[1] = simd::copysign(1 - v * inv_l, -r1);  // sign(r1) dS/dq, and dS/dq = -1 + v/l <= 0
     return base;
   }
+};
+
+/// GIMP for half-lengths up to a cell, 0 < l_p <= 1 (grid units): the support |x_p - x_i| < h + l_p then spans 4
+/// nodes from base = floor(xi) - 1. Wallstedt & Guilkey 2008, Eq. (5), Eq. (6) set no bound on l_p; their closed
+/// form in q = |r| holds for every node and every l_p <= 1 once both corrections are kept,
+///   S = max(0, 1 - q - v^2/(2l) + u^2/(4l)),  dS/dq = -1 + v/l + u/(2l),
+///   v = max(0, l - q),  u = clamp(q - 1 + l, 0, 2l)
+/// (the hat integrated over [q - l, q + l] as 1 - |s| plus its excess (|s| - 1)_+ beyond a cell; the excess below -1
+/// needs q < l - 1 <= 0). It is GimpKernel's weights on a stencil one node wider.
+struct WideGimpKernel : KernelWeights<WideGimpKernel>, StoredWeights<4> {
+  static constexpr int width = 4;
+  static constexpr int ghost = 2;
+  static constexpr Real max_half_length = 1;  ///< in cells
+  static constexpr const char* name = "gimp-wide";
+
   template <class T>
-  static void weights_at(const AxisOf<T>& a, T* w, T* dw) {
+  static auto locate(const T& xi, const T& l, AxisOf<T>& a) {
+    const auto base = simd::floor_index(xi) - 1;
+    const T inv_l = 1 / l, r = xi - simd::to_real(base);  // r in [1, 2)
     for (int k = 0; k < width; ++k) {
-      w[k] = a.w[k];
-      dw[k] = a.dw[k];
+      const T rk = r - k, q = simd::abs(rk);
+      const T v = simd::max(T{}, l - q), u = simd::min(simd::max(T{}, q - 1 + l), 2 * l);
+      a.w[k] = simd::max(T{}, 1 - q - 0.5 * v * v * inv_l + 0.25 * u * u * inv_l);
+      a.dw[k] = simd::copysign(1 - v * inv_l - 0.5 * u * inv_l, -rk);  // sign(r_k) dS/dq, and dS/dq <= 0
     }
+    return base;
   }
 };
 

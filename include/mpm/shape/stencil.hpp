@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "mpm/core/parallel.hpp"
@@ -14,6 +15,7 @@
 #include "mpm/grid/grid.hpp"
 #include "mpm/particles/lanes.hpp"
 #include "mpm/particles/particles.hpp"
+#include "mpm/shape/cpdi.hpp"
 
 namespace mpm {
 
@@ -97,16 +99,68 @@ template <class Kernel, int Dim, class T>
   return base;
 }
 
-/// Compute the stencil of a particle at x with half-lengths l (used by GIMP only).
+/// What locates a particle's stencil besides its position: the half-lengths l_p of a tensor-product kernel (GIMP's
+/// domain; the others ignore them), or CPDI's domain vectors R = [r_1 ... r_D] = F_p diag(l_p0)
+/// (Sadeghirad et al. 2011).
+template <int Dim, class Kernel>
+using Domain = std::conditional_t<is_cpdi<Kernel>, Mat<Dim>, Vec<Dim>>;
+
+/// Particle i's Domain.
+template <int Dim, class Kernel>
+Domain<Dim, Kernel> domain_of(const ParticleSet<Dim>& p, std::size_t i) {
+  if constexpr (is_cpdi<Kernel>)
+    return p.F[i] * p.l0[i].asDiagonal();
+  else
+    return p.l[i];
+}
+
+/// The Domains of a block of particles, in lanes (Mat is column-major: entry (a, k) is Real a + k Dim).
+template <int Dim, class Kernel>
+[[gnu::always_inline]] inline RecordLanes<Domain<Dim, Kernel>> load_domain(const LaneBlock& block,
+                                                                          const ParticleSet<Dim>& p) {
+  if constexpr (is_cpdi<Kernel>) {
+    RecordLanes<Mat<Dim>> R = block.load(p.F);
+    const RecordLanes<Vec<Dim>> l0 = block.load(p.l0);
+    for (int k = 0; k < Dim; ++k)
+      for (int a = 0; a < Dim; ++a) R[a + k * Dim] *= l0[k];
+    return R;
+  } else {
+    return block.load(p.l);
+  }
+}
+
+/// The base nodes (global indices) and axis data of particles at x with domains `domain`, for one particle (T =
+/// Real, x and domain Eigen values) or lanes (T = RealLanes, x and domain RecordLanes): locate_axis along each axis
+/// for a tensor-product kernel, CpdiKernel::locate of the domain in cells for CPDI.
+template <class Kernel, int Dim, class T, class X, class D>
+[[gnu::always_inline]] inline auto locate_stencil(const GridGeometry<Dim>& g, Real inv_h, const X& x, const D& domain,
+                                                  typename Kernel::template AxisOf<T> (&axis)[Dim]) {
+  T xi[Dim];
+  for (int d = 0; d < Dim; ++d) xi[d] = (x[d] - g.lo[d]) * inv_h;
+  if constexpr (is_cpdi<Kernel>) {
+    T R[Dim][Dim];
+    for (int a = 0; a < Dim; ++a)
+      for (int k = 0; k < Dim; ++k) R[a][k] = domain[a + k * Dim] * inv_h;
+    return Kernel::locate(xi, R, axis);
+  } else {
+    std::array<decltype(simd::floor_index(xi[0])), Dim> base;
+    for (int d = 0; d < Dim; ++d) base[d] = locate_axis<Kernel>(g, d, xi[d], domain[d] * inv_h, axis[d]);
+    return base;
+  }
+}
+
+/// Compute the stencil of a particle at x with domain `domain` (Domain).
 template <int Dim, class Kernel>
 inline Stencil<Dim, Kernel> make_stencil(const GridGeometry<Dim>& g, const NodeLayout<Dim>& nl,
-                                         const Vec<Dim>& x, const Vec<Dim>& l) {
+                                         const Vec<Dim>& x, const Domain<Dim, Kernel>& domain) {
   Stencil<Dim, Kernel> s;
   using G = GridGeometry<Dim>;
+  typename Kernel::Axis axis[Dim];
+  const auto base = locate_stencil<Kernel, Dim, Real>(g, nl.inv_h, x, domain.data(), axis);
   std::int32_t node = 0, tile = 0, slot = 0;
   for (int d = 0; d < Dim; ++d) {
-    const int base = locate_axis<Kernel>(g, d, (x[d] - g.lo[d]) * nl.inv_h, l[d] * nl.inv_h, s.axis[d]);
-    const int layer = base + g.ghost - g.offset[d];  // storage index in this box
+    s.axis[d] = axis[d];
+    const int layer = base[d] + g.ghost - g.offset[d];  // storage index in this box
     node += layer * nl.stride[d];
     tile += (layer >> G::tile_shift) * nl.tile_stride[d];
     slot |= (layer & (G::tile_width - 1)) << (G::tile_shift * d);
@@ -116,20 +170,20 @@ inline Stencil<Dim, Kernel> make_stencil(const GridGeometry<Dim>& g, const NodeL
   return s;
 }
 
-/// The stencils of a block of particles at positions x with half-lengths l: make_stencil's arithmetic in
-/// lanes.
+/// The stencils of a block of particles at positions x with domains `domain` (load_domain): make_stencil's
+/// arithmetic in lanes.
 template <int Dim, class Kernel>
 [[gnu::always_inline]] inline StencilLanes<Dim, Kernel> locate_block(const GridGeometry<Dim>& g,
                                                                      const NodeLayout<Dim>& nl,
                                                                      const RecordLanes<Vec<Dim>>& x,
-                                                                     const RecordLanes<Vec<Dim>>& l) {
+                                                                     const RecordLanes<Domain<Dim, Kernel>>& domain) {
   StencilLanes<Dim, Kernel> s;
   using G = GridGeometry<Dim>;
+  const auto base = locate_stencil<Kernel, Dim, RealLanes>(g, nl.inv_h, x, domain, s.axis);
   s.node = IntLanes{};
   IntLanes tile{}, slot{};
   for (int d = 0; d < Dim; ++d) {
-    const IntLanes base = locate_axis<Kernel>(g, d, (x[d] - g.lo[d]) * nl.inv_h, l[d] * nl.inv_h, s.axis[d]);
-    const IntLanes layer = base + (g.ghost - g.offset[d]);  // storage index in this box
+    const IntLanes layer = base[d] + (g.ghost - g.offset[d]);  // storage index in this box
     s.node += layer * nl.stride[d];
     tile += (layer >> G::tile_shift) * nl.tile_stride[d];
     slot |= (layer & (G::tile_width - 1)) << (G::tile_shift * d);
@@ -160,7 +214,7 @@ struct StencilTargets {
   }
 };
 
-/// Stencils of all particles at their current positions and half-lengths, and the tile of each, computed in
+/// Stencils of all particles at their current positions and domains, and the tile of each, computed in
 /// LaneBlocks. Returns whether any tile changed.
 template <int Dim, class Kernel>
 bool build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g,
@@ -172,7 +226,7 @@ bool build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g,
   StencilTargets<Dim, Kernel> targets{out, tile, resized};
   parallel_for(LaneBlock::count(p.size()), [&](std::ptrdiff_t b) {
     const LaneBlock block(b, static_cast<std::ptrdiff_t>(p.size()));
-    targets.store(block, locate_block<Dim, Kernel>(g, nl, block.load(p.x), block.load(p.l)));
+    targets.store(block, locate_block<Dim, Kernel>(g, nl, block.load(p.x), load_domain<Dim, Kernel>(block, p)));
   }, 1024 / LaneBlock::width);
   return targets.tile_changed.load();
 }
@@ -205,6 +259,22 @@ inline void for_each_node(const Stencil<Dim, Kernel>& s, const NodeLayout<Dim>& 
              Vec<3>(dw[0][a] * wbc, w[0][a] * dw[1][b] * w[2][c], w[0][a] * w[1][b] * dw[2][c]));
       }
   }
+}
+
+/// Visit every node of a CPDI stencil's block: fn(flat node index, weight S_ip, gradient grad S_ip [1/m])
+/// (CornerWeights).
+template <int Dim, class Fn>
+inline void for_each_node(const Stencil<Dim, CpdiKernel<Dim>>& s, const NodeLayout<Dim>& nl, Fn&& fn) {
+  const CornerWeights<Dim, Real> weights(s.axis, nl.inv_h);
+  weights.visit([&](const int(&k)[Dim], Real S, const Real(&dS)[Dim]) {
+    std::int32_t node = s.node;
+    Vec<Dim> grad;
+    for (int d = 0; d < Dim; ++d) {
+      node += k[d] * nl.stride[d];
+      grad[d] = dS[d];
+    }
+    fn(node, S, grad);
+  });
 }
 
 }  // namespace mpm

@@ -223,15 +223,17 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
       ok &= valid;
       // A lane with an invalid J keeps its stress and half-lengths (the run stops).
       ok &= stress(block, p, F, J, valid, grad_v, v_p[0], r_start);
-      if (sizes == SizeUpdate::deformed) {
-        const RecordLanes<Vec<Dim>> l0 = block.load(p.l0);
-        RecordLanes<Vec<Dim>> l = block.load(p.l);
-        for (int d = 0; d < Dim; ++d) {
-          const RealLanes l_new = l0[d] * F[d][d];
-          ok &= valid & (l_new > 0) & (l_new <= 0.5 * geo.h);  // the GIMP stencil holds l_p <= h/2
-          l[d] = valid ? l_new : l[d];
+      if constexpr (requires { Kernel::max_half_length; }) {  // cpGIMP: Wallstedt & Guilkey 2008, Eq. (63)
+        if (sizes == SizeUpdate::deformed) {
+          const RecordLanes<Vec<Dim>> l0 = block.load(p.l0);
+          RecordLanes<Vec<Dim>> l = block.load(p.l);
+          for (int d = 0; d < Dim; ++d) {
+            const RealLanes l_new = l0[d] * F[d][d];
+            ok &= valid & (l_new > 0) & (l_new <= Kernel::max_half_length * geo.h);  // what the GIMP stencil holds
+            l[d] = valid ? l_new : l[d];
+          }
+          block.store(p.l, l);
         }
-        block.store(p.l, l);
       }
     }
     if constexpr (what.position)
@@ -242,7 +244,7 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
             x[c] = x[c] < lo ? lo : x[c];
             x[c] = x[c] > hi ? hi : x[c];
           }
-        next->store(block, locate_block<Dim, Kernel>(geo, layout, x, block.load(p.l)));
+        next->store(block, locate_block<Dim, Kernel>(geo, layout, x, load_domain<Dim, Kernel>(block, p)));
       }
     std::int64_t fault = ParticleFault::none;
     for (int k = block.active - 1; k >= 0; --k)

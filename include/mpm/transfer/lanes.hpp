@@ -11,27 +11,42 @@
 
 namespace mpm {
 
-/// The stencils of a block in lanes: base nodes, and per axis the weights and gradients [1/m] of each node.
+/// The base nodes of a block's stencils in lanes, and the gather of node values through them.
 template <int Dim, class Kernel>
-struct LaneStencil {
+struct LaneNodes {
   static constexpr int N = Kernel::width;
   static constexpr std::size_t node_count = Dim == 1 ? N : Dim == 2 ? N * N : N * N * N;  ///< nodes per stencil
   /// Node layers per axis of a tile's footprint: its own and those its particles' stencils reach above it.
   static constexpr int footprint = GridGeometry<Dim>::tile_width + N - 1;
   IntLanes node;  ///< flat index of each lane's base node
   IntLanes slot;  ///< flat index of each lane's base node in its tile's footprint (axis 0 fastest)
+
+  [[gnu::always_inline]] explicit LaneNodes(const StencilLanes<Dim, Kernel>& s) : node(s.node), slot{} {
+    using G = GridGeometry<Dim>;
+    for (int d = Dim - 1; d >= 0; --d)
+      slot = slot * footprint + ((s.tile_slot >> (G::tile_shift * d)) & (G::tile_width - 1));
+  }
+
+  /// Lanes of get(node) at node (base + offset) of every lane.
+  template <class Get>
+  [[gnu::always_inline]] RealLanes gather(const std::vector<GridNode<Dim>>& nodes, std::int32_t offset, Get&& get) const {
+    static_assert(sizeof(GridNode<Dim>) % sizeof(Real) == 0);
+    return simd::gather(&get(nodes[0]), (node + offset) * reals_in<GridNode<Dim>>);
+  }
+};
+
+/// The stencils of a block in lanes: base nodes, and per axis the weights and gradients [1/m] of each node.
+template <int Dim, class Kernel>
+struct LaneStencil : LaneNodes<Dim, Kernel> {
+  static constexpr int N = Kernel::width;
   RealLanes w[Dim][N], dw[Dim][N];
   /// Set by locate_nodes (APIC only): dx[d][k] = x_i - x_p along axis d for the k-th node of the axis [m], and the
   /// inverse of the diagonal of the particle's inertia tensor D_p (0 where a diagonal entry is 0).
   RealLanes dx[Dim][N], inv_D[Dim];
 
-  [[gnu::always_inline]] LaneStencil(const std::vector<Stencil<Dim, Kernel>>& stencils, const LaneBlock& block, Real inv_h) {
-    const StencilLanes<Dim, Kernel> s(block.load(stencils));
-    node = s.node;
-    using G = GridGeometry<Dim>;
-    slot = IntLanes{};
-    for (int d = Dim - 1; d >= 0; --d)
-      slot = slot * footprint + ((s.tile_slot >> (G::tile_shift * d)) & (G::tile_width - 1));
+  [[gnu::always_inline]] LaneStencil(const std::vector<Stencil<Dim, Kernel>>& stencils, const LaneBlock& block, Real inv_h)
+      : LaneStencil(StencilLanes<Dim, Kernel>(block.load(stencils)), inv_h) {}
+  [[gnu::always_inline]] LaneStencil(const StencilLanes<Dim, Kernel>& s, Real inv_h) : LaneNodes<Dim, Kernel>(s) {
     for (int d = 0; d < Dim; ++d) {
       Kernel::weights_at(s.axis[d], w[d], dw[d]);
       for (int a = 0; a < N; ++a) dw[d][a] *= inv_h;
@@ -53,13 +68,6 @@ struct LaneStencil {
       }
       inv_D[d] = D > 0 ? 1 / D : RealLanes{};  // D = 0: every S_ip dx is 0 (a hat's particle on its node)
     }
-  }
-
-  /// Lanes of get(node) at node (base + offset) of every lane.
-  template <class Get>
-  [[gnu::always_inline]] RealLanes gather(const std::vector<GridNode<Dim>>& nodes, std::int32_t offset, Get&& get) const {
-    static_assert(sizeof(GridNode<Dim>) % sizeof(Real) == 0);
-    return simd::gather(&get(nodes[0]), (node + offset) * reals_in<GridNode<Dim>>);
   }
 };
 
@@ -115,3 +123,5 @@ template <NodeMoment moment = NodeMoment::none, int Dim, class Kernel, class Fn>
 }
 
 }  // namespace mpm
+
+#include "mpm/transfer/cpdi_lanes.hpp"  // LaneStencil and for_each_node of CPDI

@@ -15,6 +15,7 @@ enum class VerifyCase {
   axis_aligned,    ///< 2-D axis-aligned displacement in the unit square (Wallstedt & Guilkey 2008, Sec. 5.1)
   bar_1d,          ///< 1-D fixed-fixed bar, u = A sin(2 pi X/L) cos(c pi t/L)
   expanding_ring,  ///< 2-D expanding ring (Wallstedt & Guilkey 2008, Sec. 5.2), quarter model
+  shear_wave,      ///< 2-D standing shear wave along the diagonal of the periodic unit square (shear_wave.hpp)
 };
 VerifyCase parse_case(std::string_view name);  ///< throws InputError naming the expected cases
 std::string_view to_string(VerifyCase c);
