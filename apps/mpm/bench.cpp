@@ -138,7 +138,7 @@ Action add_bench(CLI::App& app) {
   auto o = std::make_shared<BenchOptions>();
   CLI::App* cmd = app.add_subcommand("bench", "time the reference elastic block problem");
   cmd->add_option("--dim", o->dim, "dimension: 2 or 3")->check(CLI::IsMember({2, 3}));
-  cmd->add_option("--kernel", o->kernel, "linear, ugimp, cpgimp, bspline2, bspline3, bspline2-clamped, bspline3-clamped, cpdi, ugimp-wide or cpgimp-wide");
+  cmd->add_option("--kernel", o->kernel, "linear, ugimp, cpgimp, bspline2, bspline3, bspline2-clamped, bspline3-clamped, cpdi, ugimp-wide, cpgimp-wide or cpdi2");
   cmd->add_option("--integrator", o->integrator, "usf, usl, cd or musl");
   cmd->add_option("--transfer", o->transfer, "particle velocity update: flip or apic")
       ->check(CLI::IsMember({"flip", "apic"}));

@@ -57,7 +57,7 @@ struct CaseOptions {
   void add_to(CLI::App* cmd) {
     cmd->add_option("case", case_name, "axis-aligned, bar-1d, expanding-ring or shear-wave")->required();
     cmd->add_option("--dim", options.dim, "dimension (axis-aligned: 2 or 3)");
-    cmd->add_option("--kernel", kernel, "linear, ugimp, cpgimp, bspline2, bspline3, bspline2-clamped, bspline3-clamped, cpdi, ugimp-wide or cpgimp-wide");
+    cmd->add_option("--kernel", kernel, "linear, ugimp, cpgimp, bspline2, bspline3, bspline2-clamped, bspline3-clamped, cpdi, ugimp-wide, cpgimp-wide or cpdi2");
     cmd->add_option("--transfer", transfer, "particle velocity update: flip or apic");
     cmd->add_option("--integrator", integrator, "usf, usl, cd, musl or implicit");
     cmd->add_option("--theta", options.theta, "implicit blend in [0, 1] (1: backward Euler, 0.5: midpoint)");

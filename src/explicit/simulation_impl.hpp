@@ -132,6 +132,7 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
     constraints_.count_mirror_copies(mirror_copies_);
   }
   if (spec.transfer == Transfer::apic) p.B.assign(p.size(), Mat<Dim>::Zero());  // the particles start unsheared
+  if constexpr (moves_corners<Kernel>) place_corners(p);  // CPDI2's domains start as CPDI's
   // Every rank was given all the particles (the masses above are the whole set's); each keeps its box's.
   if (box_halo_.divided()) erase_particles(p, not_owned());
   if (neo_hookean_.empty()) {

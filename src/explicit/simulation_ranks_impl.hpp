@@ -139,7 +139,8 @@ void Simulation<Dim, Kernel>::migrate() {
   for (int r : owner) near = near && std::binary_search(peers.begin(), peers.end(), r);
   const bool everywhere = comm_->max(near ? 0.0 : 1.0) > 0;
   std::vector<std::vector<std::byte>> to(everywhere ? static_cast<std::size_t>(comm_->size()) : peers.size());
-  const PackedArrays with{.state = neo_hookean_.empty(), .affine = spec_.transfer == Transfer::apic};
+  const PackedArrays with{.state = neo_hookean_.empty(), .affine = spec_.transfer == Transfer::apic,
+                          .corners = moves_corners<Kernel>};
   for (std::size_t k = 0; k < leaving.size(); ++k) {
     const auto to_rank = everywhere ? owner[k] : std::lower_bound(peers.begin(), peers.end(), owner[k]) - peers.begin();
     pack_particle(particles_, leaving[k], with, to[static_cast<std::size_t>(to_rank)]);

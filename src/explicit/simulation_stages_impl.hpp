@@ -110,6 +110,8 @@ void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
         blend = {spec_.flip_fraction, &pic_velocity_};
       }
     }
+    if constexpr (what.position && moves_corners<Kernel>)  // CPDI2: the corners, from the stencils of the step's start
+      g2p_corners(stencils_, *fields[k], v_grid, dt, particles_.corners, particles_.corners, range);
     ParticleFault f;
     if (!neo_hookean_.empty()) {
       f = g2p<what>(particles_, stencils_, *fields[k], v_grid, dt, NeoHookeanLanes{neo_hookean_}, sizes_, targets,
@@ -175,6 +177,8 @@ std::string Simulation<Dim, Kernel>::failure_message(std::size_t i, Real dt) con
             std::to_string(p.state.stretch3[i]) + " (material inverted)";
   else if (!p.state.empty() && !p.state.sigma[i].full().allFinite())
     cause = "non-finite stress from the material update";
+  else if (moves_corners<Kernel>)
+    cause = "its CPDI2 domain folded (the Jacobian of its corners' map <= 0 at a corner)";
   else
     cause = "cpGIMP half-lengths " + detail::format<Dim>(p.l[i]) + " left " + half_length_bound(spec_.kernel);
   std::ostringstream os;
@@ -191,7 +195,8 @@ double Simulation<Dim, Kernel>::bytes_per_particle() const {
                              body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes() * contact_.fields() +
                              (particles_.state.empty() ? 0 : particles_.size() * MaterialState::bytes_per_particle()) +
                              grad_v_.capacity() * sizeof(Mat<Dim>) + hoop_rate_.capacity() * sizeof(Real) +
-                             pic_velocity_.capacity() * sizeof(Vec<Dim>) + particles_.B.capacity() * sizeof(Mat<Dim>)) /
+                             pic_velocity_.capacity() * sizeof(Vec<Dim>) + particles_.B.capacity() * sizeof(Mat<Dim>) +
+                             particles_.corners.capacity() * sizeof(Corners<Dim>)) /
              n;
 }
 

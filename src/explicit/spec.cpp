@@ -10,9 +10,9 @@ namespace mpm {
 
 namespace {
 constexpr std::array<std::string_view, 4> integrator_names{"usf", "usl", "cd", "musl"};
-constexpr std::array<std::string_view, 10> kernel_names{
+constexpr std::array<std::string_view, 11> kernel_names{
     "linear", "ugimp", "cpgimp", "bspline2", "bspline3", "bspline2-clamped", "bspline3-clamped", "cpdi", "ugimp-wide",
-    "cpgimp-wide"};
+    "cpgimp-wide", "cpdi2"};
 
 template <class Names>
 std::string join(const Names& names) {

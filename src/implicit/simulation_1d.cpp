@@ -8,4 +8,5 @@ template class ImplicitSimulation<1, WideGimpKernel>;
 template class ImplicitSimulation<1, QuadraticBSplineKernel>;
 template class ImplicitSimulation<1, CubicBSplineKernel>;
 template class ImplicitSimulation<1, CpdiKernel<1>>;
+template class ImplicitSimulation<1, Cpdi2Kernel<1>>;
 }  // namespace mpm

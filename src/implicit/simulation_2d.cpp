@@ -8,4 +8,5 @@ template class ImplicitSimulation<2, WideGimpKernel>;
 template class ImplicitSimulation<2, QuadraticBSplineKernel>;
 template class ImplicitSimulation<2, CubicBSplineKernel>;
 template class ImplicitSimulation<2, CpdiKernel<2>>;
+template class ImplicitSimulation<2, Cpdi2Kernel<2>>;
 }  // namespace mpm

@@ -8,4 +8,5 @@ template class ImplicitSimulation<3, WideGimpKernel>;
 template class ImplicitSimulation<3, QuadraticBSplineKernel>;
 template class ImplicitSimulation<3, CubicBSplineKernel>;
 template class ImplicitSimulation<3, CpdiKernel<3>>;
+template class ImplicitSimulation<3, Cpdi2Kernel<3>>;
 }  // namespace mpm

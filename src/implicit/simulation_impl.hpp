@@ -2,6 +2,7 @@
 // Implementation of ImplicitSimulation<Dim, Kernel>; included by the per-dimension instantiation files.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "mpm/core/errors.hpp"
@@ -58,6 +59,7 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
   if (p.size() == 0) throw InputError("particles: the simulation has no particles");
   if (p.state.empty()) p.state.resize(p.size());  // a state the particles bring (a geostatic stress) is kept
   if (spec.transfer == Transfer::apic) p.B.assign(p.size(), Mat<Dim>::Zero());  // the particles start unsheared
+  if constexpr (moves_corners<Kernel>) place_corners(p);  // CPDI2's domains start as CPDI's
   const bool axisymmetric = Dim == 2 && spec_.geometry == Geometry::axisymmetric;
   Real min_mass = std::numeric_limits<Real>::max();
   for (std::size_t i = 0; i < p.size(); ++i) {
@@ -261,14 +263,14 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
 
 
 // Update the particles from the converged step (Sulsky & Kaul 2004, Eq. (2.3.2), Eq. (2.3.3), Eq. (2.3.4),
-// Eq. (2.3.5), or Eq. (3.2.5), Eq. (3.2.6)); with move_with_projected_velocity the momentum formulation moves
+// Eq. (2.3.5), or Eq. (3.2.5), Eq. (3.2.6)); with moves_with_projected_velocity the momentum formulation moves
 // them with the v^L of Sulsky & Kaul 2004, Eq. (3.2.7), as the velocity formulation does. The new
 // positions are checked before anything changes, so a failure leaves the last good state.
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
   ParticleSet<Dim>& p = particles_;
   const bool momentum = spec_.formulation == Formulation::momentum;
-  const bool with_momentum = momentum && !spec_.move_with_projected_velocity;
+  const bool with_momentum = momentum && !moves_with_projected_velocity(spec_);
   const bool deformed_sizes = deforms_half_lengths(spec_.kernel);
   const bool axisymmetric = Dim == 2 && spec_.geometry == Geometry::axisymmetric;
   trial_.x.resize(p.size());
@@ -276,6 +278,8 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
   gather_over_active_nodes(
       [&](const GridNode<Dim>& node, std::size_t n) { return with_momentum ? momentum_velocity_[n] : node.v_new; },
       v_move_);
+  // CPDI2: the corners move with the same node velocities, now on GridNode::a (Sadeghirad et al. 2013).
+  if constexpr (moves_corners<Kernel>) g2p_corners(stencils_, grid_, &GridNode<Dim>::a, dt, p.corners, trial_.corners);
   if (!momentum) gather_over_active_nodes([](const GridNode<Dim>& node, std::size_t) { return node.v_new - node.v; }, dv_);
   // PIC's velocity for the blend: sum_i S_ip v_i^L of the solution's node velocities (P_i^L / m_i in the momentum
   // formulation), which v_move_ already is unless the momentum formulation moves with the re-projected velocity.
@@ -291,8 +295,21 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
     g2p_affine(stencils_, grid_, &GridNode<Dim>::a, pic_velocity_, affine_);
   }
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
-    // Sulsky & Kaul 2004, Eq. (2.3.2), or Eq. (3.2.5); a centre carried past a wall stays on it.
-    trial_.x[i] = grid_.geometry.onto_walls(grid_.geometry.wrap(p.x[i] + dt * v_move_[i]));
+    // Sulsky & Kaul 2004, Eq. (2.3.2), or Eq. (3.2.5); a centre carried past a wall stays on it. A CPDI2 particle
+    // goes to its corners' centroid, and its corners with it through a wrap or onto a wall.
+    if constexpr (moves_corners<Kernel>) {
+      Real corners[Kernel::corners][Dim], near[Dim], centroid[Dim];
+      for (int c = 0; c < Kernel::corners; ++c)
+        for (int d = 0; d < Dim; ++d) corners[c][d] = trial_.corners[i](d, c);
+      for (int d = 0; d < Dim; ++d) near[d] = p.x[i][d];
+      const bool unfolded = corner_centroid<Dim>(corners, near, centroid);
+      const Vec<Dim> x_c = Eigen::Map<const Vec<Dim>>(centroid);
+      trial_.x[i] = grid_.geometry.onto_walls(grid_.geometry.wrap(x_c));
+      trial_.corners[i].colwise() += trial_.x[i] - x_c;
+      if (!unfolded) trial_.x[i].setConstant(std::numeric_limits<Real>::quiet_NaN());  // refused below
+    } else {
+      trial_.x[i] = grid_.geometry.onto_walls(grid_.geometry.wrap(p.x[i] + dt * v_move_[i]));
+    }
     if (!momentum) trial_.v[i] = p.v[i] + dv_[i];  // Sulsky & Kaul 2004, Eq. (2.3.3); else Eq. (3.2.6)
   });
   const auto fail = [&](std::size_t i, const std::string& cause) {
@@ -302,6 +319,8 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
     throw SimulationFailure(os.str());
   };
   for (std::size_t i = 0; i < p.size(); ++i) {
+    if constexpr (moves_corners<Kernel>)
+      if (!trial_.x[i].allFinite()) fail(i, "would fold its CPDI2 domain (the Jacobian of its corners' map <= 0 at a corner)");
     if (!grid_.geometry.contains(trial_.x[i]) && !grid_.geometry.beyond_outflow(trial_.x[i]))
       fail(i, "would leave the grid");
     if (deformed_sizes) {  // the half-lengths l_p0 diag(F) the GIMP stencil holds
@@ -314,6 +333,7 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
   }
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
     p.x[i] = trial_.x[i];
+    if constexpr (moves_corners<Kernel>) p.corners[i] = trial_.corners[i];
     p.v[i] = apic    ? pic_velocity_[i]
              : blend ? Vec<Dim>(spec_.flip_fraction * trial_.v[i] + (1 - spec_.flip_fraction) * pic[i])
                      : trial_.v[i];

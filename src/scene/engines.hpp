@@ -276,7 +276,7 @@ class Implicit {
     j["implicit"] = {{"theta", spec_.theta},
                      {"formulation", to_string(spec_.formulation)},
                      {"positions", spec_.formulation == Formulation::velocity ? "velocity"
-                                   : spec_.move_with_projected_velocity ? "projected-velocity"
+                                   : moves_with_projected_velocity(spec_) ? "projected-velocity"
                                                                        : "momentum"},
                      {"solver", to_string(spec_.solver)},
                      {"preconditioner", spec_.frozen_jacobian ? "frozen-jacobian" : "none"},

@@ -89,7 +89,7 @@ void read_simulation(const Section& s, Scene& sc) {
   if (!sc.implicit) sc.integrator = parse_integrator(integrator);
   sc.kernel = parse_kernel(s.choice("kernel", "cpgimp",
                                      {"linear", "ugimp", "cpgimp", "bspline2", "bspline3", "bspline2-clamped",
-                                      "bspline3-clamped", "cpdi", "ugimp-wide", "cpgimp-wide"}));
+                                      "bspline3-clamped", "cpdi", "ugimp-wide", "cpgimp-wide", "cpdi2"}));
   if (s.has("gimp_length")) {
     sc.gimp_length = s.number("gimp_length", 0);
     if (!(*sc.gimp_length >= 0)) s.fail("gimp_length", "expected a smoothing length >= 0 [m] (0: linear MPM)");
@@ -253,6 +253,9 @@ void read_implicit(const Section& s, Scene& sc) {
     s.fail("mass", "APIC (simulation.transfer = \"apic\") runs with the lumped mass");
   im.move_with_projected_velocity =
       s.choice("positions", "momentum", {"momentum", "projected-velocity"}) == "projected-velocity";
+  if (s.has("positions") && !im.move_with_projected_velocity && sc.kernel == KernelKind::cpdi2)
+    s.fail("positions", "\"momentum\" moves CPDI2's corners by a field the stress never resists, and their domains "
+                        "fold; kernel = \"cpdi2\" moves them with \"projected-velocity\"");
   if (s.has("positions") && im.formulation != Formulation::momentum)
     s.fail("positions", "belongs to the momentum formulation (formulation = \"momentum\"); the velocity formulation "
                         "moves the particles with its unknown");

@@ -73,6 +73,10 @@ io::CheckpointData save(const Scene& sc, const Engine& engine, const Accumulator
     c.reals["B"] = flat(p.B);
     c.row_widths["B"] = Dim * Dim;
   }
+  if (!p.corners.empty()) {  // CPDI2's domain corners
+    c.reals["corners"] = flat(p.corners);
+    c.row_widths["corners"] = Dim << Dim;
+  }
   save_outflow(engine.sim().outflow(), c);
   engine.save(c);
   return c;
@@ -117,6 +121,10 @@ void load_share(const io::CheckpointData& c, Engine& engine, Accumulators& a, st
   if (!p.B.empty()) {  // an APIC run's, which the engine sized when it seeded its particles
     p.B.resize(rows);
     unflat(array("B"), p.B, "B");
+  }
+  if (!p.corners.empty()) {  // a CPDI2 run's, which the engine placed when it seeded its particles
+    p.corners.resize(rows);
+    unflat(array("corners"), p.corners, "corners");
   }
   p.m = array("m");
   p.V0 = array("V0");

@@ -13,8 +13,8 @@ namespace mpm {
 
 namespace {
 /// The grid basis phi_i a nodal field is reconstructed with: GIMP weights are particle-averaged linear hats
-/// (Steffen et al. 2008, Eq. (31)), and CPDI's average them over the domain's corners (Sadeghirad et al. 2011), so
-/// their grid basis is the hat itself.
+/// (Steffen et al. 2008, Eq. (31)), and CPDI's and CPDI2's average them over the domain's corners (Sadeghirad et al.
+/// 2011, 2013), so their grid basis is the hat itself.
 template <class Kernel>
 using GridBasis = std::conditional_t<std::is_same_v<Kernel, GimpKernel> || std::is_same_v<Kernel, WideGimpKernel> ||
                                          is_cpdi<Kernel>,
@@ -42,6 +42,7 @@ DensityProjection project(const DensityCase& c) {
   fill_box<1>(p, Vec<1>(0.0), Vec<1>(1.0), out.h / c.ppc, 1.0, 0);
   if (c.gimp_length)
     for (Vec<1>& l : p.l) l.setConstant(0.5 * *c.gimp_length);
+  if constexpr (moves_corners<Kernel>) place_corners(p);  // CPDI2's domains: the particles' segments
 
   // Nodal mass and volume, m_i = sum_p S_ip m_p and V_i = sum_p S_ip V_p (Steffen et al. 2008, Sec. 4.3).
   std::vector<Real> mass(g.node_count(), 0.0), volume(g.node_count(), 0.0);

@@ -119,7 +119,7 @@ void scene_case(const std::string& file, const std::vector<std::string>& overrid
 TEST(SameBits, CollidingDisksEveryKernel) {
   // 150 steps to t = 3 s: the disks meet near step 60 and part; particles cross between boxes throughout.
   for (const char* kernel : {"linear", "ugimp", "cpgimp", "bspline2", "bspline3", "bspline2-clamped", "bspline3-clamped",
-                             "cpdi", "cpgimp-wide"})
+                             "cpdi", "cpgimp-wide", "cpdi2"})
     scene_case<2>("examples/colliding-disks/scene.toml", {std::string("simulation.kernel=") + kernel}, {1, 40, 150});
 }
 

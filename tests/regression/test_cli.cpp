@@ -175,7 +175,7 @@ TEST(Cli, BenchRejectsBadKernelAndDimension) {
   EXPECT_EQ(o.status, 2);
   EXPECT_NE(o.err.find(
                 "--kernel: unknown name 'cubic' (expected one of linear, ugimp, cpgimp, bspline2, bspline3, "
-                "bspline2-clamped, bspline3-clamped, cpdi, ugimp-wide, cpgimp-wide)"),
+                "bspline2-clamped, bspline3-clamped, cpdi, ugimp-wide, cpgimp-wide, cpdi2)"),
             std::string::npos)
       << o.err;
   o = run_mpm("bench --dim 4 --steps 1");

@@ -1,6 +1,7 @@
 // An explicit run with a rate-form material, a rigid body and axisymmetry (the upsetting, integrator = "cd")
 // stopped and restarted from its checkpoint ends bitwise equal to one uninterrupted run: the checkpoint carries
-// the material state, the volumes and the rigid body's displacement. So does an APIC run, in both engines.
+// the material state, the volumes and the rigid body's displacement. So do an APIC run and a CPDI2 run, in both
+// engines.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -53,6 +54,14 @@ TEST(ApicRestart, IsBitwiseInBothEngines) {
   expect_bitwise_restart("apic_explicit", "examples/colliding-disks/scene.toml", apic, 30);
   expect_bitwise_restart("apic_implicit", "examples/colliding-disks/scene.toml",
                          apic + " --set simulation.integrator=implicit", 10);
+}
+
+// CPDI2's corners travel in the checkpoint, in both engines (the colliding disks).
+TEST(Cpdi2Restart, IsBitwiseInBothEngines) {
+  const std::string cpdi2 = "--set simulation.kernel=cpdi2 --set simulation.end_time=1";
+  expect_bitwise_restart("cpdi2_explicit", "examples/colliding-disks/scene.toml", cpdi2, 30);
+  expect_bitwise_restart("cpdi2_implicit", "examples/colliding-disks/scene.toml",
+                         cpdi2 + " --set simulation.integrator=implicit", 10);
 }
 
 }  // namespace

@@ -220,7 +220,7 @@ INSTANTIATE_TEST_SUITE_P(
                  {"expected one of usf, usl, cd, musl, implicit, got 'rk4'"}, 5},
         BadScene{"UnknownKernel", {{"\"linear\"", "\"cubic\""}}, "simulation.kernel",
                  {"expected one of linear, ugimp, cpgimp, bspline2, bspline3, bspline2-clamped, bspline3-clamped, cpdi, "
-                  "ugimp-wide, cpgimp-wide, got 'cubic'"},
+                  "ugimp-wide, cpgimp-wide, cpdi2, got 'cubic'"},
                  6},
         BadScene{"ClampedCubicSplineOnTwoCells",
                  {{"\"linear\"", "\"bspline3-clamped\""}, {"cells = [10, 10]", "cells = [2, 2]"}}, "grid.cells",
@@ -237,6 +237,9 @@ INSTANTIATE_TEST_SUITE_P(
                  {{"kernel = \"linear\"", "kernel = \"linear\"\ntransfer = \"apic\""},
                   {"", "[implicit]\nformulation = \"velocity\"\nmass = \"consistent\"\n"}},
                  "implicit.mass", {"APIC (simulation.transfer = \"apic\") runs with the lumped mass"}, 37},
+        BadScene{"MomentumPositionsWithCpdi2",
+                 {{"kernel = \"linear\"", "kernel = \"cpdi2\""}, {"", "[implicit]\npositions = \"momentum\"\n"}},
+                 "implicit.positions", {"kernel = \"cpdi2\" moves them with \"projected-velocity\""}, 35},
         BadScene{"GimpLengthWithCpgimp", {{"kernel = \"linear\"", "kernel = \"cpgimp\"\ngimp_length = 0.05"}},
                  "simulation.gimp_length", {"applies to kernel = \"ugimp\" only"}, 7},
         // [grid]

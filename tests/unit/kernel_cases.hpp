@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "mpm/shape/cpdi.hpp"
+#include "mpm/shape/cpdi2.hpp"
 #include "mpm/shape/kernels.hpp"
 
 namespace mpm::testing {
@@ -21,7 +21,8 @@ using KernelCases2D3D =
                      KernelCase<GimpKernel, 3>, KernelCase<QuadraticBSplineKernel, 2>,
                      KernelCase<QuadraticBSplineKernel, 3>, KernelCase<CubicBSplineKernel, 2>,
                      KernelCase<CubicBSplineKernel, 3>, KernelCase<CpdiKernel<2>, 2>, KernelCase<CpdiKernel<3>, 3>,
-                     KernelCase<WideGimpKernel, 2>, KernelCase<WideGimpKernel, 3>>;
+                     KernelCase<WideGimpKernel, 2>, KernelCase<WideGimpKernel, 3>, KernelCase<Cpdi2Kernel<2>, 2>,
+                     KernelCase<Cpdi2Kernel<3>, 3>>;
 
 /// Every kernel in 1-D, 2-D and 3-D.
 using KernelCases1D2D3D =
@@ -31,7 +32,8 @@ using KernelCases1D2D3D =
                      KernelCase<QuadraticBSplineKernel, 3>, KernelCase<CubicBSplineKernel, 1>,
                      KernelCase<CubicBSplineKernel, 2>, KernelCase<CubicBSplineKernel, 3>, KernelCase<CpdiKernel<1>, 1>,
                      KernelCase<CpdiKernel<2>, 2>, KernelCase<CpdiKernel<3>, 3>, KernelCase<WideGimpKernel, 1>,
-                     KernelCase<WideGimpKernel, 2>, KernelCase<WideGimpKernel, 3>>;
+                     KernelCase<WideGimpKernel, 2>, KernelCase<WideGimpKernel, 3>, KernelCase<Cpdi2Kernel<1>, 1>,
+                     KernelCase<Cpdi2Kernel<2>, 2>, KernelCase<Cpdi2Kernel<3>, 3>>;
 
 /// "bspline2_3d" and so on.
 struct KernelCaseName {

@@ -57,6 +57,7 @@ struct Setup {
       p.add(x, v, 1e-3 * (0.5 + unit(rng)), 1e-4, Vec<Dim>::Constant(0.25 * geo.h), 0);
     }
     p.B.assign(p.size(), Mat<Dim>::Zero());
+    mpm::place_corners(p);  // CPDI2's domains
     mpm::build_stencils<Dim, Kernel>(p, geo, stencils, tile);
     order.build(tile, p.id);
   }

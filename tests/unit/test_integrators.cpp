@@ -16,7 +16,8 @@ namespace {
 
 constexpr Integrator all_integrators[] = {Integrator::usf, Integrator::usl, Integrator::cd, Integrator::musl};
 constexpr KernelKind all_kernels[] = {KernelKind::linear, KernelKind::ugimp, KernelKind::cpgimp,
-                                      KernelKind::bspline2, KernelKind::bspline3, KernelKind::cpdi};
+                                      KernelKind::bspline2, KernelKind::bspline3, KernelKind::cpdi,
+                                      KernelKind::cpdi2};
 
 /// An elastic block with a velocity field that translates (speed `drift` per axis) and rotates and stretches
 /// it (rate `rate`), centred in a grid of free faces, no gravity.
@@ -119,9 +120,9 @@ void expect_thread_count_invariant(KernelKind kind, Integrator integrator, int c
 TEST(Integrators, BitwiseIdenticalWithOneTwoAndThreeThreads) {
   // 100 cells: ~10^4 particles, enough for several sort chunks and scatter strips per thread.
   for (Integrator in : all_integrators)
-    for (KernelKind k : {KernelKind::linear, KernelKind::cpgimp, KernelKind::cpdi})
+    for (KernelKind k : {KernelKind::linear, KernelKind::cpgimp, KernelKind::cpdi, KernelKind::cpdi2})
       with_kernel<2>(k, [&]<class K>() { expect_thread_count_invariant<2, K>(k, in, 100); });
-  for (KernelKind k : {KernelKind::bspline3, KernelKind::cpdi})
+  for (KernelKind k : {KernelKind::bspline3, KernelKind::cpdi, KernelKind::cpdi2})
     with_kernel<3>(k, [&]<class K>() { expect_thread_count_invariant<3, K>(k, Integrator::usl, 24); });
 }
 

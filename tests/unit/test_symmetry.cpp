@@ -159,6 +159,7 @@ bool reaches_ghost(mpm::KernelKind kernel, Real x, Real half_length) {
     case mpm::KernelKind::ugimp_wide:
     case mpm::KernelKind::cpgimp_wide:
     case mpm::KernelKind::cpdi:  // an axis-aligned domain's corners are l_p from its centre
+    case mpm::KernelKind::cpdi2:
       return x < half_length;
     case mpm::KernelKind::bspline2:
       return x < 0.5 * kH;

@@ -107,6 +107,7 @@ TYPED_TEST(TileHalo, BoxesGiveEveryNodeTheBitsOfOneProcess) {
     p.add(x, v, 1e-3 * (0.5 + unit(rng)), 1e-4, Vec<Dim>::Constant(0.25 * geo.h), 0);
     for (Real& c : p.sigma.back().c) c = 1e3 * sym(rng);
   }
+  mpm::place_corners(p);  // CPDI2's domains
   mpm::Grid<Dim> one(geo);
   scatter<Dim, Kernel>(p, one, nullptr);
 
@@ -152,6 +153,7 @@ TYPED_TEST(TileHalo, BoxesGiveEveryNodeTheBitsOfOneProcess) {
           if (!boxes[static_cast<std::size_t>(b)].contains(t)) continue;
           q.add(p.x[i], p.v[i], p.m[i], p.V0[i], p.l[i], 0);
           q.sigma.back() = p.sigma[i];
+          q.corners.push_back(p.corners[i]);
         }
         mpm::Grid<Dim> grid(halo.box());
         std::vector<mpm::TileSums<Dim>> kept;

@@ -81,6 +81,7 @@ mpm::ParticleSet<Dim> random_particles(const mpm::GridGeometry<Dim>& g, Real mar
     }
     p.add(x, v, 1e-3 * mass(rng), 1e-4, Vec<Dim>::Constant(fraction * g.h), 0);
   }
+  mpm::place_corners(p);  // the boxes' corners, the domains of CPDI2 (unused by the other kernels)
   return p;
 }
 
@@ -169,6 +170,7 @@ TYPED_TEST(TransferTest, p2g_equals_the_colour_ordered_sum_of_separate_tile_sums
       if (c != colour) continue;
       q.add(p.x[i], p.v[i], p.m[i], p.V0[i], p.l[i], 0);
       q.sigma.back() = p.sigma[i];
+      q.corners.push_back(p.corners[i]);
     }
     if (q.size() == 0) continue;
     ++colours_met;
@@ -249,6 +251,8 @@ TYPED_TEST(TransferTest, g2p_reproduces_linear_velocity_field_and_its_gradient) 
     const mpm::ParticleSet<Dim> before = p;
     const Transfer<Dim, Kernel> t(p, geo);
 
+    if constexpr (mpm::moves_corners<Kernel>)  // CPDI2 moves the corners first, and the particle to their centroid
+      mpm::g2p_corners(t.stencils, grid, &mpm::GridNode<Dim>::v_new, dt, p.corners, p.corners);
     const mpm::ParticleFault fault =
         mpm::g2p<mpm::Gather{.velocity = false, .position = true, .deformation = true}>(
             p, t.stencils, grid, &mpm::GridNode<Dim>::v_new, dt, mpm::NeoHookeanLanes{materials},
@@ -266,6 +270,12 @@ TYPED_TEST(TransferTest, g2p_reproduces_linear_velocity_field_and_its_gradient) 
       }
       // Eq. (12): V = V0 det F; det is a smooth function of entries of size ~1, so its error is ~Dim tol_F.
       EXPECT_NEAR(p.V[i], before.V0[i] * F_expected.determinant(), before.V0[i] * 4 * Dim * tol_F);
+      // CPDI2's corners move with the linear field exactly: x_c + dt (v0 + L x_c).
+      if constexpr (mpm::moves_corners<Kernel>)
+        for (int c = 0; c < Kernel::corners; ++c) {
+          const Vec<Dim> xc = before.corners[i].col(c);
+          EXPECT_LT((p.corners[i].col(c) - (xc + dt * (v0 + L * xc))).cwiseAbs().maxCoeff(), tol_x) << "corner " << c;
+        }
       // SizeUpdate::fixed (uGIMP) keeps the half-lengths.
       for (int d = 0; d < Dim; ++d) EXPECT_EQ(p.l[i][d], before.l[i][d]);
     }

@@ -17,7 +17,7 @@ except ImportError:
     sys.exit(3)
 
 NAMES = {"cpgimp": "cpGIMP", "ugimp": "uGIMP", "linear": "MPM", "bspline2": "B2", "bspline3": "B3",
-         "bspline2-clamped": "B2c", "bspline3-clamped": "B3c", "cpdi": "CPDI",
+         "bspline2-clamped": "B2c", "bspline3-clamped": "B3c", "cpdi": "CPDI", "cpdi2": "CPDI2",
          "ugimp-wide": "uGIMPw", "cpgimp-wide": "cpGIMPw"}
 
 

@@ -291,6 +291,8 @@ decltype(auto) with_kernel(KernelKind k, Fn&& fn) {
   switch (k) {
     case KernelKind::cpdi:
       return fn.template operator()<CpdiKernel<Dim>>();
+    case KernelKind::cpdi2:
+      return fn.template operator()<Cpdi2Kernel<Dim>>();
     case KernelKind::linear:
       return fn.template operator()<LinearKernel>();
     case KernelKind::ugimp:

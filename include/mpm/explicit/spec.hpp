@@ -22,8 +22,8 @@ namespace mpm {
 enum class Integrator { usf, usl, cd, musl };
 
 /// Shape functions: linear MPM, GIMP with fixed (uGIMP) or deformed (cpGIMP) particle sizes, B-splines, B-splines
-/// whose knots are clamped at the grid's faces (Steffen et al. 2008, Sec. 4.3), CPDI (Sadeghirad et al. 2011), and
-/// the GIMP kinds on a stencil one node wider, for half-lengths up to a cell.
+/// whose knots are clamped at the grid's faces (Steffen et al. 2008, Sec. 4.3), CPDI (Sadeghirad et al. 2011),
+/// the GIMP kinds on a stencil one node wider, for half-lengths up to a cell, and CPDI2 (Sadeghirad et al. 2013).
 enum class KernelKind {
   linear,
   ugimp,
@@ -34,7 +34,8 @@ enum class KernelKind {
   bspline3_clamped,
   cpdi,
   ugimp_wide,
-  cpgimp_wide
+  cpgimp_wide,
+  cpdi2
 };
 
 /// Whether a kernel kind is GIMP's, whose particles' half-lengths shape the weights.

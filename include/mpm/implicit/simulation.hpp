@@ -121,6 +121,7 @@ class ImplicitSimulation {
     std::vector<Real> v_r;    // the radial velocity at the particle, sum_i N_i(x_p) v_ri^L
     std::vector<Vec<Dim>> v;  // v_p^L: Sulsky & Kaul 2004, Eq. (3.2.6) (momentum) or Eq. (2.3.3)
     std::vector<Vec<Dim>> x;  // x_p^L
+    std::vector<Corners<Dim>> corners;  // CPDI2's x_c^L
     std::vector<std::uint8_t> ok;
   };
 

@@ -87,6 +87,14 @@ struct ImplicitSpec {
   SurfaceLoads<Dim> surface_loads;
 };
 
+/// Whether the momentum formulation moves the particles with v^L (Sulsky & Kaul 2004, Eq. (3.2.7)): when asked, and
+/// always with CPDI2, whose corners, moved by the paper's sum_i P_i^L N_i / m_i, drift from the deformation the stress
+/// resists until their domains fold (docs/kernels.md, CPDI2).
+template <int Dim>
+bool moves_with_projected_velocity(const ImplicitSpec<Dim>& s) {
+  return s.formulation == Formulation::momentum && (s.move_with_projected_velocity || s.kernel == KernelKind::cpdi2);
+}
+
 Formulation parse_formulation(std::string_view name, std::string_view key);
 ImplicitSolver parse_solver(std::string_view name, std::string_view key);
 std::string_view to_string(Formulation f);

@@ -1,6 +1,6 @@
 #pragma once
-/// Particles as bytes, to move them between ranks: every field of a particle, and its material state's and APIC
-/// matrix when the set carries them, in the order of ParticleSet::for_each_array.
+/// Particles as bytes, to move them between ranks: every field of a particle, and its material state's, APIC
+/// matrix and CPDI2 corners when the set carries them, in the order of ParticleSet::for_each_array.
 #include <cstddef>
 #include <cstring>
 #include <vector>
@@ -12,7 +12,8 @@ namespace mpm {
 /// The optional arrays a set carries, the same on every rank of a run.
 struct PackedArrays {
   bool state = false;   ///< the material state (MaterialState)
-  bool affine = false;  ///< APIC's B_p
+  bool affine = false;   ///< APIC's B_p
+  bool corners = false;  ///< CPDI2's domain corners
 };
 
 /// fn(array) for every array `with` names, in the order of ParticleSet::for_each_array.
@@ -21,6 +22,7 @@ void for_each_packed_array(ParticleSet<Dim>& p, PackedArrays with, Fn&& fn) {
   p.for_each_field(fn);
   if (with.state) p.for_each_state_array(fn);
   if (with.affine) fn(p.B);
+  if (with.corners) fn(p.corners);
 }
 
 /// Append particle i's fields to `bytes`.

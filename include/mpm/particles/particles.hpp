@@ -9,6 +9,11 @@
 
 namespace mpm {
 
+/// The 2^Dim corners of a particle's domain (CPDI2), column c corner c, whose reference signs are the bits of c
+/// (CpdiKernel::sign) [m].
+template <int Dim>
+using Corners = Eigen::Matrix<Real, Dim, 1 << Dim>;
+
 /// One array per particle field. Positions and stresses are in the current configuration.
 template <int Dim>
 struct ParticleSet {
@@ -35,6 +40,9 @@ struct ParticleSet {
   /// APIC's affine matrix B_p [m^2/s] (Jiang et al. 2015; transfer/g2p.hpp's g2p_affine); empty unless the run
   /// transfers with APIC.
   std::vector<Mat<Dim>> B;
+  /// CPDI2's domain corners (Sadeghirad, Brannon & Guilkey 2013; shape/cpdi2.hpp); empty unless the kernel is
+  /// "cpdi2".
+  std::vector<Corners<Dim>> corners;
 
   std::size_t size() const { return x.size(); }
 
@@ -67,12 +75,14 @@ struct ParticleSet {
     id.reserve(n);
   }
 
-  /// Call fn(array) for every per-particle array, the material state's and APIC's included (some may be empty).
+  /// Call fn(array) for every per-particle array, the material state's, APIC's and CPDI2's included (some may be
+  /// empty).
   template <class Fn>
   void for_each_array(Fn&& fn) {
     for_each_field(fn);
     for_each_state_array(fn);
     fn(B);
+    fn(corners);
   }
   /// Call fn(array) for every array of the material state.
   template <class Fn>

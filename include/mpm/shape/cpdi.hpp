@@ -146,46 +146,72 @@ struct BoxOf<CpdiKernel<Dim>> {
 template <class Kernel>
 using BoxKernel = typename detail::BoxOf<Kernel>::type;
 
-/// The weights of one particle's stencil (T = Real) or of lanes of them (T = RealLanes): the hats of each corner
-/// along each axis at the 4 nodes of the block, and each corner's gradient weight a_c / V_p [1/m].
-template <int Dim, class T>
+/// The weights of one particle's stencil (T = Real) or of lanes of them (T = RealLanes), for CPDI or CPDI2 (whose
+/// axes carry each corner's place, gradient weight and weight; shape/cpdi2.hpp): the hats of each corner along each
+/// axis at the 4 nodes of the block, each corner's gradient weight a_c / V_p [1/m] and, for CPDI2, its weight w_c
+/// (CPDI's are all 2^-D).
+template <int Dim, class T, class Kernel = CpdiKernel<Dim>>
 struct CornerWeights {
-  using Kernel = CpdiKernel<Dim>;
   static constexpr int C = Kernel::corners, N = Kernel::width;
-  T hat[C][Dim][N], grad[C][Dim];
+  /// Whether each corner has its own weight (CPDI2's w_c).
+  static constexpr bool weighted = requires(typename Kernel::Axis a) { a.w; };
+  T hat[C][Dim][N], grad[C][Dim], weight[weighted ? C : 1];
 
   /// From the axes a[d] (Kernel::AxisOf<T>) of a stencil.
   template <class Axes>
   [[gnu::always_inline]] CornerWeights(const Axes& a, Real inv_h) {
-    for (int c = 0; c < C; ++c)
+    for (int c = 0; c < C; ++c) {
       for (int d = 0; d < Dim; ++d) {
         T t = a[d].t, g{};
-        for (int k = 0; k < Dim; ++k) {
-          t += Kernel::sign(c, k) * a[d].r[k];
-          g += Kernel::sign(c, k) * a[d].g[k];
+        if constexpr (weighted) {
+          t += a[d].x[c];
+          g = a[d].g[c];
+        } else {
+          for (int k = 0; k < Dim; ++k) {
+            t += Kernel::sign(c, k) * a[d].r[k];
+            g += Kernel::sign(c, k) * a[d].g[k];
+          }
         }
         for (int n = 0; n < N; ++n) hat[c][d][n] = Kernel::hat(t - n);
         grad[c][d] = g * inv_h;
       }
+      if constexpr (weighted) weight[c] = a[0].w[c];
+    }
   }
 
-  /// fn(k, S_ip, grad S_ip) for every node of the block, k its place along each axis (axis 0 fastest):
-  /// S_ip = 2^-D sum_c prod_d hat_cd(k_d), grad S_ip = sum_c grad_c prod_d hat_cd(k_d).
+  /// fn(k, N) for every node of the block, k its place along each axis (axis 0 fastest) and N[c] = N_i(x_c) =
+  /// prod_d hat_cd(k_d) the node's hat at each corner.
   template <class Fn>
-  [[gnu::always_inline]] void visit(Fn&& fn) const {
+  [[gnu::always_inline]] void visit_hats(Fn&& fn) const {
     constexpr int nodes = Dim == 1 ? N : Dim == 2 ? N * N : N * N * N;
     for (int n = 0; n < nodes; ++n) {
       int k[Dim];
       for (int d = 0, rest = n; d < Dim; ++d, rest /= N) k[d] = rest % N;
+      T product[C];
+      for (int c = 0; c < C; ++c) {
+        product[c] = hat[c][0][k[0]];
+        for (int d = 1; d < Dim; ++d) product[c] *= hat[c][d][k[d]];
+      }
+      fn(k, product);
+    }
+  }
+
+  /// fn(k, S_ip, grad S_ip) for every node of the block, k its place along each axis (axis 0 fastest):
+  /// S_ip = sum_c w_c N_i(x_c) (w_c = 2^-D for CPDI), grad S_ip = sum_c grad_c N_i(x_c).
+  template <class Fn>
+  [[gnu::always_inline]] void visit(Fn&& fn) const {
+    visit_hats([&](const int(&k)[Dim], const T(&product)[C]) __attribute__((always_inline)) {
       T S{}, dS[Dim] = {};
       for (int c = 0; c < C; ++c) {
-        T product = hat[c][0][k[0]];
-        for (int d = 1; d < Dim; ++d) product *= hat[c][d][k[d]];
-        S += product;
-        for (int d = 0; d < Dim; ++d) dS[d] += grad[c][d] * product;
+        if constexpr (weighted)
+          S += weight[c] * product[c];
+        else
+          S += product[c];
+        for (int d = 0; d < Dim; ++d) dS[d] += grad[c][d] * product[c];
       }
-      fn(k, S * (Real{1} / C), dS);
-    }
+      if constexpr (!weighted) S *= Real{1} / C;
+      fn(k, S, dS);
+    });
   }
 };
 

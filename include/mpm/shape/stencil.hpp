@@ -15,7 +15,7 @@
 #include "mpm/grid/grid.hpp"
 #include "mpm/particles/lanes.hpp"
 #include "mpm/particles/particles.hpp"
-#include "mpm/shape/cpdi.hpp"
+#include "mpm/shape/cpdi2.hpp"
 
 namespace mpm {
 
@@ -100,15 +100,18 @@ template <class Kernel, int Dim, class T>
 }
 
 /// What locates a particle's stencil besides its position: the half-lengths l_p of a tensor-product kernel (GIMP's
-/// domain; the others ignore them), or CPDI's domain vectors R = [r_1 ... r_D] = F_p diag(l_p0)
-/// (Sadeghirad et al. 2011).
+/// domain; the others ignore them), CPDI's domain vectors R = [r_1 ... r_D] = F_p diag(l_p0)
+/// (Sadeghirad et al. 2011), or CPDI2's corners (Sadeghirad et al. 2013).
 template <int Dim, class Kernel>
-using Domain = std::conditional_t<is_cpdi<Kernel>, Mat<Dim>, Vec<Dim>>;
+using Domain = std::conditional_t<moves_corners<Kernel>, Corners<Dim>,
+                                  std::conditional_t<is_cpdi<Kernel>, Mat<Dim>, Vec<Dim>>>;
 
 /// Particle i's Domain.
 template <int Dim, class Kernel>
 Domain<Dim, Kernel> domain_of(const ParticleSet<Dim>& p, std::size_t i) {
-  if constexpr (is_cpdi<Kernel>)
+  if constexpr (moves_corners<Kernel>)
+    return p.corners[i];
+  else if constexpr (is_cpdi<Kernel>)
     return p.F[i] * p.l0[i].asDiagonal();
   else
     return p.l[i];
@@ -118,7 +121,9 @@ Domain<Dim, Kernel> domain_of(const ParticleSet<Dim>& p, std::size_t i) {
 template <int Dim, class Kernel>
 [[gnu::always_inline]] inline RecordLanes<Domain<Dim, Kernel>> load_domain(const LaneBlock& block,
                                                                           const ParticleSet<Dim>& p) {
-  if constexpr (is_cpdi<Kernel>) {
+  if constexpr (moves_corners<Kernel>) {
+    return block.load(p.corners);
+  } else if constexpr (is_cpdi<Kernel>) {
     RecordLanes<Mat<Dim>> R = block.load(p.F);
     const RecordLanes<Vec<Dim>> l0 = block.load(p.l0);
     for (int k = 0; k < Dim; ++k)
@@ -131,13 +136,19 @@ template <int Dim, class Kernel>
 
 /// The base nodes (global indices) and axis data of particles at x with domains `domain`, for one particle (T =
 /// Real, x and domain Eigen values) or lanes (T = RealLanes, x and domain RecordLanes): locate_axis along each axis
-/// for a tensor-product kernel, CpdiKernel::locate of the domain in cells for CPDI.
+/// for a tensor-product kernel, CpdiKernel::locate of the domain in cells for CPDI, Cpdi2Kernel::locate of the
+/// corners' places from x in cells for CPDI2 (Corners is column-major: coordinate d of corner c is Real d + c Dim).
 template <class Kernel, int Dim, class T, class X, class D>
 [[gnu::always_inline]] inline auto locate_stencil(const GridGeometry<Dim>& g, Real inv_h, const X& x, const D& domain,
                                                   typename Kernel::template AxisOf<T> (&axis)[Dim]) {
   T xi[Dim];
   for (int d = 0; d < Dim; ++d) xi[d] = (x[d] - g.lo[d]) * inv_h;
-  if constexpr (is_cpdi<Kernel>) {
+  if constexpr (moves_corners<Kernel>) {
+    T offset[Kernel::corners][Dim];
+    for (int c = 0; c < Kernel::corners; ++c)
+      for (int d = 0; d < Dim; ++d) offset[c][d] = (domain[d + c * Dim] - x[d]) * inv_h;
+    return Kernel::locate(xi, offset, axis);
+  } else if constexpr (is_cpdi<Kernel>) {
     T R[Dim][Dim];
     for (int a = 0; a < Dim; ++a)
       for (int k = 0; k < Dim; ++k) R[a][k] = domain[a + k * Dim] * inv_h;
@@ -261,11 +272,12 @@ inline void for_each_node(const Stencil<Dim, Kernel>& s, const NodeLayout<Dim>& 
   }
 }
 
-/// Visit every node of a CPDI stencil's block: fn(flat node index, weight S_ip, gradient grad S_ip [1/m])
+/// Visit every node of a CPDI or CPDI2 stencil's block: fn(flat node index, weight S_ip, gradient grad S_ip [1/m])
 /// (CornerWeights).
-template <int Dim, class Fn>
-inline void for_each_node(const Stencil<Dim, CpdiKernel<Dim>>& s, const NodeLayout<Dim>& nl, Fn&& fn) {
-  const CornerWeights<Dim, Real> weights(s.axis, nl.inv_h);
+template <int Dim, class Kernel, class Fn>
+  requires is_cpdi<Kernel>
+inline void for_each_node(const Stencil<Dim, Kernel>& s, const NodeLayout<Dim>& nl, Fn&& fn) {
+  const CornerWeights<Dim, Real, Kernel> weights(s.axis, nl.inv_h);
   weights.visit([&](const int(&k)[Dim], Real S, const Real(&dS)[Dim]) {
     std::int32_t node = s.node;
     Vec<Dim> grad;

@@ -1,17 +1,18 @@
 #pragma once
-/// CPDI's stencils of a block in lanes and the visit of their nodes (Sadeghirad et al. 2011; shape/cpdi.hpp): the
-/// weights are sums over the domain's corners, not a tensor product, so LaneStencil keeps the corners' hats
-/// (CornerWeights) and for_each_node sums them over the 4^Dim nodes of the block. Included by transfer/lanes.hpp.
+/// CPDI's and CPDI2's stencils of a block in lanes and the visit of their nodes (Sadeghirad et al. 2011, 2013;
+/// shape/cpdi.hpp, shape/cpdi2.hpp): the weights are sums over the domain's corners, not a tensor product, so
+/// LaneStencil keeps the corners' hats (CornerWeights) and for_each_node sums them over the 4^Dim nodes of the
+/// block. Included by transfer/lanes.hpp.
 #include "mpm/shape/cpdi.hpp"
 #include "mpm/transfer/lanes.hpp"
 
 namespace mpm {
 
-template <int Dim>
-struct LaneStencil<Dim, CpdiKernel<Dim>> : LaneNodes<Dim, CpdiKernel<Dim>> {
-  using Kernel = CpdiKernel<Dim>;
+template <int Dim, class Kernel>
+  requires is_cpdi<Kernel>
+struct LaneStencil<Dim, Kernel> : LaneNodes<Dim, Kernel> {
   static constexpr int N = Kernel::width;
-  CornerWeights<Dim, RealLanes> corners;
+  CornerWeights<Dim, RealLanes, Kernel> corners;
   RealLanes t[Dim];  ///< each particle's centre from its base node along each axis, in cells
   /// Set by locate_nodes (APIC only): dx[d][k] = x_i - x_p along axis d for the k-th node of the axis [m], and the
   /// inverse of the particle's inertia tensor D_p, a full matrix for a sheared domain.
@@ -25,8 +26,8 @@ struct LaneStencil<Dim, CpdiKernel<Dim>> : LaneNodes<Dim, CpdiKernel<Dim>> {
   }
 
   /// APIC's node offsets and D_p^-1 (Jiang et al. 2015): D_p = sum_i S_ip (x_i - x_p)(x_i - x_p)^T summed over the
-  /// block. CPDI puts x_p at its domain's centroid, sum_i S_ip x_i, so the first moments vanish; D_p >= R R^T is
-  /// positive definite for any domain with det R > 0.
+  /// block. CPDI and CPDI2 put x_p at its domain's centroid, sum_i S_ip x_i, so the first moments vanish; D_p is
+  /// positive definite for any domain of positive volume (for CPDI D_p >= R R^T).
   [[gnu::always_inline]] void locate_nodes(Real h) {
     for (int d = 0; d < Dim; ++d)
       for (int k = 0; k < N; ++k) dx[d][k] = (k - t[d]) * h;
@@ -45,10 +46,11 @@ struct LaneStencil<Dim, CpdiKernel<Dim>> : LaneNodes<Dim, CpdiKernel<Dim>> {
   }
 };
 
-/// Visit every node of the CPDI stencils of a block, as for_each_node of the tensor-product kernels: fn(offset of
-/// the node from each lane's base node, S_ip, grad S_ip [1/m], and the `moment` asked for).
-template <NodeMoment moment = NodeMoment::none, int Dim, class Fn>
-[[gnu::always_inline]] inline void for_each_node(const LaneStencil<Dim, CpdiKernel<Dim>>& s, const NodeLayout<Dim>& nl,
+/// Visit every node of the CPDI or CPDI2 stencils of a block, as for_each_node of the tensor-product kernels:
+/// fn(offset of the node from each lane's base node, S_ip, grad S_ip [1/m], and the `moment` asked for).
+template <NodeMoment moment = NodeMoment::none, int Dim, class Kernel, class Fn>
+  requires is_cpdi<Kernel>
+[[gnu::always_inline]] inline void for_each_node(const LaneStencil<Dim, Kernel>& s, const NodeLayout<Dim>& nl,
                                                  Fn&& fn) {
   s.corners.visit([&](const int(&k)[Dim], const RealLanes& S, const RealLanes(&dS)[Dim]) __attribute__((always_inline)) {
     std::int32_t offset = k[0];

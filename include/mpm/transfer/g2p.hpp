@@ -121,6 +121,39 @@ void g2p_affine(const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<Di
       });
 }
 
+/// CPDI2's corner update (Sadeghirad et al. 2013): to_c = from_c + dt sum_i N_i(x_c) v_i for every corner x_c of the
+/// particles of `range` (all by default), v_i the node field `v_grid`, through the stencils of the step's start, whose
+/// corner hats N_i(x_c) CornerWeights holds. `from` and `to` may be one array.
+template <int Dim, class Kernel>
+  requires moves_corners<Kernel>
+void g2p_corners(const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<Dim>& grid, NodeVelocity<Dim> v_grid,
+                 Real dt, const std::vector<Corners<Dim>>& from, std::vector<Corners<Dim>>& to,
+                 std::optional<ParticleRange> range = {}) {
+  constexpr int C = Kernel::corners;
+  const NodeLayout<Dim> layout(grid.geometry);
+  const auto& nodes = grid.nodes;
+  to.resize(from.size());
+  const ParticleRange r = range.value_or(ParticleRange{0, static_cast<std::ptrdiff_t>(stencils.size())});
+  parallel_for(LaneBlock::count(r), [&](std::ptrdiff_t b) {
+    const LaneBlock block(b, r);
+    const LaneStencil<Dim, Kernel> s(stencils, block, layout.inv_h);
+    RealLanes v_c[C][Dim] = {};
+    s.corners.visit_hats([&](const int(&k)[Dim], const RealLanes(&N)[C]) __attribute__((always_inline)) {
+      std::int32_t offset = k[0];
+      for (int d = 1; d < Dim; ++d) offset += k[d] * layout.stride[d];
+      for (int d = 0; d < Dim; ++d) {
+        const RealLanes v_i =
+            s.gather(nodes, offset, [&](const GridNode<Dim>& node) -> const Real& { return (node.*v_grid)[d]; });
+        for (int c = 0; c < C; ++c) v_c[c][d] += N[c] * v_i;
+      }
+    });
+    RecordLanes<Corners<Dim>> x = block.load(from);
+    for (int c = 0; c < C; ++c)
+      for (int d = 0; d < Dim; ++d) x[d + c * Dim] += dt * v_c[c][d];
+    block.store(to, x);
+  }, 1024 / LaneBlock::width);
+}
+
 /// The FLIP-PIC blend of a velocity update: v_p = flip (v_p + dt sum_i S_ip a_i) + (1 - flip) pic_p, pic_p the
 /// grid velocity interpolated to the particle (sum_i S_ip v_i). Without pic the update is FLIP's.
 template <int Dim>
@@ -132,6 +165,8 @@ struct VelocityBlend {
 /// The explicit step's G2P: update the particles from the sums g2p_gather hands over. `v_grid` is the node
 /// velocity field used for positions and velocity gradients (&GridNode::v_new, or &GridNode::v after a
 /// re-projection).
+/// A CPDI2 pass puts each particle at the centroid of its corners, which g2p_corners moved first, and moves the
+/// corners with it through a periodic wrap or onto a wall (Sadeghirad et al. 2013).
 /// A pass that moves the particles can also compute their stencils at the new positions for the next step,
 /// into `next` when given: the positions are then at hand, and no separate pass over the particles is needed.
 /// A deforming pass hands each block's F, J, velocity gradient, interpolated radial velocity and radius at the
@@ -185,8 +220,20 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
       }
       if constexpr (what.position) {
         x = block.load(p.x);
+        [[maybe_unused]] RecordLanes<Corners<Dim>> corners;
+        [[maybe_unused]] RealLanes centroid[Dim];
+        if constexpr (moves_corners<Kernel>) {  // CPDI2: at the centroid of its corners, which g2p_corners moved
+          corners = block.load(p.corners);
+          RealLanes xc[Kernel::corners][Dim], near[Dim];
+          for (int c = 0; c < Kernel::corners; ++c)
+            for (int d = 0; d < Dim; ++d) xc[c][d] = corners[d + c * Dim];
+          for (int d = 0; d < Dim; ++d) near[d] = x[d];
+          ok &= corner_centroid<Dim>(xc, near, centroid);
+          for (int d = 0; d < Dim; ++d) x[d] = centroid[d];
+        } else {
+          for (int c = 0; c < Dim; ++c) x[c] += dt * v_p[c];
+        }
         for (int c = 0; c < Dim; ++c) {
-          x[c] += dt * v_p[c];
           if (wraps && period[c] > 0) {  // out through one face of a periodic pair, in through the other
             x[c] = x[c] >= geo.lo[c] + period[c] ? x[c] - period[c] : x[c];
             x[c] = x[c] < geo.lo[c] ? x[c] + period[c] : x[c];
@@ -202,6 +249,11 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
           ok &= (x[c] >= lo_bound[c]) & (x[c] <= hi_bound[c]) & (v[c] - v[c] == 0);
         }
         block.store(p.x, x);
+        if constexpr (moves_corners<Kernel>) {  // the corners go where a wrap or a wall took the centroid
+          for (int c = 0; c < Kernel::corners; ++c)
+            for (int d = 0; d < Dim; ++d) corners[d + c * Dim] += x[d] - centroid[d];
+          block.store(p.corners, corners);
+        }
       }
     }
     if constexpr (what.deformation) {
