@@ -27,8 +27,8 @@ LINEAR_MPM = [("linear", "usf"), ("linear", "usl")]
 # APIC (docs/transfers.md) beside FLIP: (kernel, integrator, transfer).
 APIC = [("cpgimp", "usl", "flip"), ("cpgimp", "usl", "apic"), ("cpgimp", "cd", "flip"), ("cpgimp", "cd", "apic"),
         ("bspline2", "cd", "flip"), ("bspline2", "cd", "apic"), ("bspline3", "cd", "flip"), ("bspline3", "cd", "apic")]
-# CPDI (docs/kernels.md) beside GIMP: (kernel, integrator).
-CPDI = [("cpgimp", "cd"), ("ugimp", "cd"), ("cpdi", "cd"), ("cpdi", "usl")]
+# CPDI and CPDI2 (docs/kernels.md) beside GIMP: (kernel, integrator).
+CPDI = [("cpgimp", "cd"), ("ugimp", "cd"), ("cpdi", "cd"), ("cpdi", "usl"), ("cpdi2", "cd")]
 # The paper's CFL number: dt = CFL h / c with c^2 = E / rho0, the wave speed of its manufactured solutions.
 PAPER_CFL = ["--cfl-speed", "reference"]
 
@@ -46,7 +46,8 @@ def converge(mpm, case, vary, values, extra, title, png, series_list):
 
 
 def label(kernel, integrator, transfer):
-    names = {"cpgimp": "cpGIMP", "ugimp": "uGIMP", "linear": "MPM", "bspline2": "B2", "bspline3": "B3", "cpdi": "CPDI"}
+    names = {"cpgimp": "cpGIMP", "ugimp": "uGIMP", "linear": "MPM", "bspline2": "B2", "bspline3": "B3", "cpdi": "CPDI",
+             "cpdi2": "CPDI2"}
     name = f"{'UVF' if integrator == 'musl' else integrator.upper()}-{names[kernel]}"
     return name + ("-APIC" if transfer == "apic" else "")
 
