@@ -13,63 +13,35 @@
 #include "commands.hpp"
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
-#include "mpm/verification/study.hpp"
+#include "mpm/verification/report.hpp"
 #include "python_tool.hpp"
 
 namespace mpm::app {
 
 namespace {
-// The names of the study options, in the order of their enumerators.
-constexpr std::array<std::string_view, 2> cfl_speed_names{"particles", "reference"};
-constexpr std::array<std::string_view, 2> transfer_names{"flip", "apic"};
-constexpr std::array<std::string_view, 2> error_names{"particles", "nodal"};
-constexpr std::array<std::string_view, 2> start_names{"halve", "exact"};
-constexpr std::array<std::string_view, 2> acceleration_names{"zero", "velocity-difference"};
-
-/// The enumerator named `name`; throws InputError naming `key` and the expected names.
-template <class Enum, std::size_t N>
-Enum pick(const std::string& name, std::string_view key, const std::array<std::string_view, N>& names) {
-  for (std::size_t k = 0; k < N; ++k)
-    if (name == names[k]) return static_cast<Enum>(k);
-  std::string expected;
-  for (std::size_t k = 0; k < N; ++k) expected += (k ? (k + 1 == N ? " or " : ", ") : "") + std::string(names[k]);
-  throw InputError(std::string(key) + ": expected " + expected + ", got '" + name + "'");
-}
-template <class Enum, std::size_t N>
-std::string_view name_of(Enum e, const std::array<std::string_view, N>& names) {
-  return names[static_cast<std::size_t>(e)];
-}
-
 /// Options shared by verify and converge.
 struct CaseOptions {
-  std::string case_name;
-  std::string kernel = "cpgimp";
-  std::string transfer = "flip";
-  std::string integrator = "cd";
-  std::string cfl_speed = "particles";
-  std::string error = "particles";
-  std::string start = "halve";
-  std::string constrained_acceleration = "zero";
-  VerifyOptions options;
+  StudyRequest request;
+  VerifyOptions& options = request.options;
   int threads = 0;
   bool json = false;
 
   void add_to(CLI::App* cmd) {
-    cmd->add_option("case", case_name, "axis-aligned, bar-1d, expanding-ring or shear-wave")->required();
+    cmd->add_option("case", request.case_name, "axis-aligned, bar-1d, expanding-ring or shear-wave")->required();
     cmd->add_option("--dim", options.dim, "dimension (axis-aligned: 2 or 3)");
-    cmd->add_option("--kernel", kernel, "linear, ugimp, cpgimp, bspline2, bspline3, bspline2-clamped, bspline3-clamped, cpdi, ugimp-wide, cpgimp-wide or cpdi2");
-    cmd->add_option("--transfer", transfer, "particle velocity update: flip or apic");
-    cmd->add_option("--integrator", integrator, "usf, usl, cd, musl or implicit");
+    cmd->add_option("--kernel", request.kernel, "linear, ugimp, cpgimp, bspline2, bspline3, bspline2-clamped, bspline3-clamped, cpdi, ugimp-wide, cpgimp-wide or cpdi2");
+    cmd->add_option("--transfer", request.transfer, "particle velocity update: flip or apic");
+    cmd->add_option("--integrator", request.integrator, "usf, usl, cd, musl or implicit");
     cmd->add_option("--theta", options.theta, "implicit blend in [0, 1] (1: backward Euler, 0.5: midpoint)");
     cmd->add_option("--cells", options.cells, "cells per axis across the body");
     cmd->add_option("--ppc", options.ppc, "particles per cell per axis");
     cmd->add_option("--cfl", options.cfl, "CFL number in (0, 1], or (0, 2] with --cfl-speed reference");
-    cmd->add_option("--cfl-speed", cfl_speed,
+    cmd->add_option("--cfl-speed", request.cfl_speed,
                     "wave speed of the CFL number: particles (max c_p + |v_p| every step) or reference "
                     "(c = sqrt(E / rho0), a fixed step)");
-    cmd->add_option("--error", error, "measure the displacement at the particles or the acceleration at the nodes (nodal)");
-    cmd->add_option("--start", start, "cd and musl start: halve the first acceleration, or from the exact v^(-1/2)");
-    cmd->add_option("--constrained-acceleration", constrained_acceleration,
+    cmd->add_option("--error", request.error, "measure the displacement at the particles or the acceleration at the nodes (nodal)");
+    cmd->add_option("--start", request.start, "cd and musl start: halve the first acceleration, or from the exact v^(-1/2)");
+    cmd->add_option("--constrained-acceleration", request.constrained_acceleration,
                     "acceleration on the symmetry planes' nodes: zero or velocity-difference (Steffen et al. 2008, "
                     "Eq. 30)");
     cmd->add_option("--amplitude", options.amplitude, "displacement amplitude A");
@@ -80,46 +52,11 @@ struct CaseOptions {
   }
   /// Parse names and validate; throws InputError naming the argument.
   VerifyCase resolve() {
-    const VerifyCase c = parse_case(case_name);
-    options.kernel = parse_kernel(kernel, "--kernel");
-    options.transfer = pick<Transfer>(transfer, "--transfer", transfer_names);
-    set_integrator(options, integrator, "--integrator");
-    options.cfl_speed = pick<CflSpeed>(cfl_speed, "--cfl-speed", cfl_speed_names);
-    options.error = pick<ErrorMeasure>(error, "--error", error_names);
-    options.start = pick<HalfStepStart>(start, "--start", start_names);
-    options.constrained_acceleration =
-        pick<ConstrainedAcceleration>(constrained_acceleration, "--constrained-acceleration", acceleration_names);
-    validate(options);
+    const VerifyCase c = request.resolve();
     set_num_threads(threads);
     return c;
   }
 };
-
-nlohmann::json to_json(VerifyCase c, const VerifyOptions& o, const VerifyResult& r) {
-  nlohmann::json j{{"case", to_string(c)},
-                   {"dim", dimension(c, o)},
-                   {"kernel", to_string(o.kernel)},
-                   {"transfer", name_of(o.transfer, transfer_names)},
-                   {"integrator", integrator_name(o)},
-                   {"cells", o.cells},
-                   {"ppc", o.ppc},
-                   {"cfl", o.cfl},
-                   {"cfl_speed", name_of(o.cfl_speed, cfl_speed_names)},
-                   {"error", name_of(o.error, error_names)},
-                   {"start", name_of(o.start, start_names)},
-                   {"constrained_acceleration", name_of(o.constrained_acceleration, acceleration_names)},
-                   {"dt", r.dt},
-                   {"amplitude", o.amplitude},
-                   {"nu", poisson_ratio(c, o)},
-                   {"end_time", r.end_time},
-                   {"steps", r.steps},
-                   {"linf", r.error.linf},
-                   {"l1", r.error.l1()},
-                   {"l2", r.error.l2()},
-                   {"status", r.ok ? "ok" : "failed"}};
-  if (!r.ok) j["failure"] = r.failure;
-  return j;
-}
 
 void write_csv(const std::filesystem::path& file, const ParticleTable& tab) {
   std::ofstream os(file);
@@ -169,12 +106,12 @@ Action add_verify(CLI::App& app) {
       csv = std::filesystem::path(*out) / "particles.csv";
       write_csv(csv, final_state);
     }
-    nlohmann::json j = to_json(which, c->options, r);
+    nlohmann::json j = study_row(which, c->options, r);
     if (!csv.empty()) j["particles_csv"] = csv.string();
     if (c->json) {
       std::cout << j.dump() << '\n';
     } else {
-      std::cout << to_string(which) << ", " << c->kernel << " + " << c->integrator << ", " << c->options.cells
+      std::cout << to_string(which) << ", " << c->request.kernel << " + " << c->request.integrator << ", " << c->options.cells
                 << " cells per axis, " << r.steps << " steps to t = " << r.end_time
                 << " s: " << (r.ok ? "ok" : "FAILED: " + r.failure) << "\n  L_inf = " << r.error.linf
                 << "  L1 = " << r.error.l1() << "  L2 = " << r.error.l2() << '\n';
@@ -185,54 +122,6 @@ Action add_verify(CLI::App& app) {
 }
 
 namespace {
-/// One kernel x integrator (x transfer) series of a convergence study.
-struct Series {
-  KernelKind kernel;
-  std::string integrator;  ///< an explicit integrator or "implicit"
-  Transfer transfer;
-};
-
-/// `--series linear:musl,cpgimp:cd:apic`: kernel:integrator pairs, each named like --kernel and --integrator, with
-/// an optional third part naming the transfer like --transfer (default: `transfer`).
-std::vector<Series> parse_series(const std::string& text, Transfer transfer) {
-  std::vector<Series> out;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    const std::size_t colon = item.find(':'), second = item.find(':', colon + 1);
-    if (colon == std::string::npos)
-      throw InputError("--series: expected kernel:integrator pairs such as cpgimp:cd, got '" + item + "'");
-    const std::string integrator = item.substr(colon + 1, second == std::string::npos ? std::string::npos : second - colon - 1);
-    VerifyOptions check;
-    set_integrator(check, integrator, "--series");
-    const Transfer t =
-        second == std::string::npos ? transfer : pick<Transfer>(item.substr(second + 1), "--series", transfer_names);
-    out.push_back({parse_kernel(item.substr(0, colon), "--series"), integrator, t});
-  }
-  if (out.empty()) throw InputError("--series: expected at least one kernel:integrator pair");
-  return out;
-}
-
-/// The error rows of one series along the sweep, each with the observed order against the previous point:
-/// log(e_prev / e) / log(h_prev / h) with h ~ 1/cells, or dt ~ cfl.
-nlohmann::json sweep(VerifyCase which, VerifyOptions o, bool vary_cells, const std::vector<double>& vals) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (std::size_t k = 0; k < vals.size(); ++k) {
-    if (vary_cells)
-      o.cells = static_cast<int>(vals[k]);
-    else
-      o.cfl = vals[k];
-    const VerifyResult r = verify(which, o);
-    nlohmann::json row = to_json(which, o, r);
-    if (k > 0) {
-      const Real ratio = vary_cells ? vals[k] / vals[k - 1] : vals[k - 1] / vals[k];
-      row["order"] = std::log(rows.back()["linf"].get<double>() / r.error.linf) / std::log(ratio);
-    }
-    rows.push_back(row);
-  }
-  return rows;
-}
-
 void write_table_csv(const std::string& file, const nlohmann::json& rows, const std::string& vary) {
   std::ofstream os(file);
   if (!os) throw InputError("--csv: cannot write " + file);
@@ -306,29 +195,11 @@ Action add_converge(CLI::App& app) {
     const bool vary_cells = *vary == "cells";
     const std::vector<double> vals = parse_values(*values);
     const VerifyCase which = c->resolve();
-    const std::vector<Series> series = series_text->empty()
-                                           ? std::vector<Series>{{c->options.kernel, c->integrator, c->options.transfer}}
-                                           : parse_series(*series_text, c->options.transfer);
-    for (const Series& s : series)  // validate every point before running any
-      for (double v : vals) {
-        VerifyOptions o = c->options;
-        set_integrator(o, s.integrator, "--series");
-        if (vary_cells) {
-          if (v != std::floor(v)) throw InputError("--values: cells must be whole numbers");
-          o.cells = static_cast<int>(v);
-        } else {
-          o.cfl = v;
-        }
-        validate(o);
-      }
-    nlohmann::json rows = nlohmann::json::array();
-    for (const Series& s : series) {
-      VerifyOptions o = c->options;
-      o.kernel = s.kernel;
-      o.transfer = s.transfer;
-      set_integrator(o, s.integrator, "--series");
-      for (const nlohmann::json& row : sweep(which, o, vary_cells, vals)) rows.push_back(row);
-    }
+    const std::vector<StudySeries> series =
+        series_text->empty()
+            ? std::vector<StudySeries>{{c->options.kernel, c->request.integrator, c->options.transfer}}
+            : parse_series(*series_text, c->options.transfer);
+    const nlohmann::json rows = convergence_rows(which, c->options, series, vary_cells, vals);
     if (!csv->empty()) write_table_csv(*csv, rows, *vary);
     if (!png->empty())
       plot(*png, rows, *vary,

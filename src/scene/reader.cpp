@@ -279,16 +279,19 @@ void read_implicit(const Section& s, Scene& sc) {
 }  // namespace
 
 Scene read_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
+  std::ifstream is(file);
+  if (!is || !std::filesystem::is_regular_file(file)) throw InputError(file.string() + ": cannot open the scene file");
+  std::stringstream ss;
+  ss << is.rdbuf();
+  return read_scene_text(ss.str(), file, overrides);
+}
+
+Scene read_scene_text(const std::string& text, const std::filesystem::path& file,
+                      const std::vector<std::string>& overrides) {
   Scene sc;
   sc.file = file;
+  sc.text = text;
   Locator loc{file.string(), {}};
-  {
-    std::ifstream is(file);
-    if (!is || !std::filesystem::is_regular_file(file)) throw InputError(file.string() + ": cannot open the scene file");
-    std::stringstream ss;
-    ss << is.rdbuf();
-    sc.text = ss.str();
-  }
   toml::table doc;
   try {
     doc = toml::parse(sc.text, file.string());

@@ -89,6 +89,8 @@ class ImplicitSimulation {
   const MaterialState& state() const { return particles_.state; }
   MaterialState& state() { return particles_.state; }
   const KinematicConstraints<Dim>& constraints() const { return constraints_; }
+  /// The grid: mass, velocity and acceleration of the last step's nodes (GridNode).
+  const Grid<Dim>& grid() const { return grid_; }
   const ImplicitSpec<Dim>& spec() const { return spec_; }
   const ImplicitCounters& counters() const { return counters_; }
   /// Body accelerations b_p the last step used (empty without a body force) [m/s^2].

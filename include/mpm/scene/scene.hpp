@@ -154,6 +154,9 @@ struct Scene {
 /// before validation, value in TOML syntax (a bare word is taken as a string). Throws InputError naming the
 /// file, the line where known, the key, and what was expected.
 Scene read_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides = {});
+/// The same for a scene's text: `file` names it in messages, and particle files are relative to its folder.
+Scene read_scene_text(const std::string& text, const std::filesystem::path& file,
+                      const std::vector<std::string>& overrides = {});
 
 /// Names of the faces in the order of Scene::faces.
 inline constexpr std::array<const char*, 6> face_names{"x-min", "x-max", "y-min", "y-max", "z-min", "z-max"};

@@ -1,0 +1,69 @@
+"""Bad input raises ValueError with the one line `mpm` prints before exit status 2; a numerical failure raises
+SimulationFailure (a RuntimeError) and the outputs say so, as the command's do."""
+import json
+
+import pytest
+
+import mpm
+from conftest import DISKS, cli
+
+
+@pytest.mark.parametrize("key,value,text", [("simulation.end_time", -1, "-1"), ("grid.cells", [20], "[20]"),
+                                            ("simulation.kernel", "quintic", '"quintic"'),
+                                            ("simulation.no_such_key", 1, "1")])
+def test_a_bad_value_is_the_commands_message(key, value, text):
+    done = cli("run", DISKS, "--dry-run", "--set", f"{key}={text}", check=False)
+    assert done.returncode == 2
+    with pytest.raises(ValueError) as raised:
+        mpm.Scene.from_toml(DISKS, overrides={key: value})
+    assert "mpm: " + str(raised.value) + "\n" == done.stderr
+
+
+def test_from_dict_names_the_key():
+    with pytest.raises(ValueError, match=r"^<dict>:1: simulation: expected a table, got 3$"):
+        mpm.Scene.from_dict({"simulation": 3})
+    with pytest.raises(ValueError, match=r"simulation\.end_time: expected a number, string, list or dict, got a object"):
+        mpm.Scene.from_dict({"simulation": {"end_time": object()}})
+
+
+def test_missing_file():
+    with pytest.raises(ValueError, match="no-such.toml: cannot open the scene file"):
+        mpm.Scene.from_toml("no-such.toml")
+
+
+def test_a_failed_run_raises_and_says_so(tmp_path):
+    # The disks bounce apart and leave the unit square at t = 3.56 (step 241), before the end time 4.
+    scene = mpm.Scene.from_toml(DISKS, overrides={"simulation.end_time": 4.0})
+    cli_done = cli("run", DISKS, "--set", "simulation.end_time=4", "--out", tmp_path / "cli", check=False)
+    assert cli_done.returncode == 1
+    sim = mpm.Simulation(scene, out=tmp_path / "py")
+    with pytest.raises(mpm.SimulationFailure) as raised:
+        sim.run()
+    assert isinstance(raised.value, RuntimeError)
+    assert cli_done.stderr == f"mpm: simulation failed: {raised.value}\n"
+    sim.close()
+    with open(tmp_path / "py" / "summary.json") as f:
+        summary = json.load(f)
+    assert summary["status"] == "failed" and summary["failure"] == str(raised.value)
+    assert str(raised.value).startswith("step 241, t = 3.56") and "left the grid" in str(raised.value)
+    with pytest.raises(mpm.SimulationFailure, match="the run failed earlier"):
+        sim.step()
+
+
+def test_stepping_past_the_end():
+    sim = mpm.Simulation(mpm.Scene.from_toml(DISKS, overrides={"simulation.end_time": 0.02}))
+    sim.run()
+    with pytest.raises(ValueError, match="step: the scene ended at end_time"):
+        sim.step()
+
+
+def test_bad_options():
+    scene = mpm.Scene.from_toml(DISKS)
+    with pytest.raises(ValueError, match="threads: expected a non-negative count"):
+        mpm.Simulation(scene, threads=-1)
+    with pytest.raises(ValueError, match="checkpoint_every: the checkpoints go into the output folder"):
+        mpm.Simulation(scene, checkpoint_every=5)
+    with pytest.raises(ValueError, match="^--restart: checkpoint no-such.h5: no such file$"):
+        mpm.Simulation(scene, restart="no-such.h5")
+    with pytest.raises(ValueError, match="velocities: expected"):
+        mpm.Simulation(scene).set_velocities([[1.0, 2.0]])
