@@ -1,7 +1,10 @@
 // `mpm bench`: the reference elastic block, timed.
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <iostream>
 #include <numbers>
 #include <nlohmann/json.hpp>
@@ -9,6 +12,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "roofline.hpp"
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
 #include "mpm/explicit/simulation.hpp"
@@ -18,6 +22,23 @@
 namespace mpm::app {
 
 namespace {
+/// The most memory the process has held (its peak resident set, Linux's VmHWM, which starts afresh at exec where
+/// getrusage's maximum carries over the parent's), all ranks' together.
+double peak_resident_bytes() {
+  std::int64_t kib = 0;
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmHWM:", 0) == 0) kib = std::stoll(line.substr(6));
+  if (kib == 0) {  // no /proc: the resource usage's maximum
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    kib = usage.ru_maxrss;
+  }
+  std::vector<std::int64_t> bytes{1024 * kib};
+  world().sum(bytes);
+  return static_cast<double>(bytes[0]);
+}
+
 struct BenchOptions {
   int dim = 2;
   std::string kernel = "linear";
@@ -29,6 +50,7 @@ struct BenchOptions {
   int repeat = 3;
   bool json = false;
   bool contact = false;
+  bool roofline = false;
   std::string material = "neo-hookean";
 };
 
@@ -57,7 +79,9 @@ Material bench_material(const std::string& name) {
 
 /// The reference problem: a 1 m elastic block (E = 1 MPa, nu = 0.3, rho = 1000 kg/m^3) under gravity on
 /// fixed nodes (all nodes at or below the block's base), 2 particles per cell per axis, 0.05 m of grid around
-/// it, dt = 5e-5 s. particle_steps_per_second is the whole run's: all ranks' particles over the slowest rank's time.
+/// it, dt = 5e-5 s on cells of 1/160 m or wider and in proportion to h on finer ones (the Courant number of the
+/// reference size, c dt / h = 0.29 with the P-wave speed c = 36.7 m/s). particle_steps_per_second is the whole
+/// run's: all ranks' particles over the slowest rank's time.
 /// With `contact` the block's two halves (x < 1/2 and x >= 1/2) have a velocity field each and meet by
 /// frictionless contact all along their interface.
 template <int Dim, class Kernel>
@@ -77,16 +101,19 @@ nlohmann::json run_block(const BenchOptions& o, KernelKind kind, Integrator inte
   spec.materials = {bench_material(o.material)};
   spec.gravity = Vec<Dim>::Zero();
   spec.gravity[Dim - 1] = -9.81;
-  spec.dt = 5e-5;
+  spec.dt = 5e-5 * std::min(1.0, 160 * h);
   RegionConstraint<Dim> floor{Vec<Dim>::Constant(-1e30), Vec<Dim>::Constant(1e30), {}};
   floor.hi[Dim - 1] = 0;
   spec.boundary.regions.push_back(floor);
-  ParticleSet<Dim> particles;
-  fill_box<Dim>(particles, Vec<Dim>::Zero(), Vec<Dim>::Ones(), h / ppc, 1000, 0);
-  if (o.contact) {
-    spec.contact = ContactSpec{2, {ContactPair{0, 1, 0.0}}};
-    for (std::size_t i = 0; i < particles.size(); ++i) particles.field[i] = particles.x[i][0] < 0.5 ? 0 : 1;
-  }
+  if (o.contact) spec.contact = ContactSpec{2, {ContactPair{0, 1, 0.0}}};
+  // Seeded afresh for each run and moved into it, so that the process holds one copy, as `mpm run` does.
+  const auto seed = [&] {
+    ParticleSet<Dim> particles;
+    fill_box<Dim>(particles, Vec<Dim>::Zero(), Vec<Dim>::Ones(), h / ppc, 1000, 0);
+    if (o.contact)
+      for (std::size_t i = 0; i < particles.size(); ++i) particles.field[i] = particles.x[i][0] < 0.5 ? 0 : 1;
+    return particles;
+  };
 
   // Under mpirun the ranks divide the block (Simulation with world()): a run's time is the slowest rank's, from
   // a common start, and its time in communication the largest of the ranks' (waiting for the others included).
@@ -94,8 +121,9 @@ nlohmann::json run_block(const BenchOptions& o, KernelKind kind, Integrator inte
   std::vector<double> seconds, communication;
   std::int64_t sent = 0;
   double bytes = 0;
+  const std::size_t count = seed().size();  // every rank seeds the whole block and keeps its own part
   for (int r = 0; r < o.repeat; ++r) {
-    Simulation<Dim, Kernel> sim(spec, particles, comm);
+    Simulation<Dim, Kernel> sim(spec, seed(), comm);
     comm.min(0);
     const double c0 = comm.seconds();
     const std::int64_t b0 = comm.bytes_sent();
@@ -113,7 +141,6 @@ nlohmann::json run_block(const BenchOptions& o, KernelKind kind, Integrator inte
   std::sort(runs.begin(), runs.end(), [&](std::size_t a, std::size_t b) { return seconds[a] < seconds[b]; });
   const std::size_t mid = runs[runs.size() / 2];
   const double median = seconds[mid];
-  const auto count = static_cast<double>(particles.size());
   return {{"dim", Dim},
           {"kernel", to_string(kind)},
           {"integrator", to_string(integrator)},
@@ -124,13 +151,30 @@ nlohmann::json run_block(const BenchOptions& o, KernelKind kind, Integrator inte
           {"threads", num_threads()},
           {"communication_seconds", communication[mid]},
           {"bytes_sent_per_step", static_cast<double>(sent) / o.steps},  // the most any rank sent
-          {"particles", particles.size()},
+          {"particles", count},
           {"cells_per_axis", n + 2 * pad},
           {"steps", o.steps},
           {"seconds", median},
           {"seconds_all_runs", seconds},
-          {"particle_steps_per_second", count * o.steps / median},
-          {"bytes_per_particle", bytes}};
+          {"particle_steps_per_second", static_cast<double>(count) * o.steps / median},
+          {"bytes_per_particle", bytes},
+          {"peak_resident_bytes", peak_resident_bytes()}};
+}
+int print_roofline(bool json) {
+  const Roofline r = measure_roofline();
+  if (json) {
+    std::cout << nlohmann::json{{"threads", r.threads},
+                                {"triad_bytes_per_second", r.triad_bytes_per_second},
+                                {"fused_flops_per_second", r.fused_flops_per_second},
+                                {"separate_flops_per_second", r.separate_flops_per_second}}
+                     .dump()
+              << '\n';
+  } else {
+    std::cout << r.threads << " threads: memory " << r.triad_bytes_per_second / 1e9 << " GB/s (STREAM triad), "
+              << r.fused_flops_per_second / 1e9 << " GFLOP/s with fused multiply-adds, "
+              << r.separate_flops_per_second / 1e9 << " GFLOP/s with separate multiplies and adds\n";
+  }
+  return 0;
 }
 }  // namespace
 
@@ -148,6 +192,8 @@ Action add_bench(CLI::App& app) {
   cmd->add_option("--threads", o->threads, "threads (0: all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--repeat", o->repeat, "runs; the median is reported")->check(CLI::PositiveNumber);
   cmd->add_flag("--json", o->json, "print one JSON object");
+  cmd->add_flag("--roofline", o->roofline,
+               "measure the machine's memory bandwidth (STREAM triad) and arithmetic peak instead of the block");
   cmd->add_flag("--contact", o->contact, "split the block into two halves meeting by frictionless contact");
   cmd->add_option("--material", o->material, "neo-hookean, hypoelastic, drucker-prager or mohr-coulomb")
       ->check(CLI::IsMember({"neo-hookean", "hypoelastic", "drucker-prager", "mohr-coulomb"}));
@@ -155,6 +201,7 @@ Action add_bench(CLI::App& app) {
     const KernelKind kind = parse_kernel(o->kernel, "--kernel");
     const Integrator integrator = parse_integrator(o->integrator, "--integrator");
     set_num_threads(o->threads);
+    if (o->roofline) return print_roofline(o->json);
     auto run = [&]<int Dim>() {
       return with_kernel<Dim>(kind, [&]<class K>() { return run_block<Dim, K>(*o, kind, integrator); });
     };

@@ -155,16 +155,20 @@ template <int Dim, class Kernel>
 Real Simulation<Dim, Kernel>::next_dt() const {
   if (spec_.dt > 0) return spec_.dt;
   const ParticleSet<Dim>& p = particles_;
-  Real speed = 0;
-  if (!neo_hookean_.empty()) {
-#pragma omp parallel for reduction(max : speed)
-    for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(p.size()); ++i)
-      speed = std::max(speed, neo_hookean_[p.material[i]].wave_speed(p.V[i] / p.V0[i]) + p.v[i].norm());
-  } else {
-#pragma omp parallel for reduction(max : speed)
-    for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(p.size()); ++i)
-      speed = std::max(speed, wave_speed(spec_.materials[p.material[i]], p.V[i] / p.V0[i]) + p.v[i].norm());
-  }
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
+  const auto larger = [](Real a, Real b) { return std::max(a, b); };
+  const Real speed =
+      !neo_hookean_.empty()
+          ? parallel_reduce(
+                n, Real{0},
+                [&](std::ptrdiff_t i) { return neo_hookean_[p.material[i]].wave_speed(p.V[i] / p.V0[i]) + p.v[i].norm(); },
+                larger)
+          : parallel_reduce(
+                n, Real{0},
+                [&](std::ptrdiff_t i) {
+                  return wave_speed(spec_.materials[p.material[i]], p.V[i] / p.V0[i]) + p.v[i].norm();
+                },
+                larger);
   return spec_.cfl * spec_.h / comm_->max(speed);  // every rank takes the step of the fastest particle
 }
 

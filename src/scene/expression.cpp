@@ -5,9 +5,7 @@
 #include <cmath>
 
 #include "mpm/core/errors.hpp"
-#ifdef _OPENMP
-#include <omp.h>
-#endif
+#include "mpm/core/parallel.hpp"
 
 namespace mpm {
 
@@ -19,14 +17,6 @@ struct Expression::Evaluator {
 namespace {
 double power(double a, double b) {
   return std::pow(a, b);
-}
-
-int thread_index() {
-#ifdef _OPENMP
-  return omp_get_thread_num();
-#else
-  return 0;
-#endif
 }
 }  // namespace
 

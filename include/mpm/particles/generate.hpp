@@ -28,6 +28,7 @@ void fill_box(ParticleSet<Dim>& p, const Vec<Dim>& lo, const Vec<Dim>& hi, Real 
   }
   const Real volume = std::pow(spacing, Dim);
   const Vec<Dim> half = Vec<Dim>::Constant(0.5 * spacing);
+  if (!inside) p.reserve(p.size() + static_cast<std::size_t>(total));  // arrays of the final size, grown once
   for (std::int64_t k = 0; k < total; ++k) {
     std::int64_t rest = k;
     Vec<Dim> x;

@@ -349,11 +349,10 @@ inline bool light(const GridNode<Dim>& node, std::uint8_t copies, Real min_mass,
 template <int Dim>
 bool any_light(const Grid<Dim>& grid, const std::vector<std::uint8_t>& copies, Real min_mass,
                const LightMass<Dim>& light_mass) {
-  bool found = false;
-#pragma omp parallel for schedule(static) reduction(|| : found)
-  for (std::ptrdiff_t n = 0; n < static_cast<std::ptrdiff_t>(grid.size()); ++n)
-    found = found || light(grid.nodes[n], copies[n], min_mass, light_mass(n));
-  return found;
+  return parallel_reduce(
+      static_cast<std::ptrdiff_t>(grid.size()), false,
+      [&](std::ptrdiff_t n) { return light(grid.nodes[n], copies[n], min_mass, light_mass(n)); },
+      [](bool a, bool b) { return a || b; });
 }
 
 /// On light nodes, the velocity that moves the particles and deforms them becomes the re-projected one:
