@@ -22,9 +22,9 @@ void Simulation<Dim, Kernel>::settle() {
   if (tiles_changed_) {
     order_.build(tile_, particles_.id, particles_.field, contact_.fields());
     if (!order_.identity()) {
-      reorder_particles(particles_, order_.order());
-      gather_by(stencils_, order_.order());
-      gather_by(tile_, order_.order());
+      reorder_particles(particles_, order_.order(), reorder_buffer_);
+      gather_by(stencils_, order_.order(), reorder_buffer_);
+      gather_by(tile_, order_.order(), reorder_buffer_);
       order_.reordered();
     }
   }
@@ -196,7 +196,7 @@ double Simulation<Dim, Kernel>::bytes_per_particle() const {
                              (particles_.state.empty() ? 0 : particles_.size() * MaterialState::bytes_per_particle()) +
                              grad_v_.capacity() * sizeof(Mat<Dim>) + hoop_rate_.capacity() * sizeof(Real) +
                              pic_velocity_.capacity() * sizeof(Vec<Dim>) + particles_.B.capacity() * sizeof(Mat<Dim>) +
-                             particles_.corners.capacity() * sizeof(Corners<Dim>)) /
+                             particles_.corners.capacity() * sizeof(Corners<Dim>) + reorder_buffer_.bytes()) /
              n;
 }
 

@@ -195,18 +195,19 @@ template <int R>
 #endif
 
 /// Add the contributions of a block of particles to the nodes of their stencils, particle after particle:
-/// records[(base[k] + offset[o]) * R + c] += members[o][c][k] for lane k = 0 .. active-1, and for each lane
-/// over its nodes o in order. A node thus receives its contributions in the same order as from one particle
+/// records[(base[k] + offset[o]) * R + c] += members[o][c][k] for lane k = 0 .. active-1, c < W (the leading W of a
+/// record's R Reals), and for each lane over its nodes o in order. A node thus receives its contributions in the same order as from one particle
 /// at a time. Neighbouring lanes usually share nodes; visiting all of one lane's (distinct) nodes before the
 /// next lane's keeps the read-add-write of a shared node several instructions apart.
-template <int R, std::size_t Nodes>
+template <int R, std::size_t W, std::size_t Nodes>
 [[gnu::always_inline]] inline void add_stencil_records(Real* records, const IntLanes& base,
                                                        const std::array<std::int32_t, Nodes>& offset,
-                                                       const std::array<std::array<RealLanes, R>, Nodes>& members,
+                                                       const std::array<std::array<RealLanes, W>, Nodes>& members,
                                                        int active) {
+  static_assert(W <= R, "a record holds the members added to it");
 #if defined(__AVX512F__)
-  if constexpr (R == lanes) {  // one record per register
-    std::array<std::array<RealLanes, R>, Nodes> by_record;
+  if constexpr (W == std::size_t{lanes}) {  // a record's leading W Reals per register
+    std::array<std::array<RealLanes, W>, Nodes> by_record;
     for (std::size_t o = 0; o < Nodes; ++o) by_record[o] = detail::transpose8(members[o]);
     for (int k = 0; k < active; ++k)
       for (std::size_t o = 0; o < Nodes; ++o) {
@@ -220,7 +221,7 @@ template <int R, std::size_t Nodes>
   for (int k = 0; k < active; ++k)
     for (std::size_t o = 0; o < Nodes; ++o) {
       Real* record = records + (base[k] + offset[o]) * R;
-      for (int c = 0; c < R; ++c) record[c] += members[o][c][k];
+      for (std::size_t c = 0; c < W; ++c) record[c] += members[o][c][k];
     }
 }
 

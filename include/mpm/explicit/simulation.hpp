@@ -1,5 +1,6 @@
 #pragma once
 /// An explicit MPM/GIMP simulation: particles, grid, boundary conditions, and one time step per integrator.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -17,6 +18,7 @@
 #include "mpm/explicit/spec.hpp"
 #include "mpm/particles/outflow.hpp"
 #include "mpm/particles/particles.hpp"
+#include "mpm/particles/reorder.hpp"
 #include "mpm/shape/kernels.hpp"
 #include "mpm/shape/stencil.hpp"
 #include "mpm/transfer/g2p.hpp"
@@ -176,10 +178,11 @@ class Simulation {
 
  private:
   using StencilT = Stencil<Dim, Kernel>;
-  /// The buffers the reorder into scatter order keeps (gather_by): one array of each element type it moves.
+  /// The buffer the reorder into scatter order keeps (ReorderBuffer): one record of the largest element type it
+  /// moves.
   static constexpr std::size_t reorder_bytes(bool rate_form) {
-    return sizeof(Vec<Dim>) + sizeof(Mat<Dim>) + sizeof(Real) + sizeof(SymTensor<Dim>) + sizeof(std::uint16_t) +
-           sizeof(std::int64_t) + sizeof(StencilT) + sizeof(std::int32_t) + (rate_form ? sizeof(SymTensor<3>) : 0);
+    return std::max({sizeof(Mat<Dim>), sizeof(StencilT), rate_form ? sizeof(SymTensor<3>) : 0,
+                     moves_corners<Kernel> ? sizeof(Corners<Dim>) : 0});
   }
 
   // Time steps of each integrator (Wallstedt & Guilkey 2008, Sec. 2 and 4).
@@ -271,6 +274,7 @@ class Simulation {
   /// particle changed tile since the scatter order was built.
   bool stencils_current_ = false, tiles_changed_ = false;
   ScatterOrder<Dim> order_;
+  ReorderBuffer reorder_buffer_;  ///< the reorder's scratch (settle)
   std::vector<Vec<Dim>> body_accel_;
   /// Loads, their velocities at the step's start (the particles' order then), their power over the last step.
   bool loads_;

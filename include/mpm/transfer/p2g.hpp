@@ -1,5 +1,6 @@
 #pragma once
 /// Particle-to-grid transfers: mass, momentum and force scattered through the precomputed stencils.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -24,6 +25,7 @@ namespace mpm {
 /// re-projection of Sulsky & Kaul 2004, Eq. (3.2.7)).
 template <int Dim, int slot = NodeSlots<Dim>::v, bool with_mass = true>
 struct Momentum {
+  static constexpr int slots_end = slot + Dim;  ///< one past the last record slot it adds to
   const std::vector<Real>& m;
   const std::vector<Vec<Dim>>& v;
 
@@ -46,6 +48,7 @@ struct Momentum {
 template <int Dim, int slot = NodeSlots<Dim>::v, bool with_mass = true>
 struct AffineMomentum {
   static constexpr bool affine = true;  ///< its add takes S_ip D_p^-1 (x_i - x_p) (NodeMoment::affine)
+  static constexpr int slots_end = slot + Dim;
   const std::vector<Real>& m;
   const std::vector<Vec<Dim>>& v;
   const std::vector<Mat<Dim>>& B;
@@ -81,6 +84,7 @@ inline constexpr bool takes_affine_moment = requires { Contribution::affine; };
 /// when `state` is set, its 3 x 3 stresses (a rate-form material state's) are read instead of `sigma`.
 template <int Dim, class Stress>
 struct InternalForce {
+  static constexpr int slots_end = NodeSlots<Dim>::a + Dim;
   const std::vector<Real>& V;
   const std::vector<Stress>& sigma;
   const std::vector<SymTensor<3>>* state = nullptr;
@@ -110,6 +114,7 @@ struct InternalForce {
 /// force of Wallstedt & Guilkey 2008, Eq. (15)).
 template <int Dim>
 struct BodyForce {
+  static constexpr int slots_end = NodeSlots<Dim>::a + Dim;
   const std::vector<Real>& m;
   const std::vector<Vec<Dim>>& b;
 
@@ -125,6 +130,7 @@ struct BodyForce {
 /// The hoop term of the internal force in axisymmetry, -V_p sigma_thetatheta S_ip / r_p on the radial component
 /// (Sulsky & Schreyer 1996), r_p the particle's radius.
 struct HoopForce {
+  static constexpr int slots_end = NodeSlots<2>::a + 1;
   const std::vector<Real>& V;
   const std::vector<SymTensor<3>>& sigma;
   const std::vector<Vec<2>>& x;
@@ -142,6 +148,7 @@ struct HoopForce {
 /// (Bardenhagen, Brackbill & Sulsky 2000; Nairn 2013 on volume rather than mass gradients).
 template <int Dim>
 struct VolumeGradient {
+  static constexpr int slots_end = NodeSlots<Dim>::v_new + Dim;
   const std::vector<Real>& V;
 
   [[gnu::always_inline]] auto operator()(const LaneBlock& block) const {
@@ -169,19 +176,23 @@ void p2g_add_keeping(const Keep& keep, const std::vector<Stencil<Dim, Kernel>>& 
   NodeLayout<Dim> layout(grid.geometry);
   for (int d = 0, stride = 1; d < Dim; ++d, stride *= Lanes::footprint) layout.stride[d] = stride;
   constexpr bool affine = (takes_affine_moment<Contributions> || ...);
+  // The leading slots of a record the contributions add to, rounded up to a register's width where a record holds
+  // that many (add_stencil_records then adds a node's share with one vector add): slots past them are left alone.
+  constexpr int written = std::max({Contributions::slots_end...});
+  constexpr int W = written <= simd::lanes && simd::lanes <= R ? simd::lanes : written;
   order.template scatter<LaneBlock::width>(grid, [&](Real* buffer, const std::int32_t* particles, int count) {
     const LaneBlock block(particles, count);
     Lanes s(stencils, block, layout.inv_h);
     if constexpr (affine) s.locate_nodes(grid.geometry.h);
     const auto add = std::make_tuple(contributions(block)...);
-    std::array<std::array<RealLanes, R>, stencil_nodes> records;
+    std::array<std::array<RealLanes, W>, stencil_nodes> records;
     std::array<std::int32_t, stencil_nodes> offsets;
     int o = 0;
     for_each_node<affine ? NodeMoment::affine : NodeMoment::none>(
         s, layout,
         [&](std::int32_t offset, const RealLanes& S_ip, const RealLanes(&dS_ip)[Dim], const auto&... Sq_ip)
             __attribute__((always_inline)) {
-          std::array<RealLanes, R>& record = records[o];
+          std::array<RealLanes, W>& record = records[o];
           record = {};  // the slots no contribution adds to add zero
           offsets[o++] = offset;
           const auto add_to = [&](const auto& add_one) __attribute__((always_inline)) {
