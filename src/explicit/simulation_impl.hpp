@@ -103,7 +103,7 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
       p.m[i] *= p.X[i][0];  // per radian: m_p = rho r_p A_p
       p.V0[i] *= p.X[i][0];
     }
-    validate_half_lengths<Dim>(spec.kernel, p.l[i], g.h, at);
+    validate_half_lengths<Dim>(spec.kernel, p.half_length(i), g.h, at);
     const Real J = p.F[i].determinant();
     p.V[i] = p.V0[i] * J;
     if (!(J > 0)) throw InputError(at + ": deformation gradient must have det F > 0");
@@ -133,6 +133,7 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
   }
   if (spec.transfer == Transfer::apic) p.B.assign(p.size(), Mat<Dim>::Zero());  // the particles start unsheared
   if constexpr (moves_corners<Kernel>) place_corners(p);  // CPDI2's domains start as CPDI's
+  if constexpr (!reads_half_lengths<Kernel>) p.drop_half_lengths();  // read by no stage
   // Every rank was given all the particles (the masses above are the whole set's); each keeps its box's.
   if (box_halo_.divided()) erase_particles(p, not_owned());
   if (neo_hookean_.empty()) {

@@ -32,7 +32,7 @@ std::vector<std::int64_t> tile_weights(const GridGeometry<Dim>& whole, const Par
   std::vector<std::int64_t> weight(whole.tile_count(), 0);
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (!whole.contains(p.x[i])) continue;  // refused by the constructor, with its index
-    const IVec<Dim> s = base_layer<Dim, Kernel>(whole, p.x[i], p.l[i]);
+    const IVec<Dim> s = base_layer<Dim, Kernel>(whole, p.x[i], p.half_length(i));
     std::int64_t flat = 0;
     bool inside = true;
     for (int d = Dim - 1; d >= 0; --d) {
@@ -120,7 +120,7 @@ std::vector<std::size_t> Simulation<Dim, Kernel>::not_owned(std::vector<int>* ow
   for (std::size_t i = 0; i < p.size(); ++i) {
     // Particles beyond an outflow face stay until the next removal counts and erases them (remove_outflow).
     if (box_halo_.surely_owned(p.x[i]) || grid_.geometry.beyond_outflow(p.x[i])) continue;
-    const int r = box_halo_.owner(detail::base_layer<Dim, Kernel>(box_halo_.whole(), p.x[i], p.l[i]));
+    const int r = box_halo_.owner(detail::base_layer<Dim, Kernel>(box_halo_.whole(), p.x[i], p.half_length(i)));
     if (r == comm_->rank()) continue;
     out.push_back(i);
     if (owner) owner->push_back(r);
@@ -140,7 +140,7 @@ void Simulation<Dim, Kernel>::migrate() {
   const bool everywhere = comm_->max(near ? 0.0 : 1.0) > 0;
   std::vector<std::vector<std::byte>> to(everywhere ? static_cast<std::size_t>(comm_->size()) : peers.size());
   const PackedArrays with{.state = neo_hookean_.empty(), .affine = spec_.transfer == Transfer::apic,
-                          .corners = moves_corners<Kernel>};
+                          .corners = moves_corners<Kernel>, .half_lengths = reads_half_lengths<Kernel>};
   for (std::size_t k = 0; k < leaving.size(); ++k) {
     const auto to_rank = everywhere ? owner[k] : std::lower_bound(peers.begin(), peers.end(), owner[k]) - peers.begin();
     pack_particle(particles_, leaving[k], with, to[static_cast<std::size_t>(to_rank)]);

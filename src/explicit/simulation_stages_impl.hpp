@@ -22,9 +22,7 @@ void Simulation<Dim, Kernel>::settle() {
   if (tiles_changed_) {
     order_.build(tile_, particles_.id, particles_.field, contact_.fields());
     if (!order_.identity()) {
-      reorder_particles(particles_, order_.order(), reorder_buffer_);
-      gather_by(stencils_, order_.order(), reorder_buffer_);
-      gather_by(tile_, order_.order(), reorder_buffer_);
+      reorder_particles(particles_, order_.order(), reorder_buffer_, stencils_, tile_);
       order_.reordered();
     }
   }
@@ -190,8 +188,10 @@ std::string Simulation<Dim, Kernel>::failure_message(std::size_t i, Real dt) con
 template <int Dim, class Kernel>
 double Simulation<Dim, Kernel>::bytes_per_particle() const {
   const double n = static_cast<double>(particles_.size());
-  return static_cast<double>(particles_.bytes_per_particle()) + sizeof(StencilT) +
-         static_cast<double>(order_.bytes() + tile_.capacity() * sizeof(std::int32_t) +
+  // The optional arrays by what they hold (a dropped array that kept its storage shows).
+  return static_cast<double>(particles_.bytes_per_particle(false)) + sizeof(StencilT) +
+         static_cast<double>((particles_.l0.capacity() + particles_.l.capacity()) * sizeof(Vec<Dim>) +
+                             order_.bytes() + tile_.capacity() * sizeof(std::int32_t) +
                              body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes() * contact_.fields() +
                              (particles_.state.empty() ? 0 : particles_.size() * MaterialState::bytes_per_particle()) +
                              grad_v_.capacity() * sizeof(Mat<Dim>) + hoop_rate_.capacity() * sizeof(Real) +

@@ -70,7 +70,7 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
     const Material& material = spec_.materials[p.material[i]];
     if (is_rate_form(material) && !(p.F[i] - Mat<Dim>::Identity()).isZero(0))
       throw InputError(at + ": the rate-form materials start undeformed (F = I)");
-    validate_half_lengths<Dim>(spec_.kernel, p.l[i], g.h, at);
+    validate_half_lengths<Dim>(spec_.kernel, p.half_length(i), g.h, at);
     const Real J = p.F[i].determinant();
     if (!(J > 0)) throw InputError(at + ": deformation gradient must have det F > 0");
     if (axisymmetric) {
@@ -86,6 +86,7 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
     min_mass = std::min(min_mass, p.m[i]);
   }
   min_node_mass_ = 1e-14 * min_mass;
+  if constexpr (!reads_half_lengths<Kernel>) p.drop_half_lengths();  // read by no stage
   for (const Material& m : spec_.materials) modulus_ = std::max(modulus_, young_modulus(m));
   face_reactions_.assign(constraints_.names().size(), Vec<Dim>::Zero());
   mirrored_.assign(grid_.size(), 0);

@@ -61,19 +61,25 @@ io::CheckpointData save(const Scene& sc, const Engine& engine, const Accumulator
                     {"friction_dissipation", a.friction_dissipation},
                     {"last_frame_time", a.last_frame_time}, {"error_linf", a.error.linf},
                     {"error_sum", a.error.sum}, {"error_sum_sq", a.error.sum_sq}};
-  c.reals = {{"x", flat(p.x)}, {"X", flat(p.X)}, {"v", flat(p.v)}, {"F", flat(p.F)}, {"m", p.m}, {"V0", p.V0},
-             {"l0", flat(p.l0)}, {"l", flat(p.l)}};
+  c.reals = {{"x", flat(p.x)}, {"X", flat(p.X)}, {"v", flat(p.v)}, {"F", flat(p.F)}, {"m", p.m}, {"V0", p.V0}};
   c.integers["material"] = std::vector<std::int64_t>(p.material.begin(), p.material.end());
   c.integers["field"] = std::vector<std::int64_t>(p.field.begin(), p.field.end());
   c.integers["id"] = p.id;
   // Divided between ranks, each rank's particles are its rows of these.
-  c.row_widths = {{"x", Dim}, {"X", Dim}, {"v", Dim}, {"F", Dim * Dim}, {"m", 1}, {"V0", 1}, {"l0", Dim}, {"l", Dim},
+  c.row_widths = {{"x", Dim}, {"X", Dim}, {"v", Dim}, {"F", Dim * Dim}, {"m", 1}, {"V0", 1},
                   {"material", 1}, {"field", 1}, {"id", 1}};
-  if (!p.B.empty()) {  // APIC's affine matrices
+  if (p.has_half_lengths) {  // GIMP's and CPDI's (every rank writes them, one with no particles too)
+    c.reals["l0"] = flat(p.l0);
+    c.reals["l"] = flat(p.l);
+    c.row_widths["l0"] = c.row_widths["l"] = Dim;
+  }
+  // The optional arrays go by the run's choices, not by whether this rank holds any particle: every rank of a
+  // divided run writes the same arrays (HDF5 creates them together).
+  if (engine.sim().spec().transfer == Transfer::apic) {  // APIC's affine matrices
     c.reals["B"] = flat(p.B);
     c.row_widths["B"] = Dim * Dim;
   }
-  if (!p.corners.empty()) {  // CPDI2's domain corners
+  if (engine.sim().spec().kernel == KernelKind::cpdi2) {  // CPDI2's domain corners
     c.reals["corners"] = flat(p.corners);
     c.row_widths["corners"] = Dim << Dim;
   }
@@ -116,13 +122,17 @@ void load_share(const io::CheckpointData& c, Engine& engine, Accumulators& a, st
   unflat(array("X"), p.X, "X");
   unflat(array("v"), p.v, "v");
   unflat(array("F"), p.F, "F");
-  unflat(array("l0"), p.l0, "l0");
-  unflat(array("l"), p.l, "l");
-  if (!p.B.empty()) {  // an APIC run's, which the engine sized when it seeded its particles
+  if (p.has_half_lengths) {  // a GIMP or CPDI run's, which the engine kept when it seeded its particles
+    p.l0.resize(rows);
+    p.l.resize(rows);
+    unflat(array("l0"), p.l0, "l0");
+    unflat(array("l"), p.l, "l");
+  }
+  if (engine.sim().spec().transfer == Transfer::apic) {  // an APIC run's
     p.B.resize(rows);
     unflat(array("B"), p.B, "B");
   }
-  if (!p.corners.empty()) {  // a CPDI2 run's, which the engine placed when it seeded its particles
+  if (engine.sim().spec().kernel == KernelKind::cpdi2) {  // a CPDI2 run's
     p.corners.resize(rows);
     unflat(array("corners"), p.corners, "corners");
   }

@@ -67,7 +67,8 @@ int expect_same_bits(const SimulationSpec<Dim>& spec, const ParticleSet<Dim>& pa
       set_num_threads(threads);
     }
     const bool with_state = whole && !whole->particles().state.empty();
-    const PackedArrays state{.state = comm.max(with_state ? 1.0 : 0.0) > 0, .affine = spec.transfer == Transfer::apic};
+    const PackedArrays state{.state = comm.max(with_state ? 1.0 : 0.0) > 0, .affine = spec.transfer == Transfer::apic,
+                             .corners = false, .half_lengths = reads_half_lengths<Kernel>};
     // The division is real: with several ranks each holds a box of the grid and only its particles.
     EXPECT_EQ(divided.boxes().divided(), comm.size() > 1);
     std::vector<std::int64_t> counts(static_cast<std::size_t>(comm.size()), 0);

@@ -209,7 +209,7 @@ SymmetryResult run_symmetry(mpm::KernelKind kernel, mpm::Integrator integrator, 
   body.add(one, false);
   const Particles a = run(half, std::move(one), scenario.steps, [&](const mpm::Grid<2>&, const Particles& p) {
     for (std::size_t i = 0; i < p.size(); ++i)
-      if (reaches_ghost(kernel, p.x[i][0], p.l[i][0])) ++r.ghost_loads;
+      if (reaches_ghost(kernel, p.x[i][0], p.half_length(i)[0])) ++r.ghost_loads;
   });
 
   mpm::SimulationSpec<2> full = base_spec(kernel, integrator, light_nodes);

@@ -167,24 +167,19 @@ class Simulation {
   /// acceleration per particle; a rate-form material its state and the rates the stress update reads; `grids`
   /// node records per node: one per velocity field of contact, and one more each when contact measures gaps).
   static MemoryModel memory_model(bool body_force, bool rate_form, int grids = 1) {
-    // Particles, their stencils, tiles and scatter order; one node record per node.
+    // Particles, their stencils, tiles and scatter order, the reorder's column; one node record per node.
     const std::size_t particle =
-        ParticleSet<Dim>::bytes_per_particle() + sizeof(Stencil<Dim, Kernel>) + 2 * sizeof(std::int32_t) +
+        ParticleSet<Dim>::bytes_per_particle(reads_half_lengths<Kernel>) + sizeof(Stencil<Dim, Kernel>) +
+        2 * sizeof(std::int32_t) +
         (body_force ? sizeof(Vec<Dim>) : 0) +
-        (rate_form ? MaterialState::bytes_per_particle() + sizeof(Mat<Dim>) + sizeof(Real) : 0) + reorder_bytes(rate_form);
+        (rate_form ? MaterialState::bytes_per_particle() + sizeof(Mat<Dim>) + sizeof(Real) : 0) +
+        ReorderBuffer::column;
     // A node's mirror copies (1 B) when light nodes are re-projected.
     return {static_cast<double>(particle), static_cast<double>(grids * sizeof(GridNode<Dim>) + sizeof(std::uint8_t))};
   }
 
  private:
   using StencilT = Stencil<Dim, Kernel>;
-  /// The buffer the reorder into scatter order keeps (ReorderBuffer): one record of the largest element type it
-  /// moves.
-  static constexpr std::size_t reorder_bytes(bool rate_form) {
-    return std::max({sizeof(Mat<Dim>), sizeof(StencilT), rate_form ? sizeof(SymTensor<3>) : 0,
-                     moves_corners<Kernel> ? sizeof(Corners<Dim>) : 0});
-  }
-
   // Time steps of each integrator (Wallstedt & Guilkey 2008, Sec. 2 and 4).
   void step_usf(Real dt);
   void step_usl(Real dt, Real accel_scale);

@@ -66,8 +66,8 @@ class ImplicitSimulation {
     constexpr double vec = sizeof(Vec<Dim>), real = sizeof(Real);
     const double state = MaterialState::bytes_per_particle();
     const double trial = sizeof(SymTensor<3>) + 4 * real + sizeof(Mat<Dim>) + 2 * vec + 1;  // Trial
-    const double particle = ParticleSet<Dim>::bytes_per_particle() + state + trial + sizeof(Stencil<Dim, Kernel>) +
-                            2 * sizeof(std::int32_t);
+    const double particle = ParticleSet<Dim>::bytes_per_particle(reads_half_lengths<Kernel>) + state + trial +
+                            sizeof(Stencil<Dim, Kernel>) + 2 * sizeof(std::int32_t);
     double node = sizeof(GridNode<Dim>) + 4 * vec + Dim * (sizeof(std::int32_t) + sizeof(std::int8_t)) +
                   (krylov_restart + 8) * Dim * real;
     if (frozen_jacobian) {

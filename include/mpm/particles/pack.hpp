@@ -1,6 +1,6 @@
 #pragma once
 /// Particles as bytes, to move them between ranks: every field of a particle, and its material state's, APIC
-/// matrix and CPDI2 corners when the set carries them, in the order of ParticleSet::for_each_array.
+/// matrix, CPDI2 corners and half-lengths when the set carries them, in the order of ParticleSet::for_each_array.
 #include <cstddef>
 #include <cstring>
 #include <vector>
@@ -14,6 +14,7 @@ struct PackedArrays {
   bool state = false;   ///< the material state (MaterialState)
   bool affine = false;   ///< APIC's B_p
   bool corners = false;  ///< CPDI2's domain corners
+  bool half_lengths = false;  ///< l_p^0 and l_p (GIMP and CPDI)
 };
 
 /// fn(array) for every array `with` names, in the order of ParticleSet::for_each_array.
@@ -23,6 +24,7 @@ void for_each_packed_array(ParticleSet<Dim>& p, PackedArrays with, Fn&& fn) {
   if (with.state) p.for_each_state_array(fn);
   if (with.affine) fn(p.B);
   if (with.corners) fn(p.corners);
+  if (with.half_lengths) fn(p.l0), fn(p.l);
 }
 
 /// Append particle i's fields to `bytes`.

@@ -24,8 +24,6 @@ struct ParticleSet {
   std::vector<Real> m;                  ///< mass m_p [kg]
   std::vector<Real> V0;                 ///< reference volume V_p^0 [m^Dim]
   std::vector<Real> V;                  ///< current volume V_p = V_p^0 det F_p [m^Dim]
-  std::vector<Vec<Dim>> l0;             ///< reference GIMP half-lengths l_p^0 [m]
-  std::vector<Vec<Dim>> l;              ///< current GIMP half-lengths l_p [m]
   std::vector<SymTensor<Dim>> sigma;    ///< Cauchy stress [Pa]
   std::vector<std::uint16_t> material;  ///< index into the material table
   /// The grid velocity field the particle projects to: 0 unless contact gives its body a field of its own
@@ -43,6 +41,12 @@ struct ParticleSet {
   /// CPDI2's domain corners (Sadeghirad, Brannon & Guilkey 2013; shape/cpdi2.hpp); empty unless the kernel is
   /// "cpdi2".
   std::vector<Corners<Dim>> corners;
+  /// Reference and current half-lengths l_p^0 and l_p of the particles' domains [m], which GIMP and CPDI read
+  /// (shape/stencil.hpp's reads_half_lengths); seeded with every particle, and emptied by an engine whose kernel
+  /// does not read them (drop_half_lengths).
+  std::vector<Vec<Dim>> l0, l;
+  /// Whether the set carries l0 and l: the same on every rank of a run, also on one that holds no particle.
+  bool has_half_lengths = true;
 
   std::size_t size() const { return x.size(); }
 
@@ -75,30 +79,40 @@ struct ParticleSet {
     id.reserve(n);
   }
 
-  /// Call fn(array) for every per-particle array, the material state's, APIC's and CPDI2's included (some may be
-  /// empty).
+  /// Call fn(array) for every per-particle array, the material state's, APIC's, CPDI2's and the half-lengths
+  /// included (some may be empty).
   template <class Fn>
   void for_each_array(Fn&& fn) {
     for_each_field(fn);
     for_each_state_array(fn);
     fn(B);
     fn(corners);
+    fn(l0), fn(l);
   }
   /// Call fn(array) for every array of the material state.
   template <class Fn>
   void for_each_state_array(Fn&& fn) {
     fn(state.sigma), fn(state.eps_bar), fn(state.temperature), fn(state.energy), fn(state.stretch3);
   }
-  /// Call fn(array) for every per-particle array but the material state's.
+  /// Call fn(array) for every array every particle has: all but the material state's and the optional ones.
   template <class Fn>
   void for_each_field(Fn&& fn) {
-    fn(x), fn(X), fn(v), fn(F), fn(m), fn(V0), fn(V), fn(l0), fn(l), fn(sigma), fn(material), fn(field), fn(id);
+    fn(x), fn(X), fn(v), fn(F), fn(m), fn(V0), fn(V), fn(sigma), fn(material), fn(field), fn(id);
   }
 
-  /// Bytes of one particle's fields, without the rate-form state.
-  static constexpr std::size_t bytes_per_particle() {
-    return 4 * sizeof(Vec<Dim>) + sizeof(Vec<Dim>) + sizeof(Mat<Dim>) + 3 * sizeof(Real) +
-           sizeof(SymTensor<Dim>) + 2 * sizeof(std::uint16_t) + sizeof(std::int64_t);
+  /// The half-length l_p of particle i, or zero where the set keeps none.
+  Vec<Dim> half_length(std::size_t i) const { return has_half_lengths ? l[i] : Vec<Dim>::Zero(); }
+  /// Free l0 and l, for a kernel that does not read them.
+  void drop_half_lengths() {
+    l0 = std::vector<Vec<Dim>>();  // each assigned a new empty vector: `l0 = l = {}` would keep l0's storage
+    l = std::vector<Vec<Dim>>();
+    has_half_lengths = false;
+  }
+
+  /// Bytes of one particle's fields, with or without the half-lengths, without the rate-form state.
+  static constexpr std::size_t bytes_per_particle(bool half_lengths) {
+    return 3 * sizeof(Vec<Dim>) + sizeof(Mat<Dim>) + 3 * sizeof(Real) + sizeof(SymTensor<Dim>) +
+           2 * sizeof(std::uint16_t) + sizeof(std::int64_t) + (half_lengths ? 2 * sizeof(Vec<Dim>) : 0);
   }
 };
 

@@ -106,6 +106,11 @@ template <int Dim, class Kernel>
 using Domain = std::conditional_t<moves_corners<Kernel>, Corners<Dim>,
                                   std::conditional_t<is_cpdi<Kernel>, Mat<Dim>, Vec<Dim>>>;
 
+/// Whether a kernel reads the particles' half-lengths: GIMP's l_p, CPDI's l_p^0 (its domain vectors F_p diag(l_p^0))
+/// and CPDI2's, from which its corners are first placed. The others leave ParticleSet::l0 and l empty.
+template <class Kernel>
+inline constexpr bool reads_half_lengths = requires { Kernel::max_half_length; } || is_cpdi<Kernel>;
+
 /// Particle i's Domain.
 template <int Dim, class Kernel>
 Domain<Dim, Kernel> domain_of(const ParticleSet<Dim>& p, std::size_t i) {
@@ -114,7 +119,7 @@ Domain<Dim, Kernel> domain_of(const ParticleSet<Dim>& p, std::size_t i) {
   else if constexpr (is_cpdi<Kernel>)
     return p.F[i] * p.l0[i].asDiagonal();
   else
-    return p.l[i];
+    return p.half_length(i);
 }
 
 /// The Domains of a block of particles, in lanes (Mat is column-major: entry (a, k) is Real a + k Dim).
@@ -129,8 +134,10 @@ template <int Dim, class Kernel>
     for (int k = 0; k < Dim; ++k)
       for (int a = 0; a < Dim; ++a) R[a + k * Dim] *= l0[k];
     return R;
-  } else {
+  } else if constexpr (reads_half_lengths<Kernel>) {
     return block.load(p.l);
+  } else {
+    return RecordLanes<Vec<Dim>>{};  // the kernel ignores them
   }
 }
 
