@@ -117,27 +117,38 @@ TEST(Budget, AbsurdScenesAreRefusedWithOneLineAndNothingWritten) {
   fs::remove_all(dir);
 }
 
-/// Start `mpm run` in a child process; return its pid.
-pid_t start(const std::vector<std::string>& args) {
+/// Start `mpm run` in a child process, its standard error into `err`; return its pid.
+pid_t start(const std::vector<std::string>& args, const fs::path& err) {
   const pid_t pid = fork();
   if (pid == 0) {
     std::vector<char*> argv{const_cast<char*>(MPM_BINARY), const_cast<char*>("run")};
     for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
     const int null = ::open("/dev/null", O_WRONLY);
+    const int err_file = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     dup2(null, 1);
-    dup2(null, 2);
+    dup2(err_file, 2);
     execv(MPM_BINARY, argv.data());
     _exit(127);
   }
   return pid;
 }
 
-/// Wait until the run's history has at least `rows` steps.
-void wait_for_steps(const fs::path& history, int rows) {
+/// Wait until the run `pid` has at least `rows` steps in its history. False if it ended before, or had not after a
+/// minute (then it is killed): either way it is gone.
+bool wait_for_steps(pid_t pid, const fs::path& history, int rows) {
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (std::chrono::steady_clock::now() < give_up && lines(slurp(history)) < rows + 2)
+  while (lines(slurp(history)) < rows + 2) {
+    int status = 0;
+    if (waitpid(pid, &status, WNOHANG) == pid) return false;
+    if (std::chrono::steady_clock::now() > give_up) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      return false;
+    }
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return true;
 }
 
 int wait_status(pid_t pid) {
@@ -152,10 +163,10 @@ TEST(Signals, InterruptWritesACheckpointAndTheRestartEndsBitwiseEqual) {
   for (int signal : {SIGINT, SIGTERM}) {
     SCOPED_TRACE(signal == SIGINT ? "SIGINT" : "SIGTERM");
     const fs::path out = dir / ("out" + std::to_string(signal));
-    const pid_t pid = start({scene, "--quiet", "--out", out.string()});
-    wait_for_steps(out / "history.csv", 3);
+    const pid_t pid = start({scene, "--quiet", "--out", out.string()}, dir / "stderr");
+    ASSERT_TRUE(wait_for_steps(pid, out / "history.csv", 3)) << slurp(dir / "stderr");
     kill(pid, signal);
-    EXPECT_EQ(wait_status(pid), 128 + signal);
+    EXPECT_EQ(wait_status(pid), 128 + signal) << slurp(dir / "stderr");
     const nlohmann::json s = nlohmann::json::parse(slurp(out / "summary.json"));
     EXPECT_EQ(s["status"], "interrupted");
     EXPECT_EQ(s["signal"], signal == SIGINT ? "SIGINT" : "SIGTERM");
@@ -184,14 +195,15 @@ TEST(Signals, ASecondSignalEndsTheProgramAtOnce) {
   const fs::path dir = scratch("second");
   const fs::path out = dir / "out";
   // One checkpoint per step: after the first signal the run still has a step and a checkpoint to finish.
-  const pid_t pid = start({block_scene(dir).string(), "--quiet", "--checkpoint-every", "1", "--out", out.string()});
-  wait_for_steps(out / "history.csv", 2);
+  const pid_t pid =
+      start({block_scene(dir).string(), "--quiet", "--checkpoint-every", "1", "--out", out.string()}, dir / "stderr");
+  ASSERT_TRUE(wait_for_steps(pid, out / "history.csv", 2)) << slurp(dir / "stderr");
   // Two different signals, since two of the same may merge into one before the run sees them. Either may be handled
   // first (any of the run's threads takes them); the second ends the program with 128 + its number.
   kill(pid, SIGINT);
   kill(pid, SIGTERM);
   const int status = wait_status(pid);
-  EXPECT_TRUE(status == 128 + SIGINT || status == 128 + SIGTERM) << status;
+  EXPECT_TRUE(status == 128 + SIGINT || status == 128 + SIGTERM) << status << slurp(dir / "stderr");
   EXPECT_FALSE(fs::exists(out / "summary.json"));  // ended without writing its summary
   fs::remove_all(dir);
 }
@@ -218,11 +230,15 @@ TEST(WriteFailures, FileSizeLimitExits1NamingTheFileAndTheCheckpointStaysReadabl
 TEST(WriteFailures, OutputFolderRemovedDuringTheRunExits1NamingAFile) {
   const fs::path dir = scratch("removed");
   const fs::path out = dir / "out";
-  const pid_t pid = start({block_scene(dir, "[output]\nevery = 1e-4\n").string(), "--quiet", "--out", out.string()});
-  wait_for_steps(out / "history.csv", 2);
+  const pid_t pid =
+      start({block_scene(dir, "[output]\nevery = 1e-4\n").string(), "--quiet", "--out", out.string()}, dir / "stderr");
+  ASSERT_TRUE(wait_for_steps(pid, out / "history.csv", 2)) << slurp(dir / "stderr");
   std::error_code ec;
   for (int tries = 0; tries < 1000 && fs::exists(out); ++tries) fs::remove_all(out, ec);  // the run writes on
-  EXPECT_EQ(wait_status(pid), 1);
+  const int status = wait_status(pid);
+  const std::string err = slurp(dir / "stderr");
+  EXPECT_EQ(status, 1) << err;
+  EXPECT_NE(err.find("cannot write " + out.string() + "/"), std::string::npos) << err;
   fs::remove_all(dir);
 }
 
