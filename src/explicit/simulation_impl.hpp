@@ -69,7 +69,6 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
       halo_(grid_.geometry),
       constraints_(spec.boundary, grid_.geometry, box_halo_.owned_layers()),
       rigid_(spec.rigid_bodies, grid_.geometry),
-      sizes_(deforms_half_lengths(spec.kernel) ? SizeUpdate::deformed : SizeUpdate::fixed),
       neo_hookean_(neo_hookean_only(spec.materials)),
       drucker_prager_(drucker_prager_rows(spec.materials)),
       axisymmetric_(Dim == 2 && spec.geometry == Geometry::axisymmetric),
@@ -78,6 +77,7 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
              (spec.body_force || !spec.surface_loads.empty() || !spec.gravity.isZero(0))) {
   const GridGeometry<Dim>& g = grid_.geometry;
   ParticleSet<Dim>& p = particles_;
+  p.half_lengths = half_lengths_of(spec.kernel);
   if (p.size() == 0) throw InputError("particles: the simulation has no particles");
   if (p.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
     throw InputError("particles: more than 2^31 - 1 particles");
@@ -346,10 +346,10 @@ void Simulation<Dim, Kernel>::scatter_positions() {
     std::memset(static_cast<void*>(grid.nodes.data()), 0, grid.bytes());
     if (box_halo_.divided()) {
       const FaceTileSums<Dim> kept(grid.geometry, order_);
-      p2g_add_keeping(kept, stencils_, order_, k, grid, positions);
+      p2g_add_keeping(kept, stencils(), order_, k, grid, positions);
       box_halo_.sum(grid, kept.take(), true, false, *comm_);
     } else {
-      p2g_add_keeping(KeepNothing{}, stencils_, order_, k, grid, positions);
+      p2g_add_keeping(KeepNothing{}, stencils(), order_, k, grid, positions);
     }
     halo_.sum_into_owners(grid, &GridNode<Dim>::v);
     constraints_.fold_and_mirror(grid, &GridNode<Dim>::v);

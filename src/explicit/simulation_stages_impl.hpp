@@ -56,10 +56,10 @@ void Simulation<Dim, Kernel>::scatter() {
     Grid<Dim>& grid = *fields[k];
     if (box_halo_.divided()) {  // the halo sum: the sums of tiles of other boxes at the nodes they share
       const FaceTileSums<Dim> kept(grid.geometry, order_);
-      p2g<what>(particles_, stencils_, order_, body_accel_, grid, kept, k, has_material_state(), affine());
+      p2g<what>(particles_, stencils(), order_, body_accel_, grid, kept, k, has_material_state(), affine());
       box_halo_.sum(grid, kept.take(), what.mass_momentum, what.force, *comm_, nullptr, what.volume_gradient);
     } else {
-      p2g<what>(particles_, stencils_, order_, body_accel_, grid, KeepNothing{}, k, has_material_state(), affine());
+      p2g<what>(particles_, stencils(), order_, body_accel_, grid, KeepNothing{}, k, has_material_state(), affine());
     }
     if constexpr (what.force && Dim == 2)  // the hoop force in a pass of its own, as in the implicit step
       if (axisymmetric_) scatter_hoop_force(grid, k);
@@ -76,14 +76,14 @@ template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::scatter_hoop_force(Grid<Dim>& grid, int field) requires(Dim == 2) {
   const HoopForce hoop{particles_.V, particles_.state.sigma, particles_.x};
   if (!box_halo_.divided()) {
-    p2g_add_keeping(KeepNothing{}, stencils_, order_, field, grid, hoop);
+    p2g_add_keeping(KeepNothing{}, stencils(), order_, field, grid, hoop);
     return;
   }
   // Onto the forces the halo sum just agreed: a shared node starts from them again, as one process's pass does.
   hoop_base_.resize(grid.size());
   for (std::size_t n = 0; n < grid.size(); ++n) hoop_base_[n] = grid.nodes[n].a;
   const FaceTileSums<Dim> kept(grid.geometry, order_);
-  p2g_add_keeping(kept, stencils_, order_, field, grid, hoop);
+  p2g_add_keeping(kept, stencils(), order_, field, grid, hoop);
   box_halo_.sum(grid, kept.take(), false, true, *comm_, &hoop_base_);
 }
 
@@ -101,28 +101,28 @@ void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
     VelocityBlend<Dim> blend;
     if constexpr (what.velocity) {  // from the stencils before G2P moves the particles
       if (spec_.transfer == Transfer::apic) {  // PIC's velocity and the affine matrices
-        g2p_affine(stencils_, *fields[k], v_grid, pic_velocity_, particles_.B, range);
+        g2p_affine(stencils(), *fields[k], v_grid, pic_velocity_, particles_.B, range);
         blend = {0, &pic_velocity_};
       } else if (spec_.flip_fraction < 1) {  // PIC's velocity
-        g2p_interpolate(stencils_, *fields[k], v_grid, pic_velocity_, range);
+        g2p_interpolate(stencils(), *fields[k], v_grid, pic_velocity_, range);
         blend = {spec_.flip_fraction, &pic_velocity_};
       }
     }
     if constexpr (what.position && moves_corners<Kernel>)  // CPDI2: the corners, from the stencils of the step's start
-      g2p_corners(stencils_, *fields[k], v_grid, dt, particles_.corners, particles_.corners, range);
+      g2p_corners(stencils(), *fields[k], v_grid, dt, particles_.corners, particles_.corners, range);
     ParticleFault f;
     if (!neo_hookean_.empty()) {
-      f = g2p<what>(particles_, stencils_, *fields[k], v_grid, dt, NeoHookeanLanes{neo_hookean_}, sizes_, targets,
+      f = g2p<what>(particles_, stencils(), *fields[k], v_grid, dt, NeoHookeanLanes{neo_hookean_}, targets,
                     range, blend);
     } else if (!drucker_prager_.empty() && axisymmetric_) {
       const DruckerPragerLanes<Dim, true> step{spec_.materials, drucker_prager_, dt};
-      f = g2p<what>(particles_, stencils_, *fields[k], v_grid, dt, step, sizes_, targets, range, blend);
+      f = g2p<what>(particles_, stencils(), *fields[k], v_grid, dt, step, targets, range, blend);
     } else if (!drucker_prager_.empty()) {
       const DruckerPragerLanes<Dim, false> step{spec_.materials, drucker_prager_, dt};
-      f = g2p<what>(particles_, stencils_, *fields[k], v_grid, dt, step, sizes_, targets, range, blend);
+      f = g2p<what>(particles_, stencils(), *fields[k], v_grid, dt, step, targets, range, blend);
     } else {
       const RecordRates<Dim> rates{grad_v_, hoop_rate_, axisymmetric_};
-      f = g2p<what>(particles_, stencils_, *fields[k], v_grid, dt, rates, sizes_, targets, range, blend);
+      f = g2p<what>(particles_, stencils(), *fields[k], v_grid, dt, rates, targets, range, blend);
     }
     fault.index = std::min(fault.index, f.index);
   }
@@ -178,7 +178,7 @@ std::string Simulation<Dim, Kernel>::failure_message(std::size_t i, Real dt) con
   else if (moves_corners<Kernel>)
     cause = "its CPDI2 domain folded (the Jacobian of its corners' map <= 0 at a corner)";
   else
-    cause = "cpGIMP half-lengths " + detail::format<Dim>(p.l[i]) + " left " + half_length_bound(spec_.kernel);
+    cause = "cpGIMP half-lengths " + detail::format<Dim>(p.half_length(i)) + " left " + half_length_bound(spec_.kernel);
   std::ostringstream os;
   os.precision(9);
   os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << p.id[i] << ": " << cause;
@@ -190,7 +190,7 @@ double Simulation<Dim, Kernel>::bytes_per_particle() const {
   const double n = static_cast<double>(particles_.size());
   // The optional arrays by what they hold (a dropped array that kept its storage shows).
   return static_cast<double>(particles_.bytes_per_particle(false)) + sizeof(StencilT) +
-         static_cast<double>((particles_.l0.capacity() + particles_.l.capacity()) * sizeof(Vec<Dim>) +
+         static_cast<double>(particles_.l0.capacity() * sizeof(Vec<Dim>) +
                              order_.bytes() + tile_.capacity() * sizeof(std::int32_t) +
                              body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes() * contact_.fields() +
                              (particles_.state.empty() ? 0 : particles_.size() * MaterialState::bytes_per_particle()) +

@@ -21,9 +21,9 @@ void ImplicitSimulation<Dim, Kernel>::consistent_mass_times(std::vector<Vec<Dim>
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].a = u[n]; });
   constraints_.mirror(grid_, &GridNode<Dim>::a);
   halo_.for_each_image([&](std::int32_t image, std::int32_t owner) { grid_.nodes[image].a = grid_.nodes[owner].a; });
-  g2p_interpolate(stencils_, grid_, &GridNode<Dim>::a, u_p_);
+  g2p_interpolate(stencils(), grid_, &GridNode<Dim>::a, u_p_);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
-  p2g_add(stencils_, order_, grid_, Momentum<Dim, NodeSlots<Dim>::a, false>{particles_.m, u_p_});
+  p2g_add(stencils(), order_, grid_, Momentum<Dim, NodeSlots<Dim>::a, false>{particles_.m, u_p_});
   halo_.sum_into_owners(grid_, &GridNode<Dim>::a);
   constraints_.fold_and_mirror(grid_, &GridNode<Dim>::a);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { u[n] = grid_.nodes[n].a; });

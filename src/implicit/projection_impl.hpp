@@ -17,7 +17,7 @@ namespace mpm {
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::project(Real dt) {
   if (build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, tile_)) order_.build(tile_, particles_.id);
-  p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils_, order_, {}, grid_, KeepNothing{}, 0, false,
+  p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils(), order_, {}, grid_, KeepNothing{}, 0, false,
                                                      affine());  // as explicit
   halo_.sum_into_owners(grid_, NodeFields::mass_momentum);
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
@@ -84,9 +84,9 @@ template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::scatter_momentum(const std::vector<Vec<Dim>>& v_p) {
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].v_new.setZero(); });
   if (affine())
-    p2g_add(stencils_, order_, grid_, AffineMomentum<Dim, NodeSlots<Dim>::v_new, false>{particles_.m, v_p, *affine()});
+    p2g_add(stencils(), order_, grid_, AffineMomentum<Dim, NodeSlots<Dim>::v_new, false>{particles_.m, v_p, *affine()});
   else
-    p2g_add(stencils_, order_, grid_, Momentum<Dim, NodeSlots<Dim>::v_new, false>{particles_.m, v_p});
+    p2g_add(stencils(), order_, grid_, Momentum<Dim, NodeSlots<Dim>::v_new, false>{particles_.m, v_p});
   halo_.sum_into_owners(grid_, &GridNode<Dim>::v_new);
   constraints_.fold_and_mirror(grid_, &GridNode<Dim>::v_new);
 }
@@ -97,9 +97,9 @@ template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::scatter_force(const std::vector<SymTensor<3>>& sigma, std::vector<Vec<Dim>>& f) {
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
   const ParticleSet<Dim>& p = particles_;
-  p2g_add(stencils_, order_, grid_, InternalForce<Dim, SymTensor<3>>{p.V, sigma});
+  p2g_add(stencils(), order_, grid_, InternalForce<Dim, SymTensor<3>>{p.V, sigma});
   if constexpr (Dim == 2)  // the hoop force in a pass of its own, as in the explicit step
-    if (spec_.geometry == Geometry::axisymmetric) p2g_add(stencils_, order_, grid_, HoopForce{p.V, sigma, p.x});
+    if (spec_.geometry == Geometry::axisymmetric) p2g_add(stencils(), order_, grid_, HoopForce{p.V, sigma, p.x});
   halo_.sum_into_owners(grid_, NodeFields::force);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { f[n] = grid_.nodes[n].a; });
@@ -121,7 +121,7 @@ void ImplicitSimulation<Dim, Kernel>::add_body_force(Real dt) {
   spec_.surface_loads.accelerate(p, t0, 1 - theta, spec_.geometry, body_accel_);
   spec_.surface_loads.accelerate(p, t1, theta, spec_.geometry, body_accel_);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
-  p2g_add(stencils_, order_, grid_, BodyForce<Dim>{p.m, body_accel_});
+  p2g_add(stencils(), order_, grid_, BodyForce<Dim>{p.m, body_accel_});
   halo_.sum_into_owners(grid_, NodeFields::force);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { f_ext_[n] += grid_.nodes[n].a; });
@@ -131,7 +131,7 @@ template <int Dim, class Kernel>
 template <class Value>
 void ImplicitSimulation<Dim, Kernel>::gather_over_active_nodes(Value value, std::vector<Vec<Dim>>& out) {
   put_on_active_nodes(value);
-  g2p_interpolate(stencils_, grid_, &GridNode<Dim>::a, out);
+  g2p_interpolate(stencils(), grid_, &GridNode<Dim>::a, out);
 }
 
 template <int Dim, class Kernel>

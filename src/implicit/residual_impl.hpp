@@ -72,7 +72,7 @@ bool ImplicitSimulation<Dim, Kernel>::residual_at(const Eigen::VectorXd& x, Real
   // Kaul 2004, Eq. (2.2.18), Eq. (2.2.19), Eq. (2.2.20), and the radial velocity sum_i N_i(x_p) v_ri^L; stored as
   // column-major records, as Mat is.
   g2p_gather<Sums{.acceleration = false, .velocity = true, .gradient = true}>(
-      stencils_, grid_, &GridNode<Dim>::v_new, ParticleRange{0, static_cast<std::ptrdiff_t>(np)},
+      stencils(), grid_, &GridNode<Dim>::v_new, ParticleRange{0, static_cast<std::ptrdiff_t>(np)},
       [&](const LaneBlock& block, const GatheredLanes<Dim>& sum) {
         RecordLanes<Mat<Dim>> L;
         for (int a = 0; a < Dim; ++a)

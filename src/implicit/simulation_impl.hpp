@@ -55,6 +55,7 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
       rigid_(spec.rigid_bodies, grid_.geometry) {
   dashpots_ = constraints_.dashpots();
   ParticleSet<Dim>& p = particles_;
+  p.half_lengths = half_lengths_of(spec.kernel);
   const GridGeometry<Dim>& g = grid_.geometry;
   if (p.size() == 0) throw InputError("particles: the simulation has no particles");
   if (p.state.empty()) p.state.resize(p.size());  // a state the particles bring (a geostatic stress) is kept
@@ -272,7 +273,6 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
   ParticleSet<Dim>& p = particles_;
   const bool momentum = spec_.formulation == Formulation::momentum;
   const bool with_momentum = momentum && !moves_with_projected_velocity(spec_);
-  const bool deformed_sizes = deforms_half_lengths(spec_.kernel);
   const bool axisymmetric = Dim == 2 && spec_.geometry == Geometry::axisymmetric;
   trial_.x.resize(p.size());
   if (!momentum) trial_.v.resize(p.size());
@@ -280,7 +280,7 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
       [&](const GridNode<Dim>& node, std::size_t n) { return with_momentum ? momentum_velocity_[n] : node.v_new; },
       v_move_);
   // CPDI2: the corners move with the same node velocities, now on GridNode::a (Sadeghirad et al. 2013).
-  if constexpr (moves_corners<Kernel>) g2p_corners(stencils_, grid_, &GridNode<Dim>::a, dt, p.corners, trial_.corners);
+  if constexpr (moves_corners<Kernel>) g2p_corners(stencils(), grid_, &GridNode<Dim>::a, dt, p.corners, trial_.corners);
   if (!momentum) gather_over_active_nodes([](const GridNode<Dim>& node, std::size_t) { return node.v_new - node.v; }, dv_);
   // PIC's velocity for the blend: sum_i S_ip v_i^L of the solution's node velocities (P_i^L / m_i in the momentum
   // formulation), which v_move_ already is unless the momentum formulation moves with the re-projected velocity.
@@ -293,7 +293,7 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
   const bool apic = spec_.transfer == Transfer::apic;
   if (apic) {
     put_on_active_nodes([&](const GridNode<Dim>& node, std::size_t n) { return momentum ? momentum_velocity_[n] : node.v_new; });
-    g2p_affine(stencils_, grid_, &GridNode<Dim>::a, pic_velocity_, affine_);
+    g2p_affine(stencils(), grid_, &GridNode<Dim>::a, pic_velocity_, affine_);
   }
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
     // Sulsky & Kaul 2004, Eq. (2.3.2), or Eq. (3.2.5); a centre carried past a wall stays on it. A CPDI2 particle
@@ -324,7 +324,7 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
       if (!trial_.x[i].allFinite()) fail(i, "would fold its CPDI2 domain (the Jacobian of its corners' map <= 0 at a corner)");
     if (!grid_.geometry.contains(trial_.x[i]) && !grid_.geometry.beyond_outflow(trial_.x[i]))
       fail(i, "would leave the grid");
-    if (deformed_sizes) {  // the half-lengths l_p0 diag(F) the GIMP stencil holds
+    if (p.half_lengths == HalfLengths::deformed) {  // the half-lengths l_p0 diag(F) the GIMP stencil holds
       const Mat<Dim> F = (Mat<Dim>::Identity() + dt * trial_.grad_v[i]) * p.F[i];
       for (int d = 0; d < Dim; ++d)
         if (!(p.l0[i][d] * F(d, d) > 0 && p.l0[i][d] * F(d, d) <= max_half_length(spec_.kernel) * grid_.geometry.h))
@@ -351,8 +351,6 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
     const auto* law = std::get_if<ElastoPlastic>(&spec_.materials[p.material[i]]);
     if (law && law->specific_heat > 0)
       particles_.state.temperature[i] += trial_.work[i] / (p.m[i] * law->specific_heat);  // Sulsky & Kaul 2004, Eq. (2.3.5)
-    if (deformed_sizes)
-      for (int d = 0; d < Dim; ++d) p.l[i][d] = p.l0[i][d] * p.F[i](d, d);
   });
   rigid_.advance(time_, dt);
 }

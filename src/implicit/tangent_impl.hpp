@@ -99,7 +99,7 @@ bool ImplicitSimulation<Dim, Kernel>::factorise_tangent(const Eigen::VectorXd& x
   std::vector<Local> local;
   const auto gather = [&](std::size_t i) {
     local.clear();
-    for_each_node(stencils_[i], layout_,
+    for_each_node(stencils().at(i, grid_.geometry, layout_), layout_,
                   [&](std::int32_t node, Real S_ip, const Vec<Dim>& dS_ip) { local.push_back({node, S_ip, dS_ip}); });
   };
   // K: a unit v_jc gives de = dt (sym(e_c (x) grad N_j) + [c = r] N_j / r e_hoop), so

@@ -112,12 +112,12 @@ double frame_bytes_per_particle(const Scene& sc) {
   return 8.0 * (components + 3 + 2);
 }
 
-/// Bytes per particle of checkpoint.h5: the particle arrays (x, X, v, F, m, V0, material, field, id; l0 and l for the
-/// kernels that keep them) and in implicit runs the material state (stress, plastic strain, temperature, energy,
+/// Bytes per particle of checkpoint.h5: the particle arrays (x, X, v, F, m, V0, material, field, id; l0 for the
+/// kernels that keep it) and in implicit runs the material state (stress, plastic strain, temperature, energy,
 /// stretch, volume).
 double checkpoint_bytes_per_particle(const Scene& sc) {
   const bool half_lengths = with_kernel<2>(sc.kernel, []<class Kernel>() { return reads_half_lengths<Kernel>; });
-  const int values = (half_lengths ? 5 : 3) * sc.dim + sc.dim * sc.dim + 4 + (sc.implicit ? 11 : 0);
+  const int values = (half_lengths ? 4 : 3) * sc.dim + sc.dim * sc.dim + 4 + (sc.implicit ? 11 : 0);
   return 8.0 * values;
 }
 

@@ -280,7 +280,7 @@ ParticleSet<Dim> seed_bodies(const Scene& sc) {
       std::fill(p.field.begin() + static_cast<std::ptrdiff_t>(first), p.field.end(),
                 static_cast<std::uint16_t>(sc.body_field[k]));
     if (sc.kernel == KernelKind::ugimp && sc.gimp_length)  // the smoothing length l as half-lengths l/2, both engines
-      for (std::size_t i = first; i < p.size(); ++i) p.l[i] = p.l0[i] = Vec<Dim>::Constant(0.5 * *sc.gimp_length);
+      for (std::size_t i = first; i < p.size(); ++i) p.l0[i] = Vec<Dim>::Constant(0.5 * *sc.gimp_length);
     for (std::size_t i = first; i < p.size(); ++i) {
       const Vec<Dim> X = p.X[i];
       for (int d = 0; d < Dim; ++d)
@@ -296,8 +296,6 @@ ParticleSet<Dim> seed_bodies(const Scene& sc) {
         } else {
           p.F[i] = gradient_of_displacement<Dim>(b.displacement, X, sc.h);
         }
-        if (deforms_half_lengths(sc.kernel))  // l_p = l_p0 diag(F): Wallstedt & Guilkey 2008, Eq. (63)
-          for (int d = 0; d < Dim; ++d) p.l[i][d] = p.l0[i][d] * p.F[i](d, d);
       }
       if (!b.velocity.empty()) p.v[i] = vector_value<Vec<Dim>>(b.velocity, std::span<const double>(X.data(), Dim));
     }

@@ -68,10 +68,9 @@ io::CheckpointData save(const Scene& sc, const Engine& engine, const Accumulator
   // Divided between ranks, each rank's particles are its rows of these.
   c.row_widths = {{"x", Dim}, {"X", Dim}, {"v", Dim}, {"F", Dim * Dim}, {"m", 1}, {"V0", 1},
                   {"material", 1}, {"field", 1}, {"id", 1}};
-  if (p.has_half_lengths) {  // GIMP's and CPDI's (every rank writes them, one with no particles too)
+  if (p.half_lengths != HalfLengths::none) {  // GIMP's and CPDI's (every rank writes them, one with no particles too)
     c.reals["l0"] = flat(p.l0);
-    c.reals["l"] = flat(p.l);
-    c.row_widths["l0"] = c.row_widths["l"] = Dim;
+    c.row_widths["l0"] = Dim;
   }
   // The optional arrays go by the run's choices, not by whether this rank holds any particle: every rank of a
   // divided run writes the same arrays (HDF5 creates them together).
@@ -122,11 +121,9 @@ void load_share(const io::CheckpointData& c, Engine& engine, Accumulators& a, st
   unflat(array("X"), p.X, "X");
   unflat(array("v"), p.v, "v");
   unflat(array("F"), p.F, "F");
-  if (p.has_half_lengths) {  // a GIMP or CPDI run's, which the engine kept when it seeded its particles
+  if (p.half_lengths != HalfLengths::none) {  // a GIMP or CPDI run's, which the engine kept when it seeded its particles
     p.l0.resize(rows);
-    p.l.resize(rows);
     unflat(array("l0"), p.l0, "l0");
-    unflat(array("l"), p.l, "l");
   }
   if (engine.sim().spec().transfer == Transfer::apic) {  // an APIC run's
     p.B.resize(rows);

@@ -41,7 +41,7 @@ DensityProjection project(const DensityCase& c) {
   ParticleSet<1> p;
   fill_box<1>(p, Vec<1>(0.0), Vec<1>(1.0), out.h / c.ppc, 1.0, 0);
   if (c.gimp_length)
-    for (Vec<1>& l : p.l) l.setConstant(0.5 * *c.gimp_length);
+    for (Vec<1>& l : p.l0) l.setConstant(0.5 * *c.gimp_length);
   if constexpr (moves_corners<Kernel>) place_corners(p);  // CPDI2's domains: the particles' segments
 
   // Nodal mass and volume, m_i = sum_p S_ip m_p and V_i = sum_p S_ip V_p (Steffen et al. 2008, Sec. 4.3).

@@ -116,8 +116,6 @@ VerifyResult run_case(const Exact& exact, const VerifyOptions& o, ParticleTable*
       for (int d = 0; d < Dim; ++d) p.x[i][d] -= std::floor(p.x[i][d]);
     p.v[i] = exact.velocity(p.X[i], o.start == HalfStepStart::exact ? -spec.dt / 2 : 0);
     p.F[i] = exact.deformation_gradient(p.X[i], 0);
-    if (deforms_half_lengths(o.kernel))  // l_p = l_p0 diag(F): Wallstedt & Guilkey 2008, Eq. (63)
-      for (int d = 0; d < Dim; ++d) p.l[i][d] = p.l0[i][d] * p.F[i](d, d);
   }
 
   VerifyResult r;

@@ -44,7 +44,7 @@ template <int Dim, class Kernel>
 struct Setup {
   mpm::GridGeometry<Dim> geo;
   mpm::ParticleSet<Dim> p;
-  std::vector<mpm::Stencil<Dim, Kernel>> stencils;
+  std::vector<mpm::StoredStencil<Dim, Kernel>> stored;
   std::vector<std::int32_t> tile;
   mpm::ScatterOrder<Dim> order;
   std::mt19937_64 rng{77 + Dim};
@@ -58,9 +58,10 @@ struct Setup {
     }
     p.B.assign(p.size(), Mat<Dim>::Zero());
     mpm::place_corners(p);  // CPDI2's domains
-    mpm::build_stencils<Dim, Kernel>(p, geo, stencils, tile);
+    mpm::build_stencils<Dim, Kernel>(p, geo, stored, tile);
     order.build(tile, p.id);
   }
+  mpm::ParticleStencils<Dim, Kernel> stencils() const { return {stored, p}; }
   static mpm::GridGeometry<Dim> geometry() {
     mpm::GridGeometry<Dim> g;
     for (int d = 0; d < Dim; ++d) g.lo[d] = -0.35 + 0.3 * d;
@@ -73,7 +74,7 @@ struct Setup {
   Mat<Dim> inertia(std::size_t i) const {
     const mpm::NodeLayout<Dim> nl(geo);
     Mat<Dim> D = Mat<Dim>::Zero();
-    mpm::for_each_node(stencils[i], nl, [&](std::int32_t n, Real S, const Vec<Dim>&) {
+    mpm::for_each_node(stencils().at(i, geo, nl), nl, [&](std::int32_t n, Real S, const Vec<Dim>&) {
       const Vec<Dim> dx = geo.position(geo.coords(n)) - p.x[i];
       D += S * dx * dx.transpose();
     });
@@ -81,7 +82,7 @@ struct Setup {
   }
   mpm::Grid<Dim> p2g(bool affine) {
     mpm::Grid<Dim> grid(geo);
-    mpm::p2g<mpm::Scatter{.mass_momentum = true, .force = false}>(p, stencils, order, {}, grid, mpm::KeepNothing{}, 0,
+    mpm::p2g<mpm::Scatter{.mass_momentum = true, .force = false}>(p, stencils(), order, {}, grid, mpm::KeepNothing{}, 0,
                                                                   false, affine ? &p.B : nullptr);
     return grid;
   }
@@ -125,7 +126,7 @@ TYPED_TEST(Apic, AffineFieldMakesTheRoundTripWithoutLoss) {
   EXPECT_GT(loaded, 0);
   std::vector<Vec<Dim>> v;
   std::vector<Mat<Dim>> B;
-  mpm::g2p_affine(s.stencils, grid, &mpm::GridNode<Dim>::v, v, B);
+  mpm::g2p_affine(s.stencils(), grid, &mpm::GridNode<Dim>::v, v, B);
   for (std::size_t i = 0; i < s.p.size(); ++i) {
     const Vec<Dim> want_v = a + C * s.p.x[i];
     const Mat<Dim> want_B = C * s.inertia(i);
@@ -172,7 +173,7 @@ TYPED_TEST(Apic, P2GAndG2PKeepTheAngularMomentum) {
   }
   std::vector<Vec<Dim>> v;
   std::vector<Mat<Dim>> B;
-  mpm::g2p_affine(s.stencils, grid, &mpm::GridNode<Dim>::v_new, v, B);
+  mpm::g2p_affine(s.stencils(), grid, &mpm::GridNode<Dim>::v_new, v, B);
   for (std::size_t i = 0; i < s.p.size(); ++i) add(back, angular_momentum<Dim>(s.p.m[i], s.p.x[i], v[i], B[i]));
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(back[k], grid_L[k], 1e-15) << "G2P, component " << k;
 }

@@ -214,29 +214,31 @@ TYPED_TEST(ClampedKernel, LanesLocateAndWeighLikeOneParticle) {
     if (k < 4) x = mpm::Vec<2>(k % 2 ? hi[0] : g.lo[0], k / 2 ? hi[1] : g.lo[1]);  // the corners themselves
     p.add(x, mpm::Vec<2>::Zero(), 1.0, 1.0, mpm::Vec<2>::Constant(0.05), 0);
   }
-  std::vector<mpm::Stencil<2, K>> stencils;
+  // The records build_stencils keeps, and the axis data ParticleStencils locates again in lanes where the transfers
+  // read them.
+  std::vector<mpm::StoredStencil<2, K>> stencils;
   std::vector<std::int32_t> tile;
   mpm::build_stencils<2, K>(p, g, stencils, tile);
   const mpm::NodeLayout<2> nl(g);
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const auto one = mpm::make_stencil<2, K>(g, nl, p.x[i], p.l[i]);
-    EXPECT_EQ(one.node, stencils[i].node) << i;
-    EXPECT_EQ(one.tile_slot, stencils[i].tile_slot) << i;
-    for (int d = 0; d < 2; ++d)
-      EXPECT_EQ(std::memcmp(&one.axis[d], &stencils[i].axis[d], sizeof(one.axis[d])), 0) << i;
-  }
+  const mpm::ParticleStencils<2, K> located{stencils, p};
   for (std::ptrdiff_t b = 0; b < mpm::LaneBlock::count(p.size()); ++b) {
     const mpm::LaneBlock block(b, static_cast<std::ptrdiff_t>(p.size()));
-    const mpm::StencilLanes<2, K> lanes(block.load(stencils));
-    for (int d = 0; d < 2; ++d) {
-      mpm::RealLanes w[K::width], dw[K::width];
-      K::weights_at(lanes.axis[d], w, dw);
-      for (int k = 0; k < block.active; ++k) {
+    const mpm::StencilLanes<2, K> lanes = located.lanes(block, g, nl.inv_h);
+    for (int k = 0; k < block.active; ++k) {
+      const std::size_t i = static_cast<std::size_t>(block.first + k);
+      const auto one = mpm::make_stencil<2, K>(g, nl, p.x[i], p.half_length(i));
+      EXPECT_EQ(one.node, stencils[i].node) << i;
+      EXPECT_EQ(one.tile_slot, stencils[i].tile_slot) << i;
+      EXPECT_EQ(one.node, lanes.node[k]) << i;
+      EXPECT_EQ(one.tile_slot, lanes.tile_slot[k]) << i;
+      for (int d = 0; d < 2; ++d) {
+        mpm::RealLanes w[K::width], dw[K::width];
+        K::weights_at(lanes.axis[d], w, dw);
         Real w1[K::width], dw1[K::width];
-        K::weights_at(stencils[block.first + k].axis[d], w1, dw1);
+        K::weights_at(one.axis[d], w1, dw1);
         for (int j = 0; j < K::width; ++j) {
-          EXPECT_EQ(w[j][k], w1[j]);
-          EXPECT_EQ(dw[j][k], dw1[j]);
+          EXPECT_EQ(w[j][k], w1[j]) << i;
+          EXPECT_EQ(dw[j][k], dw1[j]) << i;
         }
       }
     }

@@ -315,7 +315,7 @@ void expect_lanes_like_one_particle() {
   }
   for (std::ptrdiff_t b = 0; b < mpm::LaneBlock::count(p.size()); ++b) {
     const mpm::LaneBlock block(b, static_cast<std::ptrdiff_t>(p.size()));
-    const mpm::LaneStencil<Dim, K> lanes(stencils, block, nl.inv_h);
+    const mpm::LaneStencil<Dim, K> lanes(mpm::ParticleStencils<Dim, K>{stencils, p}, block, g, nl.inv_h);
     std::vector<Real> S;
     std::vector<Vec<Dim>> dS;
     mpm::for_each_node(lanes, nl, [&](std::int32_t, const mpm::RealLanes& w, const mpm::RealLanes(&dw)[Dim]) {

@@ -1,5 +1,5 @@
-// What the engines keep per particle: the half-lengths l0 and l only for the kernels that read them (GIMP and CPDI),
-// in both engines, and counted that way; and the reorder into scatter order through a buffer of one 8-byte column
+// What the engines keep per particle: the reference half-lengths l0 only for the kernels that read them (GIMP and
+// CPDI; the current ones follow from l0 and F), in both engines, and counted that way; and the reorder into scatter order through a buffer of one 8-byte column
 // per particle, which permutes every array and leaves the ones of another size alone.
 #include <gtest/gtest.h>
 
@@ -11,6 +11,7 @@
 #include "mpm/explicit/simulation.hpp"
 #include "mpm/implicit/simulation.hpp"
 #include "mpm/particles/reorder.hpp"
+#include "mpm/transfer/lanes.hpp"
 
 namespace {
 
@@ -38,6 +39,14 @@ Spec on_four_cells(mpm::KernelKind kind) {
   return spec;
 }
 
+/// How a kernel kind's particles keep their half-lengths: none unless the kernel reads them, l_p = l_p^0 diag(F_p)
+/// for cpGIMP, l_p = l_p^0 otherwise.
+template <class Kernel>
+mpm::HalfLengths expected_half_lengths(mpm::KernelKind kind) {
+  if (!mpm::reads_half_lengths<Kernel>) return mpm::HalfLengths::none;
+  return kind == mpm::KernelKind::cpgimp ? mpm::HalfLengths::deformed : mpm::HalfLengths::fixed;
+}
+
 template <class Kernel>
 std::size_t explicit_half_lengths(mpm::KernelKind kind) {
   auto spec = on_four_cells<mpm::SimulationSpec<2>>(kind);
@@ -45,9 +54,8 @@ std::size_t explicit_half_lengths(mpm::KernelKind kind) {
   spec.dt = 1e-4;
   mpm::Simulation<2, Kernel> sim(spec, block());
   sim.step();
-  EXPECT_EQ(sim.particles().l0.size(), sim.particles().l.size());
-  EXPECT_EQ(sim.particles().has_half_lengths, mpm::reads_half_lengths<Kernel>);
-  return sim.particles().l.size();
+  EXPECT_EQ(sim.particles().half_lengths, expected_half_lengths<Kernel>(kind));
+  return sim.particles().l0.size();
 }
 
 template <class Kernel>
@@ -59,9 +67,8 @@ std::size_t implicit_half_lengths(mpm::KernelKind kind) {
   steel.rho0 = 1000;
   spec.materials = {steel};
   const mpm::ImplicitSimulation<2, Kernel> sim(spec, block());
-  EXPECT_EQ(sim.particles().l0.size(), sim.particles().l.size());
-  EXPECT_EQ(sim.particles().has_half_lengths, mpm::reads_half_lengths<Kernel>);
-  return sim.particles().l.size();
+  EXPECT_EQ(sim.particles().half_lengths, expected_half_lengths<Kernel>(kind));
+  return sim.particles().l0.size();
 }
 
 TEST(ParticleStorage, HalfLengthsOnlyForTheKernelsThatReadThem) {
@@ -75,16 +82,67 @@ TEST(ParticleStorage, HalfLengthsOnlyForTheKernelsThatReadThem) {
   EXPECT_EQ(explicit_half_lengths<mpm::CpdiKernel<2>>(mpm::KernelKind::cpdi), 16u);
   EXPECT_EQ(implicit_half_lengths<mpm::LinearKernel>(mpm::KernelKind::linear), 0u);
   EXPECT_EQ(implicit_half_lengths<mpm::GimpKernel>(mpm::KernelKind::ugimp), 16u);
-  // The counts follow: two Vec<2> (32 B) less per particle without them.
-  EXPECT_EQ(ParticleSet<2>::bytes_per_particle(true) - ParticleSet<2>::bytes_per_particle(false), 2 * sizeof(Vec<2>));
-  // The budget's model: GIMP's particle also holds a larger stencil (104 B against 24); the reorder's buffer is
-  // one 8-byte column for both.
-  using GimpStencil = mpm::Stencil<2, mpm::GimpKernel>;
-  using LinearStencil = mpm::Stencil<2, mpm::LinearKernel>;
-  static_assert(sizeof(GimpStencil) == 104 && sizeof(LinearStencil) == 24);
+  // The counts follow: one Vec<2> (16 B) less per particle without l0.
+  EXPECT_EQ(ParticleSet<2>::bytes_per_particle(true) - ParticleSet<2>::bytes_per_particle(false), sizeof(Vec<2>));
+  // The budget's model: a linear or B-spline particle keeps its stencil's base node and tile (8 B), a GIMP particle
+  // also the half-lengths it was located with (16 B), a CPDI particle its axis data; GIMP's particle differs from
+  // linear's by those and l0. The reorder's buffer is one 8-byte column for all.
+  static_assert(sizeof(mpm::StoredStencil<2, mpm::LinearKernel>) == 8 &&
+                sizeof(mpm::StoredStencil<2, mpm::CubicBSplineKernel>) == 8 &&
+                sizeof(mpm::StoredStencil<2, mpm::GimpKernel>) == 24);
+  static_assert(sizeof(mpm::StoredStencil<2, mpm::CpdiKernel<2>>) == sizeof(mpm::Stencil<2, mpm::CpdiKernel<2>>));
   const double gimp = mpm::Simulation<2, mpm::GimpKernel>::memory_model(false, false).per_particle;
   const double linear = mpm::Simulation<2, mpm::LinearKernel>::memory_model(false, false).per_particle;
-  EXPECT_EQ(gimp - linear, 2 * 16 + (104 - 24));  // the reorder's column is 8 B for both
+  EXPECT_EQ(gimp - linear, 16 + 16);
+}
+
+/// The weights ParticleStencils gives the particles of `p` from the records `stored`, lane by lane, in particle order.
+template <class Kernel>
+std::vector<Real> weights_in_lanes(const std::vector<mpm::StoredStencil<2, Kernel>>& stored, const ParticleSet<2>& p,
+                                   const mpm::GridGeometry<2>& g) {
+  const mpm::NodeLayout<2> nl(g);
+  std::vector<Real> w(p.size() * 2 * Kernel::width);
+  for (std::ptrdiff_t b = 0; b < mpm::LaneBlock::count(p.size()); ++b) {
+    const mpm::LaneBlock block(b, static_cast<std::ptrdiff_t>(p.size()));
+    const mpm::LaneStencil<2, Kernel> s(mpm::ParticleStencils<2, Kernel>{stored, p}, block, g, nl.inv_h);
+    for (int k = 0; k < block.active; ++k)
+      for (int d = 0; d < 2; ++d)
+        for (int j = 0; j < Kernel::width; ++j)
+          w[(static_cast<std::size_t>(block.first + k) * 2 + d) * Kernel::width + j] = s.w[d][j][k];
+  }
+  return w;
+}
+
+TEST(ParticleStorage, GimpStencilsWeighWithTheHalfLengthsOfTheirLocate) {
+  // A GIMP particle keeps its stencil's base node, tile and half-lengths (24 B in 2-D) and the transfers locate the
+  // rest again from its position. The weights must be those of make_stencil at the locate's half-lengths, bit for
+  // bit, and stay so when F, and with it cpGIMP's l_p = l_p^0 diag(F), changes before the stencil's last use (a USF
+  // step's deformation pass comes before its force pass).
+  using K = mpm::GimpKernel;
+  const mpm::GridGeometry<2> g{Vec<2>(0, 0), 1.0, {4, 4}, K::ghost};
+  const mpm::NodeLayout<2> nl(g);
+  ParticleSet<2> p = block();
+  p.half_lengths = mpm::HalfLengths::deformed;
+  for (std::size_t i = 0; i < p.size(); ++i) p.F[i].diagonal() = Vec<2>(1.5 + 0.125 * static_cast<Real>(i % 3), 0.75);
+  std::vector<mpm::StoredStencil<2, K>> stored;
+  std::vector<std::int32_t> tile;
+  mpm::build_stencils<2, K>(p, g, stored, tile);
+  const std::vector<Real> located = weights_in_lanes<K>(stored, p, g);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const mpm::Stencil<2, K> one = mpm::make_stencil<2, K>(g, nl, p.x[i], p.half_length(i));
+    for (int d = 0; d < 2; ++d) {
+      Real w[K::width], dw[K::width];
+      K::weights_at(one.axis[d], w, dw);
+      for (int j = 0; j < K::width; ++j) EXPECT_EQ(located[(i * 2 + d) * K::width + j], w[j]) << i;
+      EXPECT_EQ(stored[i].half_length[d], p.half_length(i)[d]);
+    }
+  }
+  // F changes: the stencils weigh as located, and the half-lengths F now gives would weigh differently.
+  for (mpm::Mat<2>& F : p.F) F.diagonal() = Vec<2>(1, 1);
+  EXPECT_EQ(weights_in_lanes<K>(stored, p, g), located);
+  std::vector<mpm::StoredStencil<2, K>> again;
+  mpm::build_stencils<2, K>(p, g, again, tile);
+  EXPECT_NE(weights_in_lanes<K>(again, p, g), located);
 }
 
 /// Reorder a row of 64 particles by `order`, with two arrays more (one of records shorter than a column, one of

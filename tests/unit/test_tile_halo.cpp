@@ -75,13 +75,13 @@ class ThreadRanks {
 /// of the face tiles go to `kept` when it is given.
 template <int Dim, class Kernel>
 void scatter(const mpm::ParticleSet<Dim>& p, mpm::Grid<Dim>& grid, std::vector<mpm::TileSums<Dim>>* kept) {
-  std::vector<mpm::Stencil<Dim, Kernel>> stencils;
+  std::vector<mpm::StoredStencil<Dim, Kernel>> stencils;
   std::vector<std::int32_t> tile;
   mpm::build_stencils<Dim, Kernel>(p, grid.geometry, stencils, tile);
   mpm::ScatterOrder<Dim> order(grid.geometry, Kernel::width);
   order.build(tile, p.id);
   const mpm::FaceTileSums<Dim> keep(grid.geometry, order);
-  mpm::p2g_add_keeping(keep, stencils, order, 0, grid, mpm::Momentum<Dim>{p.m, p.v},
+  mpm::p2g_add_keeping(keep, mpm::ParticleStencils<Dim, Kernel>{stencils, p}, order, 0, grid, mpm::Momentum<Dim>{p.m, p.v},
                        mpm::InternalForce<Dim, mpm::SymTensor<Dim>>{p.V, p.sigma});
   if (kept) *kept = keep.take();
 }
@@ -112,7 +112,7 @@ TYPED_TEST(TileHalo, BoxesGiveEveryNodeTheBitsOfOneProcess) {
   scatter<Dim, Kernel>(p, one, nullptr);
 
   // The particles of each tile, the weights of the division.
-  std::vector<mpm::Stencil<Dim, Kernel>> stencils;
+  std::vector<mpm::StoredStencil<Dim, Kernel>> stencils;
   std::vector<std::int32_t> tile;
   mpm::build_stencils<Dim, Kernel>(p, geo, stencils, tile);
   mpm::IVec<Dim> tiles;
@@ -151,7 +151,7 @@ TYPED_TEST(TileHalo, BoxesGiveEveryNodeTheBitsOfOneProcess) {
             rest /= tiles[d];
           }
           if (!boxes[static_cast<std::size_t>(b)].contains(t)) continue;
-          q.add(p.x[i], p.v[i], p.m[i], p.V0[i], p.l[i], 0);
+          q.add(p.x[i], p.v[i], p.m[i], p.V0[i], p.l0[i], 0);
           q.sigma.back() = p.sigma[i];
           q.corners.push_back(p.corners[i]);
         }

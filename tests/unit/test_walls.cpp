@@ -28,14 +28,13 @@ std::pair<bool, Vec<2>> moved(bool wall) {
   }
   mpm::ParticleSet<2> p;
   p.add(Vec<2>(0.15, 1e-9), Vec<2>::Zero(), 1, 1e-2, Vec<2>::Constant(0.025), 0);
-  std::vector<mpm::Stencil<2, mpm::GimpKernel>> stencils;
+  std::vector<mpm::StoredStencil<2, mpm::GimpKernel>> stencils;
   std::vector<std::int32_t> tile;
   mpm::build_stencils<2, mpm::GimpKernel>(p, geo, stencils, tile);
   std::vector<mpm::Mat<2>> grad_v(1);
   std::vector<Real> hoop(1);
   const mpm::ParticleFault fault = mpm::g2p<mpm::Gather{.velocity = false, .position = true, .deformation = false}>(
-      p, stencils, grid, &mpm::GridNode<2>::v_new, 1e-3, mpm::RecordRates<2>{grad_v, hoop, false},
-      mpm::SizeUpdate::fixed);
+      p, mpm::ParticleStencils<2, mpm::GimpKernel>{stencils, p}, grid, &mpm::GridNode<2>::v_new, 1e-3, mpm::RecordRates<2>{grad_v, hoop, false});
   return {static_cast<bool>(fault), p.x[0]};
 }
 

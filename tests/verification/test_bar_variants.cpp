@@ -111,7 +111,7 @@ TEST(PlasticBarAtOneHundred, CpGimpIsUniaxialOutsideTheGripCell) {
                     const double expected = (6 + 5000.0 / 3) / (1 + 5000.0 / 1000);
                     Spread gauge, grip;
                     for (std::size_t i = 0; i < p.size(); ++i)
-                      (p.x[i][0] - p.l[i][0] > 0.4 ? gauge : grip).add(sim.state().sigma[i](0, 0));
+                      (p.x[i][0] - p.half_length(i)[0] > 0.4 ? gauge : grip).add(sim.state().sigma[i](0, 0));
                     std::printf("gauge: sigma_xx in [%.2f, %.2f]; grip cell: [%.2f, %.2f]; expected %.2f\n", gauge.min,
                                 gauge.max, grip.min, grip.max, expected);
                     EXPECT_NEAR(gauge.min, expected, 0.05 * expected);

@@ -169,7 +169,7 @@ class Simulation {
   static MemoryModel memory_model(bool body_force, bool rate_form, int grids = 1) {
     // Particles, their stencils, tiles and scatter order, the reorder's column; one node record per node.
     const std::size_t particle =
-        ParticleSet<Dim>::bytes_per_particle(reads_half_lengths<Kernel>) + sizeof(Stencil<Dim, Kernel>) +
+        ParticleSet<Dim>::bytes_per_particle(reads_half_lengths<Kernel>) + sizeof(StoredStencil<Dim, Kernel>) +
         2 * sizeof(std::int32_t) +
         (body_force ? sizeof(Vec<Dim>) : 0) +
         (rate_form ? MaterialState::bytes_per_particle() + sizeof(Mat<Dim>) + sizeof(Real) : 0) +
@@ -179,7 +179,9 @@ class Simulation {
   }
 
  private:
-  using StencilT = Stencil<Dim, Kernel>;
+  using StencilT = StoredStencil<Dim, Kernel>;
+  /// The particles' stencils as the transfers read them.
+  ParticleStencils<Dim, Kernel> stencils() const { return {stencils_, particles_}; }
   // Time steps of each integrator (Wallstedt & Guilkey 2008, Sec. 2 and 4).
   void step_usf(Real dt);
   void step_usl(Real dt, Real accel_scale);
@@ -247,7 +249,6 @@ class Simulation {
   Halo<Dim> halo_;
   KinematicConstraints<Dim> constraints_;
   RigidBodies<Dim> rigid_;
-  SizeUpdate sizes_;
   /// Every material Neo-Hookean: their laws, for the stress in G2P's lanes (empty otherwise).
   std::vector<NeoHookean> neo_hookean_;
   /// Every material Drucker-Prager: their rows, for the step in G2P's lanes (empty otherwise).

@@ -48,6 +48,12 @@ inline bool is_gimp(KernelKind k) {
 /// 2008, Eq. (63)).
 inline bool deforms_half_lengths(KernelKind k) { return k == KernelKind::cpgimp || k == KernelKind::cpgimp_wide; }
 
+/// How a kernel kind's particles' current half-lengths follow from l_p^0 (ParticleSet::half_lengths), set by both
+/// engines before they validate them; an engine whose kernel reads none then drops them.
+inline HalfLengths half_lengths_of(KernelKind k) {
+  return deforms_half_lengths(k) ? HalfLengths::deformed : HalfLengths::fixed;
+}
+
 /// The largest half-length a GIMP kind's stencil holds, in cells: 1/2, or 1 for the wide kinds.
 inline Real max_half_length(KernelKind k) {
   return k == KernelKind::ugimp_wide || k == KernelKind::cpgimp_wide ? 1 : 0.5;

@@ -67,7 +67,7 @@ class ImplicitSimulation {
     const double state = MaterialState::bytes_per_particle();
     const double trial = sizeof(SymTensor<3>) + 4 * real + sizeof(Mat<Dim>) + 2 * vec + 1;  // Trial
     const double particle = ParticleSet<Dim>::bytes_per_particle(reads_half_lengths<Kernel>) + state + trial +
-                            sizeof(Stencil<Dim, Kernel>) + 2 * sizeof(std::int32_t);
+                            sizeof(StoredStencil<Dim, Kernel>) + 2 * sizeof(std::int32_t);
     double node = sizeof(GridNode<Dim>) + 4 * vec + Dim * (sizeof(std::int32_t) + sizeof(std::int8_t)) +
                   (krylov_restart + 8) * Dim * real;
     if (frozen_jacobian) {
@@ -114,7 +114,9 @@ class ImplicitSimulation {
                const std::vector<Vec<Dim>>& rigid_displacement);
 
  private:
-  using StencilT = Stencil<Dim, Kernel>;
+  using StencilT = StoredStencil<Dim, Kernel>;
+  /// The particles' stencils as the transfers read them.
+  ParticleStencils<Dim, Kernel> stencils() const { return {stencils_, particles_}; }
   class Residual;
   struct Trial {  // particle state computed by one residual evaluation
     std::vector<SymTensor<3>> sigma;

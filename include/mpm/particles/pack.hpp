@@ -14,7 +14,7 @@ struct PackedArrays {
   bool state = false;   ///< the material state (MaterialState)
   bool affine = false;   ///< APIC's B_p
   bool corners = false;  ///< CPDI2's domain corners
-  bool half_lengths = false;  ///< l_p^0 and l_p (GIMP and CPDI)
+  bool half_lengths = false;  ///< l_p^0 (GIMP and CPDI)
 };
 
 /// fn(array) for every array `with` names, in the order of ParticleSet::for_each_array.
@@ -24,7 +24,7 @@ void for_each_packed_array(ParticleSet<Dim>& p, PackedArrays with, Fn&& fn) {
   if (with.state) p.for_each_state_array(fn);
   if (with.affine) fn(p.B);
   if (with.corners) fn(p.corners);
-  if (with.half_lengths) fn(p.l0), fn(p.l);
+  if (with.half_lengths) fn(p.l0);
 }
 
 /// Append particle i's fields to `bytes`.

@@ -9,6 +9,10 @@
 
 namespace mpm {
 
+/// How a set's current half-lengths l_p follow from l_p^0: none kept (a kernel that reads none), l_p = l_p^0 (uGIMP,
+/// CPDI), or l_p = l_p^0 diag(F_p) (cpGIMP: Wallstedt & Guilkey 2008, Eq. (63)).
+enum class HalfLengths : std::uint8_t { none, fixed, deformed };
+
 /// The 2^Dim corners of a particle's domain (CPDI2), column c corner c, whose reference signs are the bits of c
 /// (CpdiKernel::sign) [m].
 template <int Dim>
@@ -41,12 +45,13 @@ struct ParticleSet {
   /// CPDI2's domain corners (Sadeghirad, Brannon & Guilkey 2013; shape/cpdi2.hpp); empty unless the kernel is
   /// "cpdi2".
   std::vector<Corners<Dim>> corners;
-  /// Reference and current half-lengths l_p^0 and l_p of the particles' domains [m], which GIMP and CPDI read
-  /// (shape/stencil.hpp's reads_half_lengths); seeded with every particle, and emptied by an engine whose kernel
-  /// does not read them (drop_half_lengths).
-  std::vector<Vec<Dim>> l0, l;
-  /// Whether the set carries l0 and l: the same on every rank of a run, also on one that holds no particle.
-  bool has_half_lengths = true;
+  /// Reference half-lengths l_p^0 of the particles' domains [m], which GIMP and CPDI read (shape/stencil.hpp's
+  /// reads_half_lengths); seeded with every particle, and emptied by an engine whose kernel does not read them
+  /// (drop_half_lengths). The current ones follow from them (half_length).
+  std::vector<Vec<Dim>> l0;
+  /// How the current half-lengths follow from l0: the same on every rank of a run, also on one that holds no
+  /// particle.
+  HalfLengths half_lengths = HalfLengths::fixed;
 
   std::size_t size() const { return x.size(); }
 
@@ -61,7 +66,6 @@ struct ParticleSet {
     V0.push_back(volume);
     V.push_back(volume);
     l0.push_back(half_length);
-    l.push_back(half_length);
     sigma.push_back(SymTensor<Dim>{});
     material.push_back(material_id);
     field.push_back(0);
@@ -70,7 +74,7 @@ struct ParticleSet {
 
   /// Room for n particles in every array, so that seeding grows no array past what it needs.
   void reserve(std::size_t n) {
-    for (auto* a : {&x, &X, &v, &l0, &l}) a->reserve(n);
+    for (auto* a : {&x, &X, &v, &l0}) a->reserve(n);
     F.reserve(n);
     for (auto* a : {&m, &V0, &V}) a->reserve(n);
     sigma.reserve(n);
@@ -87,7 +91,7 @@ struct ParticleSet {
     for_each_state_array(fn);
     fn(B);
     fn(corners);
-    fn(l0), fn(l);
+    fn(l0);
   }
   /// Call fn(array) for every array of the material state.
   template <class Fn>
@@ -100,19 +104,25 @@ struct ParticleSet {
     fn(x), fn(X), fn(v), fn(F), fn(m), fn(V0), fn(V), fn(sigma), fn(material), fn(field), fn(id);
   }
 
-  /// The half-length l_p of particle i, or zero where the set keeps none.
-  Vec<Dim> half_length(std::size_t i) const { return has_half_lengths ? l[i] : Vec<Dim>::Zero(); }
-  /// Free l0 and l, for a kernel that does not read them.
+  /// The current half-length l_p of particle i (HalfLengths), or zero where the set keeps none.
+  Vec<Dim> half_length(std::size_t i) const {
+    switch (half_lengths) {
+      case HalfLengths::none: return Vec<Dim>::Zero();
+      case HalfLengths::fixed: return l0[i];
+      case HalfLengths::deformed: return l0[i].cwiseProduct(F[i].diagonal());  // Wallstedt & Guilkey 2008, Eq. (63)
+    }
+    return Vec<Dim>::Zero();
+  }
+  /// Free l0, for a kernel that does not read it.
   void drop_half_lengths() {
-    l0 = std::vector<Vec<Dim>>();  // each assigned a new empty vector: `l0 = l = {}` would keep l0's storage
-    l = std::vector<Vec<Dim>>();
-    has_half_lengths = false;
+    l0 = std::vector<Vec<Dim>>();  // a new empty vector: clear() would keep the storage
+    half_lengths = HalfLengths::none;
   }
 
-  /// Bytes of one particle's fields, with or without the half-lengths, without the rate-form state.
+  /// Bytes of one particle's fields, with or without the half-lengths l0, without the rate-form state.
   static constexpr std::size_t bytes_per_particle(bool half_lengths) {
     return 3 * sizeof(Vec<Dim>) + sizeof(Mat<Dim>) + 3 * sizeof(Real) + sizeof(SymTensor<Dim>) +
-           2 * sizeof(std::uint16_t) + sizeof(std::int64_t) + (half_lengths ? 2 * sizeof(Vec<Dim>) : 0);
+           2 * sizeof(std::uint16_t) + sizeof(std::int64_t) + (half_lengths ? sizeof(Vec<Dim>) : 0);
   }
 };
 

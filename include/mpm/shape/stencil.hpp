@@ -26,8 +26,46 @@ struct Stencil {
   std::array<typename Kernel::Axis, Dim> axis;  ///< per-axis data the kernel evaluates weights from
 };
 
+/// Whether a tensor-product kernel's weights depend on the particles' half-lengths l_p (GIMP's).
+template <class Kernel>
+inline constexpr bool weighs_half_lengths = requires { Kernel::max_half_length; };
+
+/// Whether a kernel reads the particles' half-lengths: GIMP's l_p, CPDI's l_p^0 (its domain vectors F_p diag(l_p^0))
+/// and CPDI2's, from which its corners are first placed. The others leave ParticleSet::l0 empty.
+template <class Kernel>
+inline constexpr bool reads_half_lengths = weighs_half_lengths<Kernel> || is_cpdi<Kernel>;
+
+/// Whether a particle keeps its stencil's axis data from the stencil's locate to its use: CPDI's and CPDI2's, whose
+/// locate reads the whole domain. A tensor-product kernel's particle keeps the base node and tile, and GIMP's the
+/// half-lengths it was located with (a USF step changes F, and so cpGIMP's l_p, before its last use of the
+/// stencil); the axis data is located again where it is read, from those and the particle's position, which does
+/// not change in between: the same bits (ParticleStencils).
+template <class Kernel>
+inline constexpr bool keeps_axes = is_cpdi<Kernel>;
+
+/// What a linear or B-spline particle keeps of its stencil: the base node and tile (Stencil's first two members).
+struct StencilIndex {
+  std::int32_t node;
+  std::int32_t tile_slot;
+};
+
+/// What a GIMP particle keeps of its stencil: the base node and tile, and the half-lengths l_p it was located with
+/// [m].
+template <int Dim>
+struct SizedStencilIndex {
+  std::int32_t node;
+  std::int32_t tile_slot;
+  std::array<Real, Dim> half_length;
+};
+
+/// What a particle keeps of its stencil between the stencil's locate and its use.
+template <int Dim, class Kernel>
+using StoredStencil =
+    std::conditional_t<keeps_axes<Kernel>, Stencil<Dim, Kernel>,
+                       std::conditional_t<weighs_half_lengths<Kernel>, SizedStencilIndex<Dim>, StencilIndex>>;
+
 /// Stencils in SIMD lanes (LaneBlock::load and store): Real 0 holds node (low half) and layer (high half),
-/// then come the Reals of each axis.
+/// then come the Reals the record keeps (StoredStencil): each axis's, or GIMP's half-lengths.
 template <int Dim, class Kernel>
 struct StencilLanes {
   using AxisLanes = typename Kernel::template AxisOf<RealLanes>;
@@ -39,24 +77,35 @@ struct StencilLanes {
 
   IntLanes node, tile_slot;
   AxisLanes axis[Dim];
+  RealLanes half_length[Dim];  ///< GIMP's half-lengths at the locate [m] (what its record keeps besides the indices)
 
   StencilLanes() = default;
-  explicit StencilLanes(const RecordLanes<Stencil<Dim, Kernel>>& r) {
+  /// The records a block's particles keep (StoredStencil): indices, and the axis data or half-lengths they hold.
+  explicit StencilLanes(const RecordLanes<StoredStencil<Dim, Kernel>>& r) {
     const IntLanes indices = reinterpret_cast<IntLanes>(r[0]);
     node = (indices << 32) >> 32;  // sign-extended low half
     tile_slot = indices >> 32;
-    for (int d = 0; d < Dim; ++d) {
-      std::array<RealLanes, axis_reals> members;
-      for (int j = 0; j < axis_reals; ++j) members[j] = r[1 + d * axis_reals + j];
-      axis[d] = std::bit_cast<AxisLanes>(members);
+    if constexpr (keeps_axes<Kernel>) {
+      for (int d = 0; d < Dim; ++d) {
+        std::array<RealLanes, axis_reals> members;
+        for (int j = 0; j < axis_reals; ++j) members[j] = r[1 + d * axis_reals + j];
+        axis[d] = std::bit_cast<AxisLanes>(members);
+      }
+    } else if constexpr (weighs_half_lengths<Kernel>) {
+      for (int d = 0; d < Dim; ++d) half_length[d] = r[1 + d];
     }
   }
-  RecordLanes<Stencil<Dim, Kernel>> record() const {
-    RecordLanes<Stencil<Dim, Kernel>> r;
+  /// The records to keep (StoredStencil).
+  RecordLanes<StoredStencil<Dim, Kernel>> stored() const {
+    RecordLanes<StoredStencil<Dim, Kernel>> r;
     r[0] = reinterpret_cast<RealLanes>((tile_slot << 32) | (node & 0xffffffff));
-    for (int d = 0; d < Dim; ++d) {
-      const auto members = std::bit_cast<std::array<RealLanes, axis_reals>>(axis[d]);
-      for (int j = 0; j < axis_reals; ++j) r[1 + d * axis_reals + j] = members[j];
+    if constexpr (keeps_axes<Kernel>) {
+      for (int d = 0; d < Dim; ++d) {
+        const auto members = std::bit_cast<std::array<RealLanes, axis_reals>>(axis[d]);
+        for (int j = 0; j < axis_reals; ++j) r[1 + d * axis_reals + j] = members[j];
+      }
+    } else if constexpr (weighs_half_lengths<Kernel>) {
+      for (int d = 0; d < Dim; ++d) r[1 + d] = half_length[d];
     }
     return r;
   }
@@ -100,16 +149,11 @@ template <class Kernel, int Dim, class T>
 }
 
 /// What locates a particle's stencil besides its position: the half-lengths l_p of a tensor-product kernel (GIMP's
-/// domain; the others ignore them), CPDI's domain vectors R = [r_1 ... r_D] = F_p diag(l_p0)
+/// domain, ParticleSet::half_length; the others ignore them), CPDI's domain vectors R = [r_1 ... r_D] = F_p diag(l_p0)
 /// (Sadeghirad et al. 2011), or CPDI2's corners (Sadeghirad et al. 2013).
 template <int Dim, class Kernel>
 using Domain = std::conditional_t<moves_corners<Kernel>, Corners<Dim>,
                                   std::conditional_t<is_cpdi<Kernel>, Mat<Dim>, Vec<Dim>>>;
-
-/// Whether a kernel reads the particles' half-lengths: GIMP's l_p, CPDI's l_p^0 (its domain vectors F_p diag(l_p^0))
-/// and CPDI2's, from which its corners are first placed. The others leave ParticleSet::l0 and l empty.
-template <class Kernel>
-inline constexpr bool reads_half_lengths = requires { Kernel::max_half_length; } || is_cpdi<Kernel>;
 
 /// Particle i's Domain.
 template <int Dim, class Kernel>
@@ -135,7 +179,12 @@ template <int Dim, class Kernel>
       for (int a = 0; a < Dim; ++a) R[a + k * Dim] *= l0[k];
     return R;
   } else if constexpr (reads_half_lengths<Kernel>) {
-    return block.load(p.l);
+    RecordLanes<Vec<Dim>> l = block.load(p.l0);
+    if (p.half_lengths == HalfLengths::deformed) {  // Wallstedt & Guilkey 2008, Eq. (63)
+      const RecordLanes<Mat<Dim>> F = block.load(p.F);
+      for (int d = 0; d < Dim; ++d) l[d] *= F[d + d * Dim];
+    }
+    return l;
   } else {
     return RecordLanes<Vec<Dim>>{};  // the kernel ignores them
   }
@@ -188,6 +237,22 @@ inline Stencil<Dim, Kernel> make_stencil(const GridGeometry<Dim>& g, const NodeL
   return s;
 }
 
+/// What a particle at x with domain `domain` keeps of its stencil (StoredStencil of make_stencil's).
+template <int Dim, class Kernel>
+StoredStencil<Dim, Kernel> make_stored_stencil(const GridGeometry<Dim>& g, const NodeLayout<Dim>& nl, const Vec<Dim>& x,
+                                               const Domain<Dim, Kernel>& domain) {
+  const Stencil<Dim, Kernel> s = make_stencil<Dim, Kernel>(g, nl, x, domain);
+  if constexpr (keeps_axes<Kernel>) {
+    return s;
+  } else if constexpr (weighs_half_lengths<Kernel>) {
+    SizedStencilIndex<Dim> kept{s.node, s.tile_slot, {}};
+    for (int d = 0; d < Dim; ++d) kept.half_length[d] = domain[d];
+    return kept;
+  } else {
+    return StencilIndex{s.node, s.tile_slot};
+  }
+}
+
 /// The stencils of a block of particles at positions x with domains `domain` (load_domain): make_stencil's
 /// arithmetic in lanes.
 template <int Dim, class Kernel>
@@ -198,6 +263,8 @@ template <int Dim, class Kernel>
   StencilLanes<Dim, Kernel> s;
   using G = GridGeometry<Dim>;
   const auto base = locate_stencil<Kernel, Dim, RealLanes>(g, nl.inv_h, x, domain, s.axis);
+  if constexpr (weighs_half_lengths<Kernel>)
+    for (int d = 0; d < Dim; ++d) s.half_length[d] = domain[d];
   s.node = IntLanes{};
   IntLanes tile{}, slot{};
   for (int d = 0; d < Dim; ++d) {
@@ -214,13 +281,13 @@ template <int Dim, class Kernel>
 /// any particle changed tile. Both arrays hold one entry per particle.
 template <int Dim, class Kernel>
 struct StencilTargets {
-  std::vector<Stencil<Dim, Kernel>>& stencils;
+  std::vector<StoredStencil<Dim, Kernel>>& stencils;
   std::vector<std::int32_t>& tile;
   std::atomic<bool> tile_changed{false};
 
   /// Store the stencils of a block of particles and their tiles.
   [[gnu::always_inline]] void store(const LaneBlock& block, const StencilLanes<Dim, Kernel>& s) {
-    block.store(stencils, s.record());
+    block.store(stencils, s.stored());
     const auto tiles = std::bit_cast<std::array<std::int64_t, LaneBlock::width>>(s.tile_slot);
     bool moved = false;
     for (int k = 0; k < block.active; ++k) {
@@ -236,7 +303,7 @@ struct StencilTargets {
 /// LaneBlocks. Returns whether any tile changed.
 template <int Dim, class Kernel>
 bool build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g,
-                    std::vector<Stencil<Dim, Kernel>>& out, std::vector<std::int32_t>& tile) {
+                    std::vector<StoredStencil<Dim, Kernel>>& out, std::vector<std::int32_t>& tile) {
   const bool resized = tile.size() != p.size();
   out.resize(p.size());
   tile.resize(p.size(), -1);
@@ -248,6 +315,40 @@ bool build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g,
   }, 1024 / LaneBlock::width);
   return targets.tile_changed.load();
 }
+
+/// The stencils of a particle set as the transfers read them: what each particle keeps (StoredStencil), and the
+/// particles, whose positions and half-lengths give the axis data the records do not keep.
+template <int Dim, class Kernel>
+struct ParticleStencils {
+  const std::vector<StoredStencil<Dim, Kernel>>& stored;
+  const ParticleSet<Dim>& particles;
+
+  std::size_t size() const { return stored.size(); }
+  /// The stencils of a block in lanes, their axis data located again where the records keep none: locate_block's
+  /// arithmetic on the same positions and half-lengths, so the same bits.
+  [[gnu::always_inline]] StencilLanes<Dim, Kernel> lanes(const LaneBlock& block, const GridGeometry<Dim>& g,
+                                                         Real inv_h) const {
+    StencilLanes<Dim, Kernel> s(block.load(stored));
+    if constexpr (!keeps_axes<Kernel>) {
+      RecordLanes<Vec<Dim>> l{};  // the kernels that do not weigh half-lengths ignore them
+      if constexpr (weighs_half_lengths<Kernel>)
+        for (int d = 0; d < Dim; ++d) l[d] = s.half_length[d];
+      locate_stencil<Kernel, Dim, RealLanes>(g, inv_h, block.load(particles.x), l, s.axis);
+    }
+    return s;
+  }
+  /// Particle i's stencil, axis data included: make_stencil's arithmetic on what locate_block did in lanes.
+  Stencil<Dim, Kernel> at(std::size_t i, const GridGeometry<Dim>& g, const NodeLayout<Dim>& nl) const {
+    if constexpr (keeps_axes<Kernel>) {
+      return stored[i];
+    } else {
+      Vec<Dim> l = Vec<Dim>::Zero();
+      if constexpr (weighs_half_lengths<Kernel>)
+        for (int d = 0; d < Dim; ++d) l[d] = stored[i].half_length[d];
+      return make_stencil<Dim, Kernel>(g, nl, particles.x[i], l);
+    }
+  }
+};
 
 /// Visit every node of the tensor-product stencil: fn(flat node index, weight S_ip, gradient grad S_ip
 /// [1/m]).

@@ -18,8 +18,9 @@ struct LaneStencil<Dim, Kernel> : LaneNodes<Dim, Kernel> {
   /// inverse of the particle's inertia tensor D_p, a full matrix for a sheared domain.
   RealLanes dx[Dim][N], inv_D[Dim][Dim];
 
-  [[gnu::always_inline]] LaneStencil(const std::vector<Stencil<Dim, Kernel>>& stencils, const LaneBlock& block, Real inv_h)
-      : LaneStencil(StencilLanes<Dim, Kernel>(block.load(stencils)), inv_h) {}
+  [[gnu::always_inline]] LaneStencil(const ParticleStencils<Dim, Kernel>& stencils, const LaneBlock& block,
+                                     const GridGeometry<Dim>& g, Real inv_h)
+      : LaneStencil(stencils.lanes(block, g, inv_h), inv_h) {}
   [[gnu::always_inline]] LaneStencil(const StencilLanes<Dim, Kernel>& s, Real inv_h)
       : LaneNodes<Dim, Kernel>(s), corners(s.axis, inv_h) {
     for (int d = 0; d < Dim; ++d) t[d] = s.axis[d].t;

@@ -25,10 +25,6 @@ struct Gather {
                      ///< Eq. (11), Eq. (12), Eq. (13), or Eq. (19))
 };
 
-/// How GIMP half-lengths evolve: fixed (uGIMP) or l_p = l_p^0 diag(F_p) (cpGIMP: Wallstedt & Guilkey 2008,
-/// Eq. (63)).
-enum class SizeUpdate { fixed, deformed };
-
 /// The first particle (lowest index) that failed in a pass, if any.
 struct ParticleFault {
   static constexpr std::int64_t none = std::numeric_limits<std::int64_t>::max();
@@ -54,13 +50,13 @@ struct GatheredLanes {
 /// G2P: for the particles of `range` in blocks of simd::lanes (in parallel), gather `what` from the nodes of their
 /// stencils, v from the node field `v_grid`, and hand each block's sums to use(block, sums).
 template <Sums what, int Dim, class Kernel, class Use>
-void g2p_gather(const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<Dim>& grid, NodeVelocity<Dim> v_grid,
+void g2p_gather(const ParticleStencils<Dim, Kernel>& stencils, const Grid<Dim>& grid, NodeVelocity<Dim> v_grid,
                 ParticleRange range, Use&& use) {
   const NodeLayout<Dim> layout(grid.geometry);
   const auto& nodes = grid.nodes;
   parallel_for(LaneBlock::count(range), [&](std::ptrdiff_t b) {
     const LaneBlock block(b, range);
-    LaneStencil<Dim, Kernel> s(stencils, block, layout.inv_h);
+    LaneStencil<Dim, Kernel> s(stencils, block, grid.geometry, layout.inv_h);
     if constexpr (what.affine) s.locate_nodes(grid.geometry.h);
     GatheredLanes<Dim> sum;
     for_each_node<what.affine ? NodeMoment::offset : NodeMoment::none>(
@@ -88,7 +84,7 @@ void g2p_gather(const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<Di
 
 /// G2P of one node vector field: out_p = sum_i S_ip (node_i.*field), for the particles of `range` (all by default).
 template <int Dim, class Kernel>
-void g2p_interpolate(const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<Dim>& grid,
+void g2p_interpolate(const ParticleStencils<Dim, Kernel>& stencils, const Grid<Dim>& grid,
                      NodeVelocity<Dim> field, std::vector<Vec<Dim>>& out, std::optional<ParticleRange> range = {}) {
   out.resize(stencils.size());
   g2p_gather<Sums{.acceleration = false, .velocity = true, .gradient = false}>(
@@ -103,7 +99,7 @@ void g2p_interpolate(const std::vector<Stencil<Dim, Kernel>>& stencils, const Gr
 /// APIC's G2P of one node velocity field (Jiang et al. 2015): v_p = sum_i S_ip v_i into `v` and
 /// B_p = sum_i S_ip v_i (x) (x_i - x_p) into `B`, for the particles of `range` (all by default).
 template <int Dim, class Kernel>
-void g2p_affine(const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<Dim>& grid, NodeVelocity<Dim> field,
+void g2p_affine(const ParticleStencils<Dim, Kernel>& stencils, const Grid<Dim>& grid, NodeVelocity<Dim> field,
                 std::vector<Vec<Dim>>& v, std::vector<Mat<Dim>>& B, std::optional<ParticleRange> range = {}) {
   v.resize(stencils.size());
   B.resize(stencils.size());
@@ -126,7 +122,7 @@ void g2p_affine(const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<Di
 /// corner hats N_i(x_c) CornerWeights holds. `from` and `to` may be one array.
 template <int Dim, class Kernel>
   requires moves_corners<Kernel>
-void g2p_corners(const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<Dim>& grid, NodeVelocity<Dim> v_grid,
+void g2p_corners(const ParticleStencils<Dim, Kernel>& stencils, const Grid<Dim>& grid, NodeVelocity<Dim> v_grid,
                  Real dt, const std::vector<Corners<Dim>>& from, std::vector<Corners<Dim>>& to,
                  std::optional<ParticleRange> range = {}) {
   constexpr int C = Kernel::corners;
@@ -136,7 +132,7 @@ void g2p_corners(const std::vector<Stencil<Dim, Kernel>>& stencils, const Grid<D
   const ParticleRange r = range.value_or(ParticleRange{0, static_cast<std::ptrdiff_t>(stencils.size())});
   parallel_for(LaneBlock::count(r), [&](std::ptrdiff_t b) {
     const LaneBlock block(b, r);
-    const LaneStencil<Dim, Kernel> s(stencils, block, layout.inv_h);
+    const LaneStencil<Dim, Kernel> s(stencils, block, grid.geometry, layout.inv_h);
     RealLanes v_c[C][Dim] = {};
     s.corners.visit_hats([&](const int(&k)[Dim], const RealLanes(&N)[C]) __attribute__((always_inline)) {
       std::int32_t offset = k[0];
@@ -174,8 +170,8 @@ struct VelocityBlend {
 /// non-finite, has J <= 0 or left the grid. Only the particles of `range` gather (those of the velocity field
 /// `grid` holds); all of them by default. A velocity update is blended with PIC's by `blend`.
 template <Gather what, int Dim, class Kernel, class Stress>
-ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils,
-                  const Grid<Dim>& grid, NodeVelocity<Dim> v_grid, Real dt, const Stress& stress, SizeUpdate sizes,
+ParticleFault g2p(ParticleSet<Dim>& p, const ParticleStencils<Dim, Kernel>& stencils,
+                  const Grid<Dim>& grid, NodeVelocity<Dim> v_grid, Real dt, const Stress& stress,
                   StencilTargets<Dim, Kernel>* next = nullptr, std::optional<ParticleRange> range = {},
                   const VelocityBlend<Dim>& blend = {}) {
   constexpr bool interpolate_velocity = what.position || (what.deformation && Stress::reads_velocity);
@@ -273,18 +269,15 @@ ParticleFault g2p(ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& 
       block.store(p.V, {block.load(p.V0)[0] * J});
       const simd::MaskLanes valid = (J > 0) & (J - J == 0);
       ok &= valid;
-      // A lane with an invalid J keeps its stress and half-lengths (the run stops).
+      // A lane with an invalid J keeps its stress (the run stops).
       ok &= stress(block, p, F, J, valid, grad_v, v_p[0], r_start);
-      if constexpr (requires { Kernel::max_half_length; }) {  // cpGIMP: Wallstedt & Guilkey 2008, Eq. (63)
-        if (sizes == SizeUpdate::deformed) {
+      if constexpr (weighs_half_lengths<Kernel>) {  // cpGIMP: Wallstedt & Guilkey 2008, Eq. (63)
+        if (p.half_lengths == HalfLengths::deformed) {  // the half-lengths F gives must fit the GIMP stencil
           const RecordLanes<Vec<Dim>> l0 = block.load(p.l0);
-          RecordLanes<Vec<Dim>> l = block.load(p.l);
           for (int d = 0; d < Dim; ++d) {
-            const RealLanes l_new = l0[d] * F[d][d];
-            ok &= valid & (l_new > 0) & (l_new <= Kernel::max_half_length * geo.h);  // what the GIMP stencil holds
-            l[d] = valid ? l_new : l[d];
+            const RealLanes l = l0[d] * F[d][d];
+            ok &= (l > 0) & (l <= Kernel::max_half_length * geo.h);
           }
-          block.store(p.l, l);
         }
       }
     }

@@ -44,8 +44,9 @@ struct LaneStencil : LaneNodes<Dim, Kernel> {
   /// inverse of the diagonal of the particle's inertia tensor D_p (0 where a diagonal entry is 0).
   RealLanes dx[Dim][N], inv_D[Dim];
 
-  [[gnu::always_inline]] LaneStencil(const std::vector<Stencil<Dim, Kernel>>& stencils, const LaneBlock& block, Real inv_h)
-      : LaneStencil(StencilLanes<Dim, Kernel>(block.load(stencils)), inv_h) {}
+  [[gnu::always_inline]] LaneStencil(const ParticleStencils<Dim, Kernel>& stencils, const LaneBlock& block,
+                                     const GridGeometry<Dim>& g, Real inv_h)
+      : LaneStencil(stencils.lanes(block, g, inv_h), inv_h) {}
   [[gnu::always_inline]] LaneStencil(const StencilLanes<Dim, Kernel>& s, Real inv_h) : LaneNodes<Dim, Kernel>(s) {
     for (int d = 0; d < Dim; ++d) {
       Kernel::weights_at(s.axis[d], w[d], dw[d]);

@@ -166,7 +166,7 @@ struct VolumeGradient {
 /// shown to keep(tile, footprint records) before they are added into the grid (the halo keeps those of the tiles
 /// at a box's faces). Only the particles of velocity field `field` contribute (ScatterOrder::build).
 template <int Dim, class Kernel, class Keep, class... Contributions>
-void p2g_add_keeping(const Keep& keep, const std::vector<Stencil<Dim, Kernel>>& stencils,
+void p2g_add_keeping(const Keep& keep, const ParticleStencils<Dim, Kernel>& stencils,
                      const ScatterOrder<Dim>& order, int field, Grid<Dim>& grid, const Contributions&... contributions) {
   constexpr int R = reals_in<GridNode<Dim>>;
   using Lanes = LaneStencil<Dim, Kernel>;
@@ -182,7 +182,7 @@ void p2g_add_keeping(const Keep& keep, const std::vector<Stencil<Dim, Kernel>>& 
   constexpr int W = written <= simd::lanes && simd::lanes <= R ? simd::lanes : written;
   order.template scatter<LaneBlock::width>(grid, [&](Real* buffer, const std::int32_t* particles, int count) {
     const LaneBlock block(particles, count);
-    Lanes s(stencils, block, layout.inv_h);
+    Lanes s(stencils, block, grid.geometry, layout.inv_h);
     if constexpr (affine) s.locate_nodes(grid.geometry.h);
     const auto add = std::make_tuple(contributions(block)...);
     std::array<std::array<RealLanes, W>, stencil_nodes> records;
@@ -215,7 +215,7 @@ struct KeepNothing {
 
 /// p2g_add_keeping of every particle (one velocity field) without a look at the tiles' sums.
 template <int Dim, class Kernel, class... Contributions>
-void p2g_add(const std::vector<Stencil<Dim, Kernel>>& stencils, const ScatterOrder<Dim>& order, Grid<Dim>& grid,
+void p2g_add(const ParticleStencils<Dim, Kernel>& stencils, const ScatterOrder<Dim>& order, Grid<Dim>& grid,
              const Contributions&... contributions) {
   p2g_add_keeping(KeepNothing{}, stencils, order, 0, grid, contributions...);
 }
@@ -234,7 +234,7 @@ struct Scatter {
 /// `state_stress` the 3 x 3 stress of the material state (the engine's when it keeps one). With `affine`, the
 /// particles' APIC matrices B_p, the momentum is APIC's (AffineMomentum).
 template <Scatter what, int Dim, class Kernel, class Keep = KeepNothing>
-void p2g(const ParticleSet<Dim>& p, const std::vector<Stencil<Dim, Kernel>>& stencils,
+void p2g(const ParticleSet<Dim>& p, const ParticleStencils<Dim, Kernel>& stencils,
          const ScatterOrder<Dim>& order, const std::vector<Vec<Dim>>& body_accel, Grid<Dim>& grid,
          const Keep& keep = {}, int field = 0, bool state_stress = false,
          const std::vector<Mat<Dim>>* affine = nullptr) {
