@@ -237,7 +237,6 @@ void Simulation<Dim, Kernel>::erase(const std::vector<std::size_t>& gone) {
   // The rest keep their stencils and their order (by tile, then id); the scatter order's lists are rebuilt.
   if (stencils_.size() == n) {
     erase_at(stencils_, gone, n);
-    erase_at(tile_, gone, n);
   } else {
     stencils_current_ = false;
   }
@@ -267,12 +266,14 @@ void Simulation<Dim, Kernel>::step_usf(Real dt) {
   for (Grid<Dim>* field : field_grids())
     for (GridNode<Dim>& node : field->nodes) node.v_new = node.v;
   constrain_velocity(&GridNode<Dim>::v_new, time_);
+  keep_located_half_lengths();  // the deformation pass changes cpGIMP's, the force pass reads the stencils again
   gather<Gather{.velocity = false, .position = false, .deformation = true}>(&GridNode<Dim>::v_new, dt);
   scatter<Scatter{.mass_momentum = false, .force = true}>();
   for (Grid<Dim>* field : field_grids()) grid_update(*field, spec_.gravity, dt, 1.0, min_node_mass_, spec_.local_damping);
   if (contact_.active()) contact_.correct_update(field_grids(), dt);
   constrain_update(time_ + dt, dt);
   gather<Gather{.velocity = true, .position = true, .deformation = false}>(&GridNode<Dim>::v_new, dt);
+  located_half_lengths_.clear();  // the stencils just located are the particles' own
 }
 
 // USL: forces from the previous stress, then the stress is updated from the advanced grid velocity

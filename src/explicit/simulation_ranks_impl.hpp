@@ -156,12 +156,9 @@ void Simulation<Dim, Kernel>::migrate() {
   // The particles that stayed keep their stencils; those that arrived are located here.
   const NodeLayout<Dim> layout(grid_.geometry);
   stencils_.resize(particles_.size());
-  tile_.resize(particles_.size());
-  for (std::size_t i = first; i < particles_.size(); ++i) {
+  for (std::size_t i = first; i < particles_.size(); ++i)
     stencils_[i] =
         make_stored_stencil<Dim, Kernel>(grid_.geometry, layout, particles_.x[i], domain_of<Dim, Kernel>(particles_, i));
-    tile_[i] = stencils_[i].tile_slot >> GridGeometry<Dim>::slot_bits;
-  }
 }
 
 template <int Dim, class Kernel>

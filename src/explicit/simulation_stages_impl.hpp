@@ -16,13 +16,13 @@ namespace mpm {
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::settle() {
   if (!stencils_current_)
-    tiles_changed_ = mpm::build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, tile_) || tiles_changed_;
+    tiles_changed_ = mpm::build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_) || tiles_changed_;
   // The scatter order depends only on the tiles, so it is rebuilt only when a particle changed tile; the
   // particles are then stored in that order, so that the transfers read them in sequence.
   if (tiles_changed_) {
-    order_.build(tile_, particles_.id, particles_.field, contact_.fields());
+    order_.build(StencilTiles<Dim, Kernel>{stencils_}, particles_.id, particles_.field, contact_.fields());
     if (!order_.identity()) {
-      reorder_particles(particles_, order_.order(), reorder_buffer_, stencils_, tile_);
+      reorder_particles(particles_, order_.order(), reorder_buffer_, stencils_);
       order_.reordered();
     }
   }
@@ -32,17 +32,30 @@ void Simulation<Dim, Kernel>::settle() {
 
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::build_stencils() {
+  located_half_lengths_.clear();  // those of a step that stopped (the storage stays for the next)
   settle();
   evaluate_body_force();
   if (loads_) {
     v_start_ = particles_.v;
-    start_tile_ = tile_;
+    const StencilTiles<Dim, Kernel> tiles{stencils_};
+    start_tile_.resize(tiles.size());
+    for (std::size_t i = 0; i < tiles.size(); ++i) start_tile_[i] = tiles[i];
   }
   if (!rigid_.empty()) {
     std::ostringstream when;
     when.precision(9);
     when << "step " << steps_ + 1 << ", t = " << time_;
     rigid_.template locate<Kernel>(grid_.geometry, when.str(), box_halo_.owned_layers());
+  }
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::keep_located_half_lengths() {
+  if constexpr (weighs_half_lengths<Kernel>) {
+    if (particles_.half_lengths != HalfLengths::deformed) return;
+    located_half_lengths_.resize(particles_.size());
+    parallel_for(static_cast<std::ptrdiff_t>(particles_.size()),
+                 [&](std::ptrdiff_t i) { located_half_lengths_[i] = particles_.half_length(i); });
   }
 }
 
@@ -90,7 +103,7 @@ void Simulation<Dim, Kernel>::scatter_hoop_force(Grid<Dim>& grid, int field) req
 template <int Dim, class Kernel>
 template <Gather what>
 void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
-  StencilTargets<Dim, Kernel> next{stencils_, tile_};
+  StencilTargets<Dim, Kernel> next{stencils_};
   StencilTargets<Dim, Kernel>* targets = what.position ? &next : nullptr;
   ParticleFault fault;
   const std::vector<Grid<Dim>*> fields = field_grids();
@@ -191,7 +204,8 @@ double Simulation<Dim, Kernel>::bytes_per_particle() const {
   // The optional arrays by what they hold (a dropped array that kept its storage shows).
   return static_cast<double>(particles_.bytes_per_particle(false)) + sizeof(StencilT) +
          static_cast<double>(particles_.l0.capacity() * sizeof(Vec<Dim>) +
-                             order_.bytes() + tile_.capacity() * sizeof(std::int32_t) +
+                             located_half_lengths_.capacity() * sizeof(Vec<Dim>) +
+                             order_.bytes() +
                              body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes() * contact_.fields() +
                              (particles_.state.empty() ? 0 : particles_.size() * MaterialState::bytes_per_particle()) +
                              grad_v_.capacity() * sizeof(Mat<Dim>) + hoop_rate_.capacity() * sizeof(Real) +

@@ -16,7 +16,8 @@ namespace mpm {
 // external force; rigid-body stencils at their positions.
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::project(Real dt) {
-  if (build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_, tile_)) order_.build(tile_, particles_.id);
+  if (build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_))
+    order_.build(StencilTiles<Dim, Kernel>{stencils_}, particles_.id);
   p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils(), order_, {}, grid_, KeepNothing{}, 0, false,
                                                      affine());  // as explicit
   halo_.sum_into_owners(grid_, NodeFields::mass_momentum);

@@ -96,7 +96,10 @@ MemoryModel engine_memory(const Scene& sc) {
     int grids = sc.fields;  // one per velocity field, and one more each for the gaps of [[contact]]
     for (const SceneContact& c : sc.contacts)
       if (std::isfinite(c.gap)) grids = 2 * sc.fields;
-    return Simulation<Dim, Kernel>::memory_model(!sc.body_force.empty() || !sc.surface_loads.empty(), rate_form, grids);
+    const bool located_half_lengths =  // USF keeps cpGIMP's (Simulation::keep_located_half_lengths)
+        sc.integrator == Integrator::usf && half_lengths_of(sc.kernel) == HalfLengths::deformed;
+    return Simulation<Dim, Kernel>::memory_model(!sc.body_force.empty() || !sc.surface_loads.empty(), rate_form,
+                                                 located_half_lengths, grids);
   });
 }
 

@@ -45,7 +45,6 @@ struct Setup {
   mpm::GridGeometry<Dim> geo;
   mpm::ParticleSet<Dim> p;
   std::vector<mpm::StoredStencil<Dim, Kernel>> stored;
-  std::vector<std::int32_t> tile;
   mpm::ScatterOrder<Dim> order;
   std::mt19937_64 rng{77 + Dim};
 
@@ -58,8 +57,8 @@ struct Setup {
     }
     p.B.assign(p.size(), Mat<Dim>::Zero());
     mpm::place_corners(p);  // CPDI2's domains
-    mpm::build_stencils<Dim, Kernel>(p, geo, stored, tile);
-    order.build(tile, p.id);
+    mpm::build_stencils<Dim, Kernel>(p, geo, stored);
+    order.build(mpm::StencilTiles<Dim, Kernel>{stored}, p.id);
   }
   mpm::ParticleStencils<Dim, Kernel> stencils() const { return {stored, p}; }
   static mpm::GridGeometry<Dim> geometry() {

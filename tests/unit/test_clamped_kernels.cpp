@@ -217,8 +217,7 @@ TYPED_TEST(ClampedKernel, LanesLocateAndWeighLikeOneParticle) {
   // The records build_stencils keeps, and the axis data ParticleStencils locates again in lanes where the transfers
   // read them.
   std::vector<mpm::StoredStencil<2, K>> stencils;
-  std::vector<std::int32_t> tile;
-  mpm::build_stencils<2, K>(p, g, stencils, tile);
+  mpm::build_stencils<2, K>(p, g, stencils);
   const mpm::NodeLayout<2> nl(g);
   const mpm::ParticleStencils<2, K> located{stencils, p};
   for (std::ptrdiff_t b = 0; b < mpm::LaneBlock::count(p.size()); ++b) {

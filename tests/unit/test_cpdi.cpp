@@ -304,8 +304,7 @@ void expect_lanes_like_one_particle() {
       p.corners[i] = distorted_corners<Dim>(rng, Vec<Dim>::Zero(), Mat<Dim>::Zero(), 0.05 * g.h) + p.corners[i];
   }
   std::vector<mpm::Stencil<Dim, K>> stencils;
-  std::vector<std::int32_t> tile;
-  mpm::build_stencils<Dim, K>(p, g, stencils, tile);
+  mpm::build_stencils<Dim, K>(p, g, stencils);
   const mpm::NodeLayout<Dim> nl(g);
   for (std::size_t i = 0; i < p.size(); ++i) {
     const auto one = mpm::make_stencil<Dim, K>(g, nl, p.x[i], mpm::domain_of<Dim, K>(p, i));

@@ -84,27 +84,29 @@ TEST(ParticleStorage, HalfLengthsOnlyForTheKernelsThatReadThem) {
   EXPECT_EQ(implicit_half_lengths<mpm::GimpKernel>(mpm::KernelKind::ugimp), 16u);
   // The counts follow: one Vec<2> (16 B) less per particle without l0.
   EXPECT_EQ(ParticleSet<2>::bytes_per_particle(true) - ParticleSet<2>::bytes_per_particle(false), sizeof(Vec<2>));
-  // The budget's model: a linear or B-spline particle keeps its stencil's base node and tile (8 B), a GIMP particle
-  // also the half-lengths it was located with (16 B), a CPDI particle its axis data; GIMP's particle differs from
-  // linear's by those and l0. The reorder's buffer is one 8-byte column for all.
+  // The budget's model: a tensor-product kernel's particle keeps its stencil's base node and tile (8 B), a CPDI
+  // particle its axis data; GIMP's particle differs from linear's by l0, and under USF with cpGIMP by the
+  // half-lengths of the locate too. The reorder's buffer is one 8-byte column for all.
   static_assert(sizeof(mpm::StoredStencil<2, mpm::LinearKernel>) == 8 &&
                 sizeof(mpm::StoredStencil<2, mpm::CubicBSplineKernel>) == 8 &&
-                sizeof(mpm::StoredStencil<2, mpm::GimpKernel>) == 24);
+                sizeof(mpm::StoredStencil<2, mpm::GimpKernel>) == 8);
   static_assert(sizeof(mpm::StoredStencil<2, mpm::CpdiKernel<2>>) == sizeof(mpm::Stencil<2, mpm::CpdiKernel<2>>));
-  const double gimp = mpm::Simulation<2, mpm::GimpKernel>::memory_model(false, false).per_particle;
-  const double linear = mpm::Simulation<2, mpm::LinearKernel>::memory_model(false, false).per_particle;
-  EXPECT_EQ(gimp - linear, 16 + 16);
+  const double gimp = mpm::Simulation<2, mpm::GimpKernel>::memory_model(false, false, false).per_particle;
+  const double gimp_usf = mpm::Simulation<2, mpm::GimpKernel>::memory_model(false, false, true).per_particle;
+  const double linear = mpm::Simulation<2, mpm::LinearKernel>::memory_model(false, false, false).per_particle;
+  EXPECT_EQ(gimp - linear, 16);
+  EXPECT_EQ(gimp_usf - gimp, 16);
 }
 
-/// The weights ParticleStencils gives the particles of `p` from the records `stored`, lane by lane, in particle order.
+/// The weights `stencils` gives their particles, lane by lane, in particle order.
 template <class Kernel>
-std::vector<Real> weights_in_lanes(const std::vector<mpm::StoredStencil<2, Kernel>>& stored, const ParticleSet<2>& p,
-                                   const mpm::GridGeometry<2>& g) {
+std::vector<Real> weights_in_lanes(const mpm::ParticleStencils<2, Kernel>& stencils, const mpm::GridGeometry<2>& g) {
   const mpm::NodeLayout<2> nl(g);
-  std::vector<Real> w(p.size() * 2 * Kernel::width);
-  for (std::ptrdiff_t b = 0; b < mpm::LaneBlock::count(p.size()); ++b) {
-    const mpm::LaneBlock block(b, static_cast<std::ptrdiff_t>(p.size()));
-    const mpm::LaneStencil<2, Kernel> s(mpm::ParticleStencils<2, Kernel>{stored, p}, block, g, nl.inv_h);
+  const std::size_t n = stencils.size();
+  std::vector<Real> w(n * 2 * Kernel::width);
+  for (std::ptrdiff_t b = 0; b < mpm::LaneBlock::count(n); ++b) {
+    const mpm::LaneBlock block(b, static_cast<std::ptrdiff_t>(n));
+    const mpm::LaneStencil<2, Kernel> s(stencils, block, g, nl.inv_h);
     for (int k = 0; k < block.active; ++k)
       for (int d = 0; d < 2; ++d)
         for (int j = 0; j < Kernel::width; ++j)
@@ -114,10 +116,10 @@ std::vector<Real> weights_in_lanes(const std::vector<mpm::StoredStencil<2, Kerne
 }
 
 TEST(ParticleStorage, GimpStencilsWeighWithTheHalfLengthsOfTheirLocate) {
-  // A GIMP particle keeps its stencil's base node, tile and half-lengths (24 B in 2-D) and the transfers locate the
-  // rest again from its position. The weights must be those of make_stencil at the locate's half-lengths, bit for
-  // bit, and stay so when F, and with it cpGIMP's l_p = l_p^0 diag(F), changes before the stencil's last use (a USF
-  // step's deformation pass comes before its force pass).
+  // A GIMP particle keeps its stencil's base node and tile (8 B) and the transfers locate the rest again from its
+  // position and half-lengths. The weights must be those of make_stencil at the locate's half-lengths, bit for bit.
+  // When F, and with it cpGIMP's l_p = l_p^0 diag(F), changes before the stencil's last use (a USF step's
+  // deformation pass comes before its force pass), the half-lengths of the locate, handed over, keep them so.
   using K = mpm::GimpKernel;
   const mpm::GridGeometry<2> g{Vec<2>(0, 0), 1.0, {4, 4}, K::ghost};
   const mpm::NodeLayout<2> nl(g);
@@ -125,24 +127,27 @@ TEST(ParticleStorage, GimpStencilsWeighWithTheHalfLengthsOfTheirLocate) {
   p.half_lengths = mpm::HalfLengths::deformed;
   for (std::size_t i = 0; i < p.size(); ++i) p.F[i].diagonal() = Vec<2>(1.5 + 0.125 * static_cast<Real>(i % 3), 0.75);
   std::vector<mpm::StoredStencil<2, K>> stored;
-  std::vector<std::int32_t> tile;
-  mpm::build_stencils<2, K>(p, g, stored, tile);
-  const std::vector<Real> located = weights_in_lanes<K>(stored, p, g);
+  mpm::build_stencils<2, K>(p, g, stored);
+  const std::vector<Real> located = weights_in_lanes<K>(mpm::ParticleStencils<2, K>{stored, p}, g);
+  std::vector<Vec<2>> half_lengths(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
+    half_lengths[i] = p.half_length(i);
     const mpm::Stencil<2, K> one = mpm::make_stencil<2, K>(g, nl, p.x[i], p.half_length(i));
+    const mpm::Stencil<2, K> at = mpm::ParticleStencils<2, K>{stored, p}.at(i, g, nl);
     for (int d = 0; d < 2; ++d) {
-      Real w[K::width], dw[K::width];
+      Real w[K::width], dw[K::width], w_at[K::width];
       K::weights_at(one.axis[d], w, dw);
-      for (int j = 0; j < K::width; ++j) EXPECT_EQ(located[(i * 2 + d) * K::width + j], w[j]) << i;
-      EXPECT_EQ(stored[i].half_length[d], p.half_length(i)[d]);
+      K::weights_at(at.axis[d], w_at, dw);
+      for (int j = 0; j < K::width; ++j) {
+        EXPECT_EQ(located[(i * 2 + d) * K::width + j], w[j]) << i;
+        EXPECT_EQ(w_at[j], w[j]) << i;
+      }
     }
   }
-  // F changes: the stencils weigh as located, and the half-lengths F now gives would weigh differently.
+  // F changes: the stencils weigh as located with the half-lengths handed over, and differently without them.
   for (mpm::Mat<2>& F : p.F) F.diagonal() = Vec<2>(1, 1);
-  EXPECT_EQ(weights_in_lanes<K>(stored, p, g), located);
-  std::vector<mpm::StoredStencil<2, K>> again;
-  mpm::build_stencils<2, K>(p, g, again, tile);
-  EXPECT_NE(weights_in_lanes<K>(again, p, g), located);
+  EXPECT_EQ(weights_in_lanes<K>(mpm::ParticleStencils<2, K>{stored, p, &half_lengths}, g), located);
+  EXPECT_NE(weights_in_lanes<K>(mpm::ParticleStencils<2, K>{stored, p}, g), located);
 }
 
 /// Reorder a row of 64 particles by `order`, with two arrays more (one of records shorter than a column, one of

@@ -59,10 +59,9 @@ std::vector<V1> internal_force(const mpm::ParticleSet<1>& p) {
   const mpm::GridGeometry<1> geometry{V1(0.0), kH, {kCells}, Kernel::ghost};
   mpm::Grid<1> grid(geometry);
   std::vector<mpm::StoredStencil<1, Kernel>> stencils;
-  std::vector<std::int32_t> tile;
-  mpm::build_stencils<1, Kernel>(p, geometry, stencils, tile);
+  mpm::build_stencils<1, Kernel>(p, geometry, stencils);
   mpm::ScatterOrder<1> order(geometry, Kernel::width);
-  order.build(tile, p.id);
+  order.build(mpm::StencilTiles<1, Kernel>{stencils}, p.id);
   const std::vector<V1> no_body_force;
   mpm::p2g<mpm::Scatter{.mass_momentum = false, .force = true}>(p, mpm::ParticleStencils<1, Kernel>{stencils, p}, order, no_body_force, grid);
   std::vector<V1> force(grid.size());

@@ -76,10 +76,9 @@ class ThreadRanks {
 template <int Dim, class Kernel>
 void scatter(const mpm::ParticleSet<Dim>& p, mpm::Grid<Dim>& grid, std::vector<mpm::TileSums<Dim>>* kept) {
   std::vector<mpm::StoredStencil<Dim, Kernel>> stencils;
-  std::vector<std::int32_t> tile;
-  mpm::build_stencils<Dim, Kernel>(p, grid.geometry, stencils, tile);
+  mpm::build_stencils<Dim, Kernel>(p, grid.geometry, stencils);
   mpm::ScatterOrder<Dim> order(grid.geometry, Kernel::width);
-  order.build(tile, p.id);
+  order.build(mpm::StencilTiles<Dim, Kernel>{stencils}, p.id);
   const mpm::FaceTileSums<Dim> keep(grid.geometry, order);
   mpm::p2g_add_keeping(keep, mpm::ParticleStencils<Dim, Kernel>{stencils, p}, order, 0, grid, mpm::Momentum<Dim>{p.m, p.v},
                        mpm::InternalForce<Dim, mpm::SymTensor<Dim>>{p.V, p.sigma});
@@ -113,12 +112,12 @@ TYPED_TEST(TileHalo, BoxesGiveEveryNodeTheBitsOfOneProcess) {
 
   // The particles of each tile, the weights of the division.
   std::vector<mpm::StoredStencil<Dim, Kernel>> stencils;
-  std::vector<std::int32_t> tile;
-  mpm::build_stencils<Dim, Kernel>(p, geo, stencils, tile);
+  mpm::build_stencils<Dim, Kernel>(p, geo, stencils);
+  const mpm::StencilTiles<Dim, Kernel> tile{stencils};
   mpm::IVec<Dim> tiles;
   for (int d = 0; d < Dim; ++d) tiles[d] = geo.tiles_along(d);
   std::vector<std::int64_t> weight(geo.tile_count(), 0);
-  for (std::int32_t t : tile) ++weight[static_cast<std::size_t>(t)];
+  for (std::size_t i = 0; i < tile.size(); ++i) ++weight[static_cast<std::size_t>(tile[i])];
 
   const auto differing = [&](const mpm::Grid<Dim>& grid) {  // nodes of a box's grid unlike one process's
     std::size_t differ = 0;

@@ -90,13 +90,12 @@ template <int Dim, class Kernel>
 struct Transfer {
   const mpm::ParticleSet<Dim>& p;
   std::vector<mpm::StoredStencil<Dim, Kernel>> stored;
-  std::vector<std::int32_t> tile;
   mpm::ScatterOrder<Dim> order;
 
   Transfer(const mpm::ParticleSet<Dim>& particles, const mpm::GridGeometry<Dim>& g)
       : p(particles), order(g, Kernel::width) {
-    mpm::build_stencils<Dim, Kernel>(p, g, stored, tile);
-    order.build(tile, p.id);
+    mpm::build_stencils<Dim, Kernel>(p, g, stored);
+    order.build(mpm::StencilTiles<Dim, Kernel>{stored}, p.id);
   }
   mpm::ParticleStencils<Dim, Kernel> stencils() const { return {stored, p}; }
 };
@@ -164,7 +163,7 @@ TYPED_TEST(TransferTest, p2g_equals_the_colour_ordered_sum_of_separate_tile_sums
   for (int colour = 0; colour < (1 << Dim); ++colour) {
     mpm::ParticleSet<Dim> q;  // the particles of the colour's tiles, in id order
     for (std::size_t i = 0; i < p.size(); ++i) {
-      std::int32_t t = all.tile[i];
+      std::int32_t t = mpm::StencilTiles<Dim, Kernel>{all.stored}[i];
       int c = 0;
       for (int d = 0; d < Dim; ++d) {
         c |= (t % geo.tiles_along(d) & 1) << d;

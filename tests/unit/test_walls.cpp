@@ -29,8 +29,7 @@ std::pair<bool, Vec<2>> moved(bool wall) {
   mpm::ParticleSet<2> p;
   p.add(Vec<2>(0.15, 1e-9), Vec<2>::Zero(), 1, 1e-2, Vec<2>::Constant(0.025), 0);
   std::vector<mpm::StoredStencil<2, mpm::GimpKernel>> stencils;
-  std::vector<std::int32_t> tile;
-  mpm::build_stencils<2, mpm::GimpKernel>(p, geo, stencils, tile);
+  mpm::build_stencils<2, mpm::GimpKernel>(p, geo, stencils);
   std::vector<mpm::Mat<2>> grad_v(1);
   std::vector<Real> hoop(1);
   const mpm::ParticleFault fault = mpm::g2p<mpm::Gather{.velocity = false, .position = true, .deformation = false}>(

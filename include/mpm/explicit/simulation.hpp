@@ -94,7 +94,8 @@ class Simulation {
   /// step, outflow removal and settle() leave them).
   template <std::size_t N, class Fn>
   std::array<Real, N> particle_sum(Fn&& fn) const {
-    return sum_by_tile<N>([&](std::size_t i) { return tile_[i]; }, fn);
+    const StencilTiles<Dim, Kernel> tiles{stencils_};
+    return sum_by_tile<N>([&](std::size_t i) { return tiles[i]; }, fn);
   }
 
  private:
@@ -164,13 +165,14 @@ class Simulation {
   /// Heap bytes held by the simulation (particles, stencils, scatter order, grid) per particle.
   double bytes_per_particle() const;
   /// The bytes a simulation will hold, from the arrays the constructor sizes (a body force adds one
-  /// acceleration per particle; a rate-form material its state and the rates the stress update reads; `grids`
-  /// node records per node: one per velocity field of contact, and one more each when contact measures gaps).
-  static MemoryModel memory_model(bool body_force, bool rate_form, int grids = 1) {
-    // Particles, their stencils, tiles and scatter order, the reorder's column; one node record per node.
+  /// acceleration per particle; a rate-form material its state and the rates the stress update reads; USF with
+  /// cpGIMP the half-lengths of the locate, `located_half_lengths`; `grids` node records per node: one per velocity
+  /// field of contact, and one more each when contact measures gaps).
+  static MemoryModel memory_model(bool body_force, bool rate_form, bool located_half_lengths, int grids = 1) {
+    // Particles, their stencils and scatter order, the reorder's column; one node record per node.
     const std::size_t particle =
         ParticleSet<Dim>::bytes_per_particle(reads_half_lengths<Kernel>) + sizeof(StoredStencil<Dim, Kernel>) +
-        2 * sizeof(std::int32_t) +
+        sizeof(std::int32_t) + (located_half_lengths ? sizeof(Vec<Dim>) : 0) +
         (body_force ? sizeof(Vec<Dim>) : 0) +
         (rate_form ? MaterialState::bytes_per_particle() + sizeof(Mat<Dim>) + sizeof(Real) : 0) +
         ReorderBuffer::column;
@@ -181,7 +183,9 @@ class Simulation {
  private:
   using StencilT = StoredStencil<Dim, Kernel>;
   /// The particles' stencils as the transfers read them.
-  ParticleStencils<Dim, Kernel> stencils() const { return {stencils_, particles_}; }
+  ParticleStencils<Dim, Kernel> stencils() const {
+    return {stencils_, particles_, located_half_lengths_.empty() ? nullptr : &located_half_lengths_};
+  }
   // Time steps of each integrator (Wallstedt & Guilkey 2008, Sec. 2 and 4).
   void step_usf(Real dt);
   void step_usl(Real dt, Real accel_scale);
@@ -203,6 +207,9 @@ class Simulation {
 
   // Stages shared by the integrators.
   void build_stencils();
+  /// Keep the half-lengths the stencils were located with, where a pass changes them before the stencils' last
+  /// use (USF with cpGIMP): located_half_lengths_, until the step ends.
+  void keep_located_half_lengths();
   /// A P2G pass with its hoop force in axisymmetry, the halo sum and the symmetry folds.
   template <Scatter what>
   void scatter();
@@ -265,10 +272,12 @@ class Simulation {
   std::vector<Vec<Dim>> hoop_base_;  ///< divided axisymmetric runs: the node forces before the hoop pass
   std::vector<std::uint8_t> mirror_copies_;  ///< per node, with light nodes: KinematicConstraints::count_mirror_copies
   std::vector<StencilT> stencils_;
-  std::vector<std::int32_t> tile_;
   /// The stencils match the particles' positions (the last moving G2P pass computed them), and whether a
   /// particle changed tile since the scatter order was built.
   bool stencils_current_ = false, tiles_changed_ = false;
+  /// USF with cpGIMP, from its deformation pass to the step's end: the half-lengths of the stencils' locate
+  /// (ParticleStencils); empty otherwise.
+  std::vector<Vec<Dim>> located_half_lengths_;
   ScatterOrder<Dim> order_;
   ReorderBuffer reorder_buffer_;  ///< the reorder's scratch (settle)
   std::vector<Vec<Dim>> body_accel_;

@@ -67,7 +67,7 @@ class ImplicitSimulation {
     const double state = MaterialState::bytes_per_particle();
     const double trial = sizeof(SymTensor<3>) + 4 * real + sizeof(Mat<Dim>) + 2 * vec + 1;  // Trial
     const double particle = ParticleSet<Dim>::bytes_per_particle(reads_half_lengths<Kernel>) + state + trial +
-                            sizeof(StoredStencil<Dim, Kernel>) + 2 * sizeof(std::int32_t);
+                            sizeof(StoredStencil<Dim, Kernel>) + sizeof(std::int32_t);
     double node = sizeof(GridNode<Dim>) + 4 * vec + Dim * (sizeof(std::int32_t) + sizeof(std::int8_t)) +
                   (krylov_restart + 8) * Dim * real;
     if (frozen_jacobian) {
@@ -176,7 +176,6 @@ class ImplicitSimulation {
   Real min_node_mass_ = 0;
   Real modulus_ = 0;  // the largest Young's modulus: residual scale Y h^Dim dt (Sec. 3.2.2)
   std::vector<StencilT> stencils_;
-  std::vector<std::int32_t> tile_;
   ScatterOrder<Dim> order_;
   RigidBodies<Dim> rigid_;
   // Nodes: internal force at t^k, external force, and the trial internal force of the last evaluation.

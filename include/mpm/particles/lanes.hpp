@@ -66,6 +66,11 @@ struct LaneBlock {
     for (int c = 0; c < R; ++c) m[c] = simd::gather(base + c, index * R);
     return m;
   }
+  /// Member c of the records f[i] of the block's particles (a gather, where load would read whole records).
+  template <class Record>
+  [[gnu::always_inline]] RealLanes load_member(const std::vector<Record>& f, int c) const {
+    return simd::gather(reinterpret_cast<const Real*>(f.data()) + c, index * reals_in<Record>);
+  }
   /// The 16-bit indices f[i] (material indices) of the block's particles.
   [[gnu::always_inline]] IntLanes load_indices(const std::vector<std::uint16_t>& f) const {
     using Loaded = std::uint16_t __attribute__((vector_size(sizeof(std::uint16_t) * width)));

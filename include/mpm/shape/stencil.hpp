@@ -36,36 +36,24 @@ template <class Kernel>
 inline constexpr bool reads_half_lengths = weighs_half_lengths<Kernel> || is_cpdi<Kernel>;
 
 /// Whether a particle keeps its stencil's axis data from the stencil's locate to its use: CPDI's and CPDI2's, whose
-/// locate reads the whole domain. A tensor-product kernel's particle keeps the base node and tile, and GIMP's the
-/// half-lengths it was located with (a USF step changes F, and so cpGIMP's l_p, before its last use of the
-/// stencil); the axis data is located again where it is read, from those and the particle's position, which does
-/// not change in between: the same bits (ParticleStencils).
+/// locate reads the whole domain. A tensor-product kernel's particle keeps the base node and tile; the axis data is
+/// located again where it is read, from the particle's position and half-lengths, which do not change in between
+/// (USF excepted, which keeps its half-lengths: ParticleStencils): the same bits.
 template <class Kernel>
 inline constexpr bool keeps_axes = is_cpdi<Kernel>;
 
-/// What a linear or B-spline particle keeps of its stencil: the base node and tile (Stencil's first two members).
+/// What a tensor-product kernel's particle keeps of its stencil: the base node and tile (Stencil's first two members).
 struct StencilIndex {
   std::int32_t node;
   std::int32_t tile_slot;
 };
 
-/// What a GIMP particle keeps of its stencil: the base node and tile, and the half-lengths l_p it was located with
-/// [m].
-template <int Dim>
-struct SizedStencilIndex {
-  std::int32_t node;
-  std::int32_t tile_slot;
-  std::array<Real, Dim> half_length;
-};
-
 /// What a particle keeps of its stencil between the stencil's locate and its use.
 template <int Dim, class Kernel>
-using StoredStencil =
-    std::conditional_t<keeps_axes<Kernel>, Stencil<Dim, Kernel>,
-                       std::conditional_t<weighs_half_lengths<Kernel>, SizedStencilIndex<Dim>, StencilIndex>>;
+using StoredStencil = std::conditional_t<keeps_axes<Kernel>, Stencil<Dim, Kernel>, StencilIndex>;
 
 /// Stencils in SIMD lanes (LaneBlock::load and store): Real 0 holds node (low half) and layer (high half),
-/// then come the Reals the record keeps (StoredStencil): each axis's, or GIMP's half-lengths.
+/// then come the Reals the record keeps (StoredStencil): each axis's.
 template <int Dim, class Kernel>
 struct StencilLanes {
   using AxisLanes = typename Kernel::template AxisOf<RealLanes>;
@@ -77,10 +65,9 @@ struct StencilLanes {
 
   IntLanes node, tile_slot;
   AxisLanes axis[Dim];
-  RealLanes half_length[Dim];  ///< GIMP's half-lengths at the locate [m] (what its record keeps besides the indices)
 
   StencilLanes() = default;
-  /// The records a block's particles keep (StoredStencil): indices, and the axis data or half-lengths they hold.
+  /// The records a block's particles keep (StoredStencil): indices, and the axis data they hold.
   explicit StencilLanes(const RecordLanes<StoredStencil<Dim, Kernel>>& r) {
     const IntLanes indices = reinterpret_cast<IntLanes>(r[0]);
     node = (indices << 32) >> 32;  // sign-extended low half
@@ -91,8 +78,6 @@ struct StencilLanes {
         for (int j = 0; j < axis_reals; ++j) members[j] = r[1 + d * axis_reals + j];
         axis[d] = std::bit_cast<AxisLanes>(members);
       }
-    } else if constexpr (weighs_half_lengths<Kernel>) {
-      for (int d = 0; d < Dim; ++d) half_length[d] = r[1 + d];
     }
   }
   /// The records to keep (StoredStencil).
@@ -104,8 +89,6 @@ struct StencilLanes {
         const auto members = std::bit_cast<std::array<RealLanes, axis_reals>>(axis[d]);
         for (int j = 0; j < axis_reals; ++j) r[1 + d * axis_reals + j] = members[j];
       }
-    } else if constexpr (weighs_half_lengths<Kernel>) {
-      for (int d = 0; d < Dim; ++d) r[1 + d] = half_length[d];
     }
     return r;
   }
@@ -180,10 +163,8 @@ template <int Dim, class Kernel>
     return R;
   } else if constexpr (reads_half_lengths<Kernel>) {
     RecordLanes<Vec<Dim>> l = block.load(p.l0);
-    if (p.half_lengths == HalfLengths::deformed) {  // Wallstedt & Guilkey 2008, Eq. (63)
-      const RecordLanes<Mat<Dim>> F = block.load(p.F);
-      for (int d = 0; d < Dim; ++d) l[d] *= F[d + d * Dim];
-    }
+    if (p.half_lengths == HalfLengths::deformed)  // Wallstedt & Guilkey 2008, Eq. (63), of F's diagonal alone
+      for (int d = 0; d < Dim; ++d) l[d] *= block.load_member(p.F, d + d * Dim);
     return l;
   } else {
     return RecordLanes<Vec<Dim>>{};  // the kernel ignores them
@@ -244,10 +225,6 @@ StoredStencil<Dim, Kernel> make_stored_stencil(const GridGeometry<Dim>& g, const
   const Stencil<Dim, Kernel> s = make_stencil<Dim, Kernel>(g, nl, x, domain);
   if constexpr (keeps_axes<Kernel>) {
     return s;
-  } else if constexpr (weighs_half_lengths<Kernel>) {
-    SizedStencilIndex<Dim> kept{s.node, s.tile_slot, {}};
-    for (int d = 0; d < Dim; ++d) kept.half_length[d] = domain[d];
-    return kept;
   } else {
     return StencilIndex{s.node, s.tile_slot};
   }
@@ -263,8 +240,6 @@ template <int Dim, class Kernel>
   StencilLanes<Dim, Kernel> s;
   using G = GridGeometry<Dim>;
   const auto base = locate_stencil<Kernel, Dim, RealLanes>(g, nl.inv_h, x, domain, s.axis);
-  if constexpr (weighs_half_lengths<Kernel>)
-    for (int d = 0; d < Dim; ++d) s.half_length[d] = domain[d];
   s.node = IntLanes{};
   IntLanes tile{}, slot{};
   for (int d = 0; d < Dim; ++d) {
@@ -277,38 +252,42 @@ template <int Dim, class Kernel>
   return s;
 }
 
-/// Where stencils go: one per particle, with the tile of each (its base node's, for ScatterOrder), and whether
-/// any particle changed tile. Both arrays hold one entry per particle.
+/// The tiles of stored stencils, as ScatterOrder::build reads them: tile[i] is the flat index of the tile holding
+/// stencil i's base node in the box.
+template <int Dim, class Kernel>
+struct StencilTiles {
+  const std::vector<StoredStencil<Dim, Kernel>>& stored;
+  std::size_t size() const { return stored.size(); }
+  std::int32_t operator[](std::size_t i) const { return stored[i].tile_slot >> GridGeometry<Dim>::slot_bits; }
+};
+
+/// Where stencils go: one per particle, and whether any particle changed tile (its base node's, for ScatterOrder).
 template <int Dim, class Kernel>
 struct StencilTargets {
   std::vector<StoredStencil<Dim, Kernel>>& stencils;
-  std::vector<std::int32_t>& tile;
   std::atomic<bool> tile_changed{false};
 
-  /// Store the stencils of a block of particles and their tiles.
+  /// Store the stencils of a block of particles in place of their last ones.
   [[gnu::always_inline]] void store(const LaneBlock& block, const StencilLanes<Dim, Kernel>& s) {
-    block.store(stencils, s.stored());
     const auto tiles = std::bit_cast<std::array<std::int64_t, LaneBlock::width>>(s.tile_slot);
+    const StencilTiles<Dim, Kernel> last{stencils};
     bool moved = false;
-    for (int k = 0; k < block.active; ++k) {
-      const auto tile_k = static_cast<std::int32_t>(tiles[k] >> GridGeometry<Dim>::slot_bits);
-      moved = moved || tile_k != tile[block.first + k];
-      tile[block.first + k] = tile_k;
-    }
+    for (int k = 0; k < block.active; ++k)
+      moved = moved || static_cast<std::int32_t>(tiles[k] >> GridGeometry<Dim>::slot_bits) !=
+                           last[static_cast<std::size_t>(block.first + k)];
+    block.store(stencils, s.stored());
     if (moved) tile_changed.store(true, std::memory_order_relaxed);
   }
 };
 
-/// Stencils of all particles at their current positions and domains, and the tile of each, computed in
-/// LaneBlocks. Returns whether any tile changed.
+/// Stencils of all particles at their current positions and domains, computed in LaneBlocks. Returns whether any
+/// tile changed (or the particles' count did).
 template <int Dim, class Kernel>
-bool build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g,
-                    std::vector<StoredStencil<Dim, Kernel>>& out, std::vector<std::int32_t>& tile) {
-  const bool resized = tile.size() != p.size();
+bool build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g, std::vector<StoredStencil<Dim, Kernel>>& out) {
+  const bool resized = out.size() != p.size();
   out.resize(p.size());
-  tile.resize(p.size(), -1);
   const NodeLayout<Dim> nl(g);
-  StencilTargets<Dim, Kernel> targets{out, tile, resized};
+  StencilTargets<Dim, Kernel> targets{out, resized};
   parallel_for(LaneBlock::count(p.size()), [&](std::ptrdiff_t b) {
     const LaneBlock block(b, static_cast<std::ptrdiff_t>(p.size()));
     targets.store(block, locate_block<Dim, Kernel>(g, nl, block.load(p.x), load_domain<Dim, Kernel>(block, p)));
@@ -317,11 +296,14 @@ bool build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g,
 }
 
 /// The stencils of a particle set as the transfers read them: what each particle keeps (StoredStencil), and the
-/// particles, whose positions and half-lengths give the axis data the records do not keep.
+/// particles, whose positions and half-lengths give the axis data the records do not keep. A USF step changes F, and
+/// so cpGIMP's half-lengths l_p^0 diag(F_p), in its deformation pass and reads the stencils again in its force
+/// pass: it hands the half-lengths of the locate over in `located_half_lengths` (null: the particles' current ones).
 template <int Dim, class Kernel>
 struct ParticleStencils {
   const std::vector<StoredStencil<Dim, Kernel>>& stored;
   const ParticleSet<Dim>& particles;
+  const std::vector<Vec<Dim>>* located_half_lengths = nullptr;
 
   std::size_t size() const { return stored.size(); }
   /// The stencils of a block in lanes, their axis data located again where the records keep none: locate_block's
@@ -332,7 +314,7 @@ struct ParticleStencils {
     if constexpr (!keeps_axes<Kernel>) {
       RecordLanes<Vec<Dim>> l{};  // the kernels that do not weigh half-lengths ignore them
       if constexpr (weighs_half_lengths<Kernel>)
-        for (int d = 0; d < Dim; ++d) l[d] = s.half_length[d];
+        l = located_half_lengths ? block.load(*located_half_lengths) : load_domain<Dim, Kernel>(block, particles);
       locate_stencil<Kernel, Dim, RealLanes>(g, inv_h, block.load(particles.x), l, s.axis);
     }
     return s;
@@ -344,7 +326,7 @@ struct ParticleStencils {
     } else {
       Vec<Dim> l = Vec<Dim>::Zero();
       if constexpr (weighs_half_lengths<Kernel>)
-        for (int d = 0; d < Dim; ++d) l[d] = stored[i].half_length[d];
+        l = located_half_lengths ? (*located_half_lengths)[i] : particles.half_length(i);
       return make_stencil<Dim, Kernel>(g, nl, particles.x[i], l);
     }
   }

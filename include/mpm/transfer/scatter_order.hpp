@@ -42,12 +42,13 @@ class ScatterOrder {
   }
 
   /// Sort the particles by field, then tile (`tile[p]`: flat tile index of particle p's stencil base node,
-  /// StencilTargets), each tile's by id: a stable counting sort, then a sort by id of the runs whose particles
+  /// StencilTiles), each tile's by id: a stable counting sort, then a sort by id of the runs whose particles
   /// were not stored in id order. `field[p]` < `fields` is the velocity field particle p projects to (contact,
   /// ParticleSet::field); each field's particles come out as one run, scattered by their own passes. The result
   /// is unique, so computing it in parallel gives the same order for any thread count.
-  void build(const std::vector<std::int32_t>& tile, const std::vector<std::int64_t>& id,
-             const std::vector<std::uint16_t>& field, int fields) {
+  template <class Tiles>
+  void build(const Tiles& tile, const std::vector<std::int64_t>& id, const std::vector<std::uint16_t>& field,
+             int fields) {
     const int tiles = static_cast<int>(geometry_.tile_count());
     const int keys = tiles * fields;  // key = field * tiles + tile
     const auto key = [&](std::ptrdiff_t p) { return fields == 1 ? tile[p] : field[p] * tiles + tile[p]; };
@@ -105,7 +106,10 @@ class ScatterOrder {
     }
   }
   /// build for particles that all project to one field.
-  void build(const std::vector<std::int32_t>& tile, const std::vector<std::int64_t>& id) { build(tile, id, {}, 1); }
+  template <class Tiles>
+  void build(const Tiles& tile, const std::vector<std::int64_t>& id) {
+    build(tile, id, {}, 1);
+  }
 
   /// The velocity fields the particles were sorted by, and the storage range of field f's particles once they
   /// are stored in this order.
