@@ -168,15 +168,17 @@ template <int R>
 
 template <int R>
 [[gnu::always_inline]] inline std::array<RealLanes, R> load_records(const Real* records) {
+  // Full-mask loads (and stores below): GCC turns a loop of plain ones into a copy through the stack in 32-byte
+  // halves, whose 64-byte reloads miss store forwarding.
   std::array<RealLanes, R> source;
-  for (int s = 0; s < R; ++s) source[s] = reinterpret_cast<RealLanes>(_mm512_loadu_pd(records + 8 * s));
+  for (int s = 0; s < R; ++s) source[s] = reinterpret_cast<RealLanes>(_mm512_maskz_loadu_pd(0xff, records + 8 * s));
   return detail::permute_records<R>(source, detail::RecordTables<R>::load);
 }
 
 template <int R>
 [[gnu::always_inline]] inline void store_records(Real* records, const std::array<RealLanes, R>& members) {
   const std::array<RealLanes, R> blocks = detail::permute_records<R>(members, detail::RecordTables<R>::store);
-  for (int s = 0; s < R; ++s) _mm512_storeu_pd(records + 8 * s, reinterpret_cast<__m512d>(blocks[s]));
+  for (int s = 0; s < R; ++s) _mm512_mask_storeu_pd(records + 8 * s, 0xff, reinterpret_cast<__m512d>(blocks[s]));
 }
 #else
 template <int R>

@@ -269,12 +269,11 @@ struct StencilTargets {
 
   /// Store the stencils of a block of particles in place of their last ones.
   [[gnu::always_inline]] void store(const LaneBlock& block, const StencilLanes<Dim, Kernel>& s) {
-    const auto tiles = std::bit_cast<std::array<std::int64_t, LaneBlock::width>>(s.tile_slot);
-    const StencilTiles<Dim, Kernel> last{stencils};
-    bool moved = false;
-    for (int k = 0; k < block.active; ++k)
-      moved = moved || static_cast<std::int32_t>(tiles[k] >> GridGeometry<Dim>::slot_bits) !=
-                           last[static_cast<std::size_t>(block.first + k)];
+    // Real 0 of a record holds node (low half) and tile_slot (high half); lanes past the last particle repeat it.
+    const RealLanes last = reals_in<StoredStencil<Dim, Kernel>> == 1 ? block.load(stencils)[0]
+                                                                      : block.load_member(stencils, 0);
+    constexpr int shift = 32 + GridGeometry<Dim>::slot_bits;
+    const bool moved = simd::any((std::bit_cast<IntLanes>(last) >> shift) != ((s.tile_slot << 32) >> shift));
     block.store(stencils, s.stored());
     if (moved) tile_changed.store(true, std::memory_order_relaxed);
   }
