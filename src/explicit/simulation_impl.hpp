@@ -4,13 +4,17 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <variant>
 
+#include "mpm/boundary/rigid_bodies_locate.hpp"
 #include "mpm/core/errors.hpp"
 #include "mpm/explicit/simulation.hpp"
 #include "mpm/particles/pack.hpp"
 #include "mpm/particles/reorder.hpp"
+#include "mpm/transfer/g2p.hpp"
+#include "mpm/transfer/g2p_stress.hpp"
 #include "mpm/transfer/p2g.hpp"
 #include "simulation_stress_impl.hpp"
 
@@ -345,13 +349,10 @@ void Simulation<Dim, Kernel>::scatter_positions() {
   for (int k = 0; k < contact_.fields(); ++k) {
     Grid<Dim>& grid = contact_positions_[static_cast<std::size_t>(k)];
     std::memset(static_cast<void*>(grid.nodes.data()), 0, grid.bytes());
-    if (box_halo_.divided()) {
-      const FaceTileSums<Dim> kept(grid.geometry, order_);
-      p2g_add_keeping(kept, stencils(), order_, k, grid, positions);
-      box_halo_.sum(grid, kept.take(), true, false, *comm_);
-    } else {
-      p2g_add_keeping(KeepNothing{}, stencils(), order_, k, grid, positions);
-    }
+    std::optional<FaceTileSums<Dim>> kept;
+    if (box_halo_.divided()) kept.emplace(grid.geometry, order_);
+    p2g_add_keeping(KeepFaceTiles<Dim>(kept), stencils(), order_, k, grid, positions);
+    if (kept) box_halo_.sum(grid, kept->take(), true, false, *comm_);
     halo_.sum_into_owners(grid, &GridNode<Dim>::v);
     constraints_.fold_and_mirror(grid, &GridNode<Dim>::v);
   }

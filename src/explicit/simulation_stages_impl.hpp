@@ -3,11 +3,14 @@
 // P2G with the halo sum, G2P with the stress update, the loads and their power, the failure message. Included
 // by simulation_impl.hpp.
 #include <algorithm>
+#include <optional>
 #include <sstream>
 #include <string>
 
 #include "mpm/explicit/simulation.hpp"
 #include "mpm/particles/reorder.hpp"
+#include "mpm/transfer/g2p.hpp"
+#include "mpm/transfer/g2p_stress.hpp"
 #include "mpm/transfer/p2g.hpp"
 #include "simulation_stress_impl.hpp"
 
@@ -67,13 +70,12 @@ void Simulation<Dim, Kernel>::scatter() {
   const std::vector<Grid<Dim>*> fields = field_grids();
   for (int k = 0; k < contact_.fields(); ++k) {
     Grid<Dim>& grid = *fields[k];
-    if (box_halo_.divided()) {  // the halo sum: the sums of tiles of other boxes at the nodes they share
-      const FaceTileSums<Dim> kept(grid.geometry, order_);
-      p2g<what>(particles_, stencils(), order_, body_accel_, grid, kept, k, has_material_state(), affine());
-      box_halo_.sum(grid, kept.take(), what.mass_momentum, what.force, *comm_, nullptr, what.volume_gradient);
-    } else {
-      p2g<what>(particles_, stencils(), order_, body_accel_, grid, KeepNothing{}, k, has_material_state(), affine());
-    }
+    std::optional<FaceTileSums<Dim>> kept;  // a divided grid's: the sums of its face tiles for the halo sum
+    if (box_halo_.divided()) kept.emplace(grid.geometry, order_);
+    p2g<what>(particles_, stencils(), order_, body_accel_, grid, KeepFaceTiles<Dim>(kept), k, has_material_state(),
+              affine());
+    if (kept)  // the halo sum: the sums of tiles of other boxes at the nodes they share
+      box_halo_.sum(grid, kept->take(), what.mass_momentum, what.force, *comm_, nullptr, what.volume_gradient);
     if constexpr (what.force && Dim == 2)  // the hoop force in a pass of its own, as in the implicit step
       if (axisymmetric_) scatter_hoop_force(grid, k);
     if constexpr (what.mass_momentum) halo_.sum_into_owners(grid, NodeFields::mass_momentum);
@@ -88,16 +90,15 @@ void Simulation<Dim, Kernel>::scatter() {
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::scatter_hoop_force(Grid<Dim>& grid, int field) requires(Dim == 2) {
   const HoopForce hoop{particles_.V, particles_.state.sigma, particles_.x};
-  if (!box_halo_.divided()) {
-    p2g_add_keeping(KeepNothing{}, stencils(), order_, field, grid, hoop);
-    return;
+  std::optional<FaceTileSums<Dim>> kept;
+  if (box_halo_.divided()) {
+    // Onto the forces the halo sum just agreed: a shared node starts from them again, as one process's pass does.
+    hoop_base_.resize(grid.size());
+    for (std::size_t n = 0; n < grid.size(); ++n) hoop_base_[n] = grid.nodes[n].a;
+    kept.emplace(grid.geometry, order_);
   }
-  // Onto the forces the halo sum just agreed: a shared node starts from them again, as one process's pass does.
-  hoop_base_.resize(grid.size());
-  for (std::size_t n = 0; n < grid.size(); ++n) hoop_base_[n] = grid.nodes[n].a;
-  const FaceTileSums<Dim> kept(grid.geometry, order_);
-  p2g_add_keeping(kept, stencils(), order_, field, grid, hoop);
-  box_halo_.sum(grid, kept.take(), false, true, *comm_, &hoop_base_);
+  p2g_add_keeping(KeepFaceTiles<Dim>(kept), stencils(), order_, field, grid, hoop);
+  if (kept) box_halo_.sum(grid, kept->take(), false, true, *comm_, &hoop_base_);
 }
 
 template <int Dim, class Kernel>
@@ -124,7 +125,9 @@ void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
     if constexpr (what.position && moves_corners<Kernel>)  // CPDI2: the corners, from the stencils of the step's start
       g2p_corners(stencils(), *fields[k], v_grid, dt, particles_.corners, particles_.corners, range);
     ParticleFault f;
-    if (!neo_hookean_.empty()) {
+    if constexpr (!what.deformation) {
+      f = g2p<what>(particles_, stencils(), *fields[k], v_grid, dt, NoStress{}, targets, range, blend);
+    } else if (!neo_hookean_.empty()) {
       f = g2p<what>(particles_, stencils(), *fields[k], v_grid, dt, NeoHookeanLanes{neo_hookean_}, targets,
                     range, blend);
     } else if (!drucker_prager_.empty() && axisymmetric_) {

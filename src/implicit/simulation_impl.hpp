@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 
+#include "mpm/boundary/rigid_bodies_locate.hpp"
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
 

@@ -2,7 +2,8 @@
 
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
-#include "scene_run.hpp"
+#include "mpm/shape/kernel_policies.hpp"
+#include "scene_entry.hpp"
 
 namespace mpm {
 
@@ -10,8 +11,8 @@ namespace {
 template <int Dim>
 int run_in(const Scene& sc, const RunOptions& o) {
   return with_kernel<Dim>(sc.kernel, [&]<class Kernel>() {
-    if (sc.implicit) return SceneRun<Dim, scene_engines::Implicit<Dim, Kernel>>(sc, o).run();
-    return SceneRun<Dim, scene_engines::Explicit<Dim, Kernel>>(sc, o).run();
+    if (sc.implicit) return run_scene_on<Dim, scene_engines::Implicit<Dim, Kernel>>(sc, o);
+    return run_scene_on<Dim, scene_engines::Explicit<Dim, Kernel>>(sc, o);
   });
 }
 }  // namespace

@@ -28,6 +28,7 @@
 #include "run_progress.hpp"
 #include "run_history.hpp"
 #include "run_totals.hpp"
+#include "scene_entry.hpp"
 
 namespace mpm {
 
@@ -344,5 +345,10 @@ class SceneRun {
   Clock::time_point wall_start_ = Clock::now();
 };
 
+
+template <int Dim, class Engine>
+int run_scene_on(const Scene& sc, const RunOptions& o) {
+  return SceneRun<Dim, Engine>(sc, o).run();
+}
 
 }  // namespace mpm

@@ -25,6 +25,10 @@ enum class FaceType { free, velocity, symmetry, periodic, outflow, absorbing };
 template <int Dim>
 using VelocityFn = std::function<Vec<Dim>(Real t)>;
 
+/// Body acceleration b(X, t) as a function of reference position and time [m/s^2].
+template <int Dim>
+using BodyForceFn = std::function<Vec<Dim>(const Vec<Dim>& X, Real t)>;
+
 template <int Dim>
 struct FaceCondition {
   FaceType type = FaceType::free;

@@ -9,6 +9,7 @@
 /// node that tiles of several boxes reach adds all their sums in colour order (BoxHalo::sum exchanges them).
 #include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "mpm/distributed/decomposition.hpp"
@@ -104,6 +105,17 @@ class FaceTileSums {
   GridGeometry<Dim> box_;
   const ScatterOrder<Dim>* order_;
   mutable std::vector<TileSums<Dim>> sums_;
+};
+
+/// The `keep` of an engine's P2G passes: the face tiles' sums of a divided grid, or nothing in one box. Chosen at run
+/// time (one test per tile), so that each pass is compiled once rather than once per keep.
+template <int Dim>
+struct KeepFaceTiles {
+  explicit KeepFaceTiles(const std::optional<FaceTileSums<Dim>>& kept) : sums(kept ? &*kept : nullptr) {}
+  void operator()(std::int32_t t, const GridNode<Dim>* buffer) const {
+    if (sums) (*sums)(t, buffer);
+  }
+  const FaceTileSums<Dim>* sums;
 };
 
 }  // namespace mpm

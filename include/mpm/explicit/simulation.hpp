@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "mpm/boundary/boundary.hpp"
-#include "mpm/boundary/rigid_body.hpp"
+#include "mpm/boundary/rigid_bodies.hpp"
 #include "mpm/contact/multi_field.hpp"
 #include "mpm/core/exact_sum.hpp"
 #include "mpm/core/memory.hpp"
@@ -19,11 +19,10 @@
 #include "mpm/particles/outflow.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/particles/reorder.hpp"
+#include "mpm/shape/kernel_policies.hpp"
 #include "mpm/shape/kernels.hpp"
 #include "mpm/shape/stencil.hpp"
-#include "mpm/transfer/g2p.hpp"
-#include "mpm/transfer/g2p_stress.hpp"
-#include "mpm/transfer/p2g.hpp"
+#include "mpm/transfer/passes.hpp"
 #include "mpm/transfer/scatter_order.hpp"
 
 namespace mpm {
@@ -292,32 +291,5 @@ class Simulation {
   Real time_ = 0;
   std::int64_t steps_ = 0;
 };
-
-/// Call fn.template operator()<Kernel>() with the kernel policy for a kernel kind in Dim dimensions (coarse run-time
-/// choice).
-template <int Dim, class Fn>
-decltype(auto) with_kernel(KernelKind k, Fn&& fn) {
-  switch (k) {
-    case KernelKind::cpdi:
-      return fn.template operator()<CpdiKernel<Dim>>();
-    case KernelKind::cpdi2:
-      return fn.template operator()<Cpdi2Kernel<Dim>>();
-    case KernelKind::linear:
-      return fn.template operator()<LinearKernel>();
-    case KernelKind::ugimp:
-    case KernelKind::cpgimp:
-      return fn.template operator()<GimpKernel>();
-    case KernelKind::ugimp_wide:
-    case KernelKind::cpgimp_wide:
-      return fn.template operator()<WideGimpKernel>();
-    case KernelKind::bspline2:
-    case KernelKind::bspline2_clamped:
-      return fn.template operator()<QuadraticBSplineKernel>();
-    case KernelKind::bspline3:
-    case KernelKind::bspline3_clamped:
-      break;
-  }
-  return fn.template operator()<CubicBSplineKernel>();
-}
 
 }  // namespace mpm

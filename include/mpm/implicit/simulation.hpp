@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "mpm/boundary/boundary.hpp"
+#include "mpm/boundary/rigid_bodies.hpp"
 #include "mpm/core/memory.hpp"
 #include "mpm/grid/grid.hpp"
 #include "mpm/grid/halo.hpp"

@@ -12,8 +12,9 @@
 #include "mpm/core/model_geometry.hpp"
 #include "mpm/core/types.hpp"
 #include "mpm/numerics/newton_krylov.hpp"
-#include "mpm/explicit/spec.hpp"
 #include "mpm/materials/material.hpp"
+#include "mpm/shape/kernel_kind.hpp"
+#include "mpm/transfer/passes.hpp"
 
 namespace mpm {
 

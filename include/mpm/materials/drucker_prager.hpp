@@ -43,6 +43,14 @@ struct ConeStrength {
 /// The strength of m at plastic strain e.
 ConeStrength<Real> cone_strength(const DruckerPrager& m, Real e);
 
+/// A Drucker-Prager material as the lanes read it: its strength (fixed unless it softens or hardens), its lambda,
+/// and whether its strength changes with the plastic strain (1) or not (0).
+struct DruckerPragerRow {
+  ConeStrength<Real> cone;
+  Real lambda;
+  Real softens;
+};
+
 /// A trial stress against a fixed strength: its mean stress p, deviator s and sqrt(J2), and whether it lies
 /// outside the cone (f = sqrt(J2) + eta p - xi c > 0, de Souza Neto et al. 2008, Sec. 8.3) or beyond the cut-off.
 template <class T>

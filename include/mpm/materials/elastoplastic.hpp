@@ -11,7 +11,7 @@
 /// definition eps_bar = sqrt(2/3) gamma, i.e. d eps_bar = (2/3 d eps_pl : d eps_pl)^{1/2}
 /// (Simo & Hughes 1998, Box 3.2: alpha += sqrt(2/3) dgamma), so that eps_bar is the plastic strain of a
 /// uniaxial test and the consistency condition reads q_trial - 3 mu d_eps_bar = H.
-#include <Eigen/Dense>
+#include <Eigen/Core>
 #include <algorithm>
 #include <array>
 #include <cmath>

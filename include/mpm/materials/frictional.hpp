@@ -15,7 +15,7 @@
 #include <limits>
 #include <string>
 
-#include <Eigen/Dense>
+#include <Eigen/Core>
 
 #include "mpm/core/errors.hpp"
 #include "mpm/core/types.hpp"

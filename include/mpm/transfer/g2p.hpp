@@ -14,23 +14,9 @@
 #include "mpm/particles/particles.hpp"
 #include "mpm/shape/stencil.hpp"
 #include "mpm/transfer/lanes.hpp"
+#include "mpm/transfer/passes.hpp"
 
 namespace mpm {
-
-/// What a G2P pass updates.
-struct Gather {
-  bool velocity;     ///< v_p += dt sum_i S_ip a_i                       (Wallstedt & Guilkey 2008, Eq. (18))
-  bool position;     ///< x_p += dt sum_i S_ip v_i                       (Wallstedt & Guilkey 2008, Eq. (17))
-  bool deformation;  ///< grad v_p = sum_i v_i grad S_ip, F, V, sigma     (Wallstedt & Guilkey 2008, Eq. (10),
-                     ///< Eq. (11), Eq. (12), Eq. (13), or Eq. (19))
-};
-
-/// The first particle (lowest index) that failed in a pass, if any.
-struct ParticleFault {
-  static constexpr std::int64_t none = std::numeric_limits<std::int64_t>::max();
-  std::int64_t index = none;
-  explicit operator bool() const { return index != none; }
-};
 
 /// What a G2P pass gathers at each particle from the nodes of its stencil.
 struct Sums {

@@ -17,6 +17,12 @@
 
 namespace mpm {
 
+/// The policy of a pass that does not deform (a Gather without deformation): g2p never calls it, so a pass that only
+/// moves or accelerates the particles is compiled once, not once per stress policy.
+struct NoStress {
+  static constexpr bool reads_velocity = false;
+};
+
 /// Sigma(F) of Wallstedt & Guilkey 2008, Eq. (55), in lanes; lambda and mu broadcast from the one material or
 /// gathered by 16-bit material index.
 struct NeoHookeanLanes {
@@ -67,14 +73,6 @@ struct RecordRates {
     if (axisymmetric) block.store(hoop_rate, {v_r / r_start});
     return valid;
   }
-};
-
-/// A Drucker-Prager material as the lanes read it: its strength (fixed unless it softens or hardens), its lambda,
-/// and whether its strength changes with the plastic strain (1) or not (0).
-struct DruckerPragerRow {
-  ConeStrength<Real> cone;
-  Real lambda;
-  Real softens;
 };
 
 /// The rows of a table whose every material is Drucker-Prager; empty otherwise.

@@ -12,6 +12,7 @@
 #include "mpm/particles/particles.hpp"
 #include "mpm/shape/stencil.hpp"
 #include "mpm/transfer/lanes.hpp"
+#include "mpm/transfer/passes.hpp"
 #include "mpm/transfer/scatter_order.hpp"
 
 namespace mpm {
@@ -220,13 +221,6 @@ void p2g_add(const ParticleStencils<Dim, Kernel>& stencils, const ScatterOrder<D
   p2g_add_keeping(KeepNothing{}, stencils, order, 0, grid, contributions...);
 }
 
-/// What a P2G pass of the explicit step scatters.
-struct Scatter {
-  bool mass_momentum;
-  bool force;
-  bool volume_gradient = false;  ///< with mass_momentum: VolumeGradient into v_new (contact normals)
-};
-
 /// The explicit step's P2G of velocity field `field`'s particles: clear the fields it scatters, then add mass and
 /// momentum (Wallstedt & Guilkey 2008, Eq. (8), Eq. (9)) with, for contact, the volume gradient, and the internal
 /// force plus, when per-particle body accelerations are given, the body force (Wallstedt & Guilkey 2008,
@@ -332,22 +326,6 @@ void grid_velocity_update(Grid<Dim>& grid, const Vec<Dim>& gravity, Real dt, Rea
     node_update(grid.nodes[n], gravity, dt, scale, min_mass, damping);
   });
 }
-
-/// The mass below which a node is light: a fixed mass, or in axisymmetry, where masses are per radian and grow
-/// with the radius, a mass per unit radius times the node's radius |r_i|.
-template <int Dim>
-struct LightMass {
-  Real mass = 0;        ///< [kg]; 0: no node is light
-  Real per_radius = 0;  ///< [kg/m per radian]; > 0 in axisymmetry, which then ignores `mass`
-  Real lo = 0, h = 1;   ///< the grid's radial origin and cell width [m]
-  int nodes_along = 1, ghost = 0;
-
-  bool any() const { return mass > 0 || per_radius > 0; }
-  Real operator()(std::ptrdiff_t n) const {
-    if (per_radius == 0) return mass;
-    return per_radius * std::abs(lo + h * static_cast<Real>(n % nodes_along - ghost));
-  }
-};
 
 /// A node that carries mass, but less than `light_mass` once its mirror images are counted (`copies`, see
 /// KinematicConstraints::count_mirror_copies).
