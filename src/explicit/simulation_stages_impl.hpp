@@ -131,8 +131,10 @@ void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
       f = g2p<what>(particles_, stencils(), *fields[k], v_grid, dt, NeoHookeanLanes{neo_hookean_}, targets,
                     range, blend);
     } else if (!drucker_prager_.empty() && axisymmetric_) {
-      const DruckerPragerLanes<Dim, true> step{spec_.materials, drucker_prager_, dt};
-      f = g2p<what>(particles_, stencils(), *fields[k], v_grid, dt, step, targets, range, blend);
+      if constexpr (Dim == 2) {  // axisymmetry is 2-D: the other dimensions compile no such pass
+        const DruckerPragerLanes<Dim, true> step{spec_.materials, drucker_prager_, dt};
+        f = g2p<what>(particles_, stencils(), *fields[k], v_grid, dt, step, targets, range, blend);
+      }
     } else if (!drucker_prager_.empty()) {
       const DruckerPragerLanes<Dim, false> step{spec_.materials, drucker_prager_, dt};
       f = g2p<what>(particles_, stencils(), *fields[k], v_grid, dt, step, targets, range, blend);

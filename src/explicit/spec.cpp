@@ -10,24 +10,10 @@ namespace mpm {
 
 namespace {
 constexpr std::array<std::string_view, 4> integrator_names{"usf", "usl", "cd", "musl"};
-
-template <class Names>
-std::string join(const Names& names) {
-  std::string s;
-  for (std::string_view n : names) s += (s.empty() ? "" : ", ") + std::string(n);
-  return s;
-}
-
-void require(bool ok, const std::string& message) {
-  if (!ok) throw InputError(message);
-}
 }  // namespace
 
 Integrator parse_integrator(std::string_view name, std::string_view key) {
-  for (std::size_t k = 0; k < integrator_names.size(); ++k)
-    if (name == integrator_names[k]) return static_cast<Integrator>(k);
-  throw InputError(std::string(key) + ": unknown name '" + std::string(name) + "' (expected one of " +
-                   join(integrator_names) + ")");
+  return parse_name<Integrator>(integrator_names, name, key);
 }
 
 std::string_view to_string(Integrator i) {

@@ -12,30 +12,16 @@ namespace {
 constexpr std::array<std::string_view, 3> geometry_names{"plane-strain", "plane-stress", "axisymmetric"};
 constexpr std::array<std::string_view, 2> formulation_names{"velocity", "momentum"};
 constexpr std::array<std::string_view, 4> solver_names{"newton-cg", "newton-gmres", "cg", "newton-direct"};
-
-template <class Enum, class Names>
-Enum parse(const Names& names, std::string_view name, std::string_view key) {
-  std::string list;
-  for (std::size_t k = 0; k < names.size(); ++k) {
-    if (name == names[k]) return static_cast<Enum>(k);
-    list += (k ? ", " : "") + std::string(names[k]);
-  }
-  throw InputError(std::string(key) + ": unknown name '" + std::string(name) + "' (expected one of " + list + ")");
-}
-
-void require(bool ok, const std::string& message) {
-  if (!ok) throw InputError(message);
-}
 }  // namespace
 
 Geometry parse_geometry(std::string_view name, std::string_view key) {
-  return parse<Geometry>(geometry_names, name, key);
+  return parse_name<Geometry>(geometry_names, name, key);
 }
 Formulation parse_formulation(std::string_view name, std::string_view key) {
-  return parse<Formulation>(formulation_names, name, key);
+  return parse_name<Formulation>(formulation_names, name, key);
 }
 ImplicitSolver parse_solver(std::string_view name, std::string_view key) {
-  return parse<ImplicitSolver>(solver_names, name, key);
+  return parse_name<ImplicitSolver>(solver_names, name, key);
 }
 std::string_view to_string(Geometry g) { return geometry_names[static_cast<std::size_t>(g)]; }
 std::string_view to_string(Formulation f) { return formulation_names[static_cast<std::size_t>(f)]; }

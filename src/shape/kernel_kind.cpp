@@ -12,23 +12,10 @@ namespace {
 constexpr std::array<std::string_view, 11> kernel_names{
     "linear", "ugimp", "cpgimp", "bspline2", "bspline3", "bspline2-clamped", "bspline3-clamped", "cpdi", "ugimp-wide",
     "cpgimp-wide", "cpdi2"};
-
-std::string join(const std::array<std::string_view, 11>& names) {
-  std::string s;
-  for (std::string_view n : names) s += (s.empty() ? "" : ", ") + std::string(n);
-  return s;
-}
-
-void require(bool ok, const std::string& message) {
-  if (!ok) throw InputError(message);
-}
 }  // namespace
 
 KernelKind parse_kernel(std::string_view name, std::string_view key) {
-  for (std::size_t k = 0; k < kernel_names.size(); ++k)
-    if (name == kernel_names[k]) return static_cast<KernelKind>(k);
-  throw InputError(std::string(key) + ": unknown name '" + std::string(name) + "' (expected one of " +
-                   join(kernel_names) + ")");
+  return parse_name<KernelKind>(kernel_names, name, key);
 }
 
 std::string_view to_string(KernelKind k) {

@@ -2,8 +2,10 @@
 /// The ways a command can stop early: bad input (exit 2), numerical failure or an output that cannot be written
 /// (exit 1), a missing or failing helper tool such as python3 for plots (exit 3), and a run interrupted by
 /// SIGINT or SIGTERM (exit 128 + the signal: 130, 143).
+#include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace mpm {
 
@@ -27,6 +29,22 @@ struct OutputError : std::runtime_error {
 struct ToolError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+/// Throws InputError(message) unless `ok`: the validators' one-line checks.
+inline void require(bool ok, const std::string& message) {
+  if (!ok) throw InputError(message);
+}
+
+/// The Enum whose index in `names` is that of `name`; otherwise InputError naming `key` and the expected names.
+template <class Enum, class Names>
+Enum parse_name(const Names& names, std::string_view name, std::string_view key) {
+  std::string list;
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    if (name == names[k]) return static_cast<Enum>(k);
+    list += (k ? ", " : "") + std::string(names[k]);
+  }
+  throw InputError(std::string(key) + ": unknown name '" + std::string(name) + "' (expected one of " + list + ")");
+}
 
 inline constexpr int exit_input_error = 2;
 inline constexpr int exit_tool_error = 3;
