@@ -1,7 +1,7 @@
 #pragma once
-/// How particle velocities come from the grid (Transfer), and what the transfer passes are told to do and what they
-/// report, as the engines name them (Scatter, Gather, ParticleFault, LightMass): the passes themselves are in transfer/p2g.hpp and transfer/g2p.hpp, which only the
-/// units that compile an engine include.
+/// How particle velocities come from the grid (Transfer), and what the transfer passes are told to do and report,
+/// as the engines name them (Scatter, Gather, ParticleFault, LightMass). The passes are in transfer/p2g.hpp and
+/// transfer/g2p.hpp, which only the units that compile an engine include.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
