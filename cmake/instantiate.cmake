@@ -2,9 +2,18 @@
 # units generated here into the build tree, a few kernels each, so that one list names the kernels and the two cores
 # of a small machine share the work evenly (docs/build.md).
 
-# The kernel policies both engines are compiled for, in the order of KernelPolicies
-# (include/mpm/shape/kernel_policies.hpp), whose length the first unit of each dimension asserts.
-set(MPM_KERNEL_POLICIES linear gimp gimp_wide bspline2 bspline3 cpdi cpdi2)
+# The kernel policies both engines are compiled for, read from KernelPolicies (include/mpm/shape/kernel_policies.hpp):
+# their type names, lower case and without "Kernel" and "<Dim>", name the units (LinearKernel: linear). The first
+# unit of each dimension asserts the count.
+set(policies_header ${CMAKE_CURRENT_SOURCE_DIR}/include/mpm/shape/kernel_policies.hpp)
+set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${policies_header})
+file(READ ${policies_header} policies_text)
+if(NOT policies_text MATCHES "using KernelPolicies = std::tuple<([^;]*)>;")
+  message(FATAL_ERROR "cmake/instantiate.cmake: no 'using KernelPolicies = std::tuple<...>;' in ${policies_header}")
+endif()
+string(REGEX REPLACE "<Dim>|Kernel|[ \n]" "" policies "${CMAKE_MATCH_1}")
+string(TOLOWER "${policies}" policies)
+string(REPLACE "," ";" MPM_KERNEL_POLICIES "${policies}")
 
 # mpm_instantiation_units(<out> <name> <per_unit> <includes> <line>): write units <name>_<dim>d_<kernels>.cpp, each
 # with <includes> and <line> for each of up to <per_unit> kernels of one dimension (%D the dimension, %K the kernel's

@@ -15,9 +15,10 @@
 #include "roofline.hpp"
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
-#include "mpm/explicit/simulation.hpp"
 #include "mpm/distributed/communicator.hpp"
+#include "mpm/explicit/simulation.hpp"
 #include "mpm/particles/generate.hpp"
+#include "mpm/shape/kernel_kind.hpp"
 
 namespace mpm::app {
 
@@ -186,7 +187,7 @@ Action add_bench(CLI::App& app) {
   auto o = std::make_shared<BenchOptions>();
   CLI::App* cmd = app.add_subcommand("bench", "time the reference elastic block problem");
   cmd->add_option("--dim", o->dim, "dimension: 2 or 3")->check(CLI::IsMember({2, 3}));
-  cmd->add_option("--kernel", o->kernel, "linear, ugimp, cpgimp, bspline2, bspline3, bspline2-clamped, bspline3-clamped, cpdi, ugimp-wide, cpgimp-wide or cpdi2");
+  cmd->add_option("--kernel", o->kernel, kernel_name_list());
   cmd->add_option("--integrator", o->integrator, "usf, usl, cd or musl");
   cmd->add_option("--transfer", o->transfer, "particle velocity update: flip or apic")
       ->check(CLI::IsMember({"flip", "apic"}));

@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "mpm/shape/kernel_kind.hpp"
 #include "mpm/verification/projected_density.hpp"
 
 namespace mpm::app {
@@ -17,7 +18,7 @@ Action add_density(CLI::App& app) {
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
       "density-1d", "project a constant-density bar on [0, 1] to a grid on [-0.2, 1.2] (Steffen et al. 2008, Fig. 7)");
-  cmd->add_option("--kernel", o->kernel, "linear, ugimp, cpgimp, bspline2, bspline3, bspline2-clamped, bspline3-clamped, cpdi, ugimp-wide, cpgimp-wide or cpdi2");
+  cmd->add_option("--kernel", o->kernel, kernel_name_list());
   cmd->add_option("--cells", o->c.cells, "cells per unit length (a multiple of 5)");
   cmd->add_option("--ppc", o->c.ppc, "particles per cell");
   cmd->add_option("--samples", o->c.samples, "points at which the field is evaluated");

@@ -13,6 +13,7 @@
 #include "commands.hpp"
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
+#include "mpm/shape/kernel_kind.hpp"
 #include "mpm/verification/report.hpp"
 #include "python_tool.hpp"
 
@@ -29,7 +30,7 @@ struct CaseOptions {
   void add_to(CLI::App* cmd) {
     cmd->add_option("case", request.case_name, "axis-aligned, bar-1d, expanding-ring or shear-wave")->required();
     cmd->add_option("--dim", options.dim, "dimension (axis-aligned: 2 or 3)");
-    cmd->add_option("--kernel", request.kernel, "linear, ugimp, cpgimp, bspline2, bspline3, bspline2-clamped, bspline3-clamped, cpdi, ugimp-wide, cpgimp-wide or cpdi2");
+    cmd->add_option("--kernel", request.kernel, kernel_name_list());
     cmd->add_option("--transfer", request.transfer, "particle velocity update: flip or apic");
     cmd->add_option("--integrator", request.integrator, "usf, usl, cd, musl or implicit");
     cmd->add_option("--theta", options.theta, "implicit blend in [0, 1] (1: backward Euler, 0.5: midpoint)");
@@ -166,7 +167,9 @@ void plot(const std::string& png, const nlohmann::json& rows, const std::string&
     if (!os) throw InputError("--plot: cannot write next to " + png);
     os << rows.dump();
   }
-  run_python("convergence", {data.string(), png, vary, title}, "--plot");
+  nlohmann::json labels;  // each kernel's label, from the registry (shape/kernel_kind.hpp)
+  for (const KernelEntry& e : kernel_registry) labels[std::string(e.name)] = std::string(e.label);
+  run_python("convergence", {data.string(), png, vary, title, labels.dump()}, "--plot");
   std::filesystem::remove(data);
 }
 }  // namespace

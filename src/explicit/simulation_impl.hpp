@@ -12,6 +12,7 @@
 #include "mpm/core/errors.hpp"
 #include "mpm/explicit/simulation.hpp"
 #include "mpm/particles/pack.hpp"
+#include "mpm/particles/validate.hpp"
 #include "mpm/particles/reorder.hpp"
 #include "mpm/transfer/g2p.hpp"
 #include "mpm/transfer/g2p_stress.hpp"
@@ -30,16 +31,6 @@ constexpr bool light_nodes_unbounded() {
 }
 
 namespace detail {
-template <int Dim>
-std::string format(const Vec<Dim>& x) {
-  std::ostringstream os;
-  os.precision(9);
-  os << '(';
-  for (int d = 0; d < Dim; ++d) os << (d ? ", " : "") << x[d];
-  os << ')';
-  return os.str();
-}
-
 template <int Dim, class Kernel>
 GridGeometry<Dim> make_geometry(const SimulationSpec<Dim>& spec) {
   validate(spec);
@@ -85,35 +76,10 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
   if (p.size() == 0) throw InputError("particles: the simulation has no particles");
   if (p.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
     throw InputError("particles: more than 2^31 - 1 particles");
-  if (p.field.size() != p.size()) throw InputError("particles: one velocity field index per particle expected");
-  Real min_mass = std::numeric_limits<Real>::max();
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const std::string at = "particle " + std::to_string(i);
-    if (!g.contains(p.x[i]))
-      throw InputError(at + " at " + detail::format<Dim>(p.x[i]) + " lies outside the grid " +
-                       detail::format<Dim>(g.lo) + " - " + detail::format<Dim>(g.hi()));
-    if (!(p.m[i] > 0) || !(p.V0[i] > 0)) throw InputError(at + ": mass and volume must be positive");
-    if (p.material[i] >= spec.materials.size())
-      throw InputError(at + ": material index " + std::to_string(p.material[i]) + " has no material");
-    if (p.field[i] >= spec.contact.fields)
-      throw InputError(at + ": velocity field " + std::to_string(p.field[i]) + " of " +
-                       std::to_string(spec.contact.fields));
-    if (!p.v[i].allFinite()) throw InputError(at + ": velocity must be finite");
-    const Material& material = spec.materials[p.material[i]];
-    if (is_rate_form(material) && !(p.F[i] - Mat<Dim>::Identity()).isZero(0))
-      throw InputError(at + ": the rate-form materials start undeformed (F = I)");
-    if (axisymmetric_) {
-      if (!(p.X[i][0] > 0)) throw InputError(at + ": axisymmetric particles need radius x > 0");
-      p.m[i] *= p.X[i][0];  // per radian: m_p = rho r_p A_p
-      p.V0[i] *= p.X[i][0];
-    }
-    validate_half_lengths<Dim>(spec.kernel, p.half_length(i), g.h, at);
-    const Real J = p.F[i].determinant();
-    p.V[i] = p.V0[i] * J;
-    if (!(J > 0)) throw InputError(at + ": deformation gradient must have det F > 0");
-    if (!is_rate_form(material)) p.sigma[i] = std::get<NeoHookean>(material).template stress<Dim>(p.F[i], J);
-    min_mass = std::min(min_mass, p.m[i]);
-  }
+  const Real min_mass = start_particles(p, spec.materials, spec.kernel, g, axisymmetric_, spec.contact.fields);
+  for (std::size_t i = 0; i < p.size(); ++i)  // the Neo-Hookean stress of F
+    if (const auto* law = std::get_if<NeoHookean>(&spec.materials[p.material[i]]))
+      p.sigma[i] = law->template stress<Dim>(p.F[i], p.F[i].determinant());
   // Nodes lighter than this are treated as empty (round-off level against the lightest particle).
   min_node_mass_ = 1e-14 * min_mass;
   // Light nodes, for kernels that need their treatment: less than a quarter of the lightest particle. The strain
@@ -144,6 +110,7 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
     // A state the particles bring (a geostatic stress) is kept; otherwise the rate-form solids start unstressed.
     if (p.state.empty()) p.state.resize(p.size());
     for (std::size_t i = 0; i < p.size(); ++i) p.state.sigma[i] = full_stress(i);
+    start_internal_state(spec.materials, p.material, p.state);
     size_rates();
   }
   build_stencils();  // sizes the per-particle arrays, so that steps do not allocate
@@ -171,7 +138,8 @@ Real Simulation<Dim, Kernel>::next_dt() const {
           : parallel_reduce(
                 n, Real{0},
                 [&](std::ptrdiff_t i) {
-                  return wave_speed(spec_.materials[p.material[i]], p.V[i] / p.V0[i]) + p.v[i].norm();
+                  return wave_speed(spec_.materials[p.material[i]], p.V[i] / p.V0[i], p.state.sigma[i]) +
+                         p.v[i].norm();
                 },
                 larger);
   return spec_.cfl * spec_.h / comm_->max(speed);  // every rank takes the step of the fastest particle

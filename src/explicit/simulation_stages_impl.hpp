@@ -9,6 +9,7 @@
 
 #include "mpm/explicit/simulation.hpp"
 #include "mpm/particles/reorder.hpp"
+#include "mpm/particles/validate.hpp"
 #include "mpm/transfer/g2p.hpp"
 #include "mpm/transfer/g2p_stress.hpp"
 #include "mpm/transfer/p2g.hpp"
@@ -185,7 +186,7 @@ std::string Simulation<Dim, Kernel>::failure_message(std::size_t i, Real dt) con
   if (!p.x[i].allFinite() || !p.v[i].allFinite() || !std::isfinite(J))
     cause = "non-finite position, velocity or deformation gradient";
   else if (!grid_.geometry.contains(p.x[i]))
-    cause = "left the grid at " + detail::format<Dim>(p.x[i]);
+    cause = "left the grid at " + format_point<Dim>(p.x[i]);
   else if (!(J > 0))
     cause = "det F = " + std::to_string(J) + " <= 0 (material inverted)";
   else if (!p.state.empty() && !(p.state.stretch3[i] > 0 && p.V[i] > 0))
@@ -196,7 +197,7 @@ std::string Simulation<Dim, Kernel>::failure_message(std::size_t i, Real dt) con
   else if (moves_corners<Kernel>)
     cause = "its CPDI2 domain folded (the Jacobian of its corners' map <= 0 at a corner)";
   else
-    cause = "cpGIMP half-lengths " + detail::format<Dim>(p.half_length(i)) + " left " + half_length_bound(spec_.kernel);
+    cause = "cpGIMP half-lengths " + format_point<Dim>(p.half_length(i)) + " left " + half_length_bound(spec_.kernel);
   std::ostringstream os;
   os.precision(9);
   os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << p.id[i] << ": " << cause;

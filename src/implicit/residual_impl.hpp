@@ -65,6 +65,7 @@ bool ImplicitSimulation<Dim, Kernel>::residual_at(const Eigen::VectorXd& x, Real
   t.work.resize(np);
   t.energy.resize(np);
   t.stretch3.resize(np);
+  t.internal.resize(np);
   t.grad_v.resize(np);
   t.ok.resize(np);
   t.v_r.resize(np);
@@ -84,8 +85,8 @@ bool ImplicitSimulation<Dim, Kernel>::residual_at(const Eigen::VectorXd& x, Real
   parallel_for(static_cast<std::ptrdiff_t>(np), [&](std::ptrdiff_t i) {
     const MaterialState& state = p.state;
     const MaterialStep u =
-        material_step<Dim>(spec_.materials[p.material[i]], state.sigma[i], state.eps_bar[i], state.stretch3[i], p.V[i],
-                           p.V0[i], p.F[i], dt * t.grad_v[i], dt,
+        material_step<Dim>(spec_.materials[p.material[i]], state.sigma[i], state.eps_bar[i], state.stretch3[i],
+                           state.internal[i], p.V[i], p.V0[i], p.F[i], dt * t.grad_v[i], dt,
                            geometry == Geometry::axisymmetric ? dt * t.v_r[i] / p.x[i][0] : 0, geometry);
     t.ok[i] = u.ok;
     t.sigma[i] = u.sigma;
@@ -93,6 +94,7 @@ bool ImplicitSimulation<Dim, Kernel>::residual_at(const Eigen::VectorXd& x, Real
     t.work[i] = u.work;
     t.energy[i] = u.energy;
     t.stretch3[i] = u.stretch3;
+    t.internal[i] = u.internal;
   });
   for (std::size_t i = 0; i < np; ++i)
     if (!t.ok[i]) return false;

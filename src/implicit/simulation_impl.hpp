@@ -10,6 +10,7 @@
 #include "mpm/core/parallel.hpp"
 
 #include "mpm/implicit/simulation.hpp"
+#include "mpm/particles/validate.hpp"
 #include "consistent_mass_impl.hpp"
 #include "projection_impl.hpp"
 #include "residual_impl.hpp"
@@ -63,31 +64,15 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
   if (spec.transfer == Transfer::apic) p.B.assign(p.size(), Mat<Dim>::Zero());  // the particles start unsheared
   if constexpr (moves_corners<Kernel>) place_corners(p);  // CPDI2's domains start as CPDI's
   const bool axisymmetric = Dim == 2 && spec_.geometry == Geometry::axisymmetric;
-  Real min_mass = std::numeric_limits<Real>::max();
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const std::string at = "particle " + std::to_string(i);
-    if (!g.contains(p.x[i])) throw InputError(at + " lies outside the grid");
-    if (!(p.m[i] > 0) || !(p.V0[i] > 0)) throw InputError(at + ": mass and volume must be positive");
-    if (p.material[i] >= spec_.materials.size()) throw InputError(at + ": material index has no material");
-    const Material& material = spec_.materials[p.material[i]];
-    if (is_rate_form(material) && !(p.F[i] - Mat<Dim>::Identity()).isZero(0))
-      throw InputError(at + ": the rate-form materials start undeformed (F = I)");
-    validate_half_lengths<Dim>(spec_.kernel, p.half_length(i), g.h, at);
-    const Real J = p.F[i].determinant();
-    if (!(J > 0)) throw InputError(at + ": deformation gradient must have det F > 0");
-    if (axisymmetric) {
-      if (!(p.X[i][0] > 0)) throw InputError(at + ": axisymmetric particles need radius x > 0");
-      p.m[i] *= p.X[i][0];  // per radian: m_p = rho r_p A_p
-      p.V0[i] *= p.X[i][0];
-    }
-    p.V[i] = p.V0[i] * J;
-    if (const auto* law = std::get_if<NeoHookean>(&material)) {  // the stress of F and its stored energy V0 W(F)
+  const Real min_mass = start_particles(p, spec_.materials, spec_.kernel, g, axisymmetric, 1);
+  for (std::size_t i = 0; i < p.size(); ++i)  // the Neo-Hookean stress of F and its stored energy V0 W(F)
+    if (const auto* law = std::get_if<NeoHookean>(&spec_.materials[p.material[i]])) {
+      const Real J = p.F[i].determinant();
       p.state.sigma[i] = neo_hookean_stress<Dim>(*law, law->template stress<Dim>(p.F[i], J), J);
       p.state.energy[i] = p.V0[i] * law->template energy_density<Dim>(p.F[i], J);
     }
-    min_mass = std::min(min_mass, p.m[i]);
-  }
   min_node_mass_ = 1e-14 * min_mass;
+  start_internal_state(spec_.materials, p.material, p.state);
   if constexpr (!reads_half_lengths<Kernel>) p.drop_half_lengths();  // read by no stage
   for (const Material& m : spec_.materials) modulus_ = std::max(modulus_, young_modulus(m));
   face_reactions_.assign(constraints_.names().size(), Vec<Dim>::Zero());
@@ -119,7 +104,7 @@ Real ImplicitSimulation<Dim, Kernel>::wave_speed_of(const Material& material, st
   // The rate-form speed from the density m / V, as the implicit engine has always taken it (the same value as
   // wave_speed(material, V / V0) but not the same rounding, which sets every step of a run).
   if (const auto* law = std::get_if<ElastoPlastic>(&material)) return law->wave_speed(p.m[i] / p.V[i]);
-  return wave_speed(material, p.V[i] / p.V0[i]);
+  return wave_speed(material, p.V[i] / p.V0[i], p.state.sigma[i]);
 }
 
 template <int Dim, class Kernel>
@@ -348,6 +333,7 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
     p.V[i] = p.V0[i] * p.F[i].determinant() * particles_.state.stretch3[i];
     particles_.state.sigma[i] = trial_.sigma[i];
     particles_.state.eps_bar[i] = trial_.eps_bar[i];
+    particles_.state.internal[i] = trial_.internal[i];
     particles_.state.energy[i] += trial_.energy[i];
     const auto* law = std::get_if<ElastoPlastic>(&spec_.materials[p.material[i]]);
     if (law && law->specific_heat > 0)

@@ -63,8 +63,8 @@ bool ImplicitSimulation<Dim, Kernel>::factorise_tangent(const Eigen::VectorXd& x
     const Real hoop_increment = hoop >= 0 ? dt * trial_.v_r[i] / p.x[i][0] : 0;  // as residual_at computed it
     const MaterialState& s = particles_.state;
     const auto stress_at = [&](const Mat<Dim>& dL_k, Real hoop_k) {
-      return material_step<Dim>(spec_.materials[p.material[i]], s.sigma[i], s.eps_bar[i], s.stretch3[i], p.V[i],
-                                p.V0[i], p.F[i], dL_k, dt, hoop_k, geometry)
+      return material_step<Dim>(spec_.materials[p.material[i]], s.sigma[i], s.eps_bar[i], s.stretch3[i],
+                                s.internal[i], p.V[i], p.V0[i], p.F[i], dL_k, dt, hoop_k, geometry)
           .sigma.full();
     };
     const Mat3 base = stress_at(dL, hoop_increment);

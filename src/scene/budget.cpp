@@ -80,7 +80,7 @@ double count_body(const Scene& sc, const SceneBody& b) {
 double wave_speed_at_rest(const Scene& sc) {
   double c = 0;
   for (const SceneMaterial& m : sc.materials)
-    c = std::max(c, wave_speed(m.law, 1.0));
+    c = std::max(c, mpm::wave_speed_at_rest(m.law));
   return c;
 }
 
@@ -107,21 +107,32 @@ MemoryModel engine_memory(const Scene& sc) {
   return sc.dim == 1 ? engine_memory<1>(sc) : sc.dim == 2 ? engine_memory<2>(sc) : engine_memory<3>(sc);
 }
 
+/// Whether the particles carry a material state: in implicit runs, and in explicit runs with a rate-form material.
+bool has_material_state(const Scene& sc) {
+  return sc.implicit || std::any_of(sc.materials.begin(), sc.materials.end(),
+                                    [](const SceneMaterial& m) { return is_rate_form(m.law); });
+}
+
 /// Bytes per particle of one particles_NNNN.vtp: the fields scene_run writes (velocity, displacement, stress,
-/// F, J, volume, mass, material, id; error with [check]; plastic strain, temperature rise and internal energy in
-/// implicit runs), the points, and two 8-byte integers of vertex cells.
+/// F, J, volume, mass, material, id; error with [check]; with a material state, plastic strain, temperature rise,
+/// internal energy and the internal variables the laws declare), the points, and two 8-byte integers of vertex
+/// cells.
 double frame_bytes_per_particle(const Scene& sc) {
-  const int components = 3 + 3 + 6 + 9 + 5 + (sc.exact_displacement.empty() ? 0 : 1) + (sc.implicit ? 3 : 0);
-  return 8.0 * (components + 3 + 2);
+  std::vector<Material> laws;
+  for (const SceneMaterial& m : sc.materials) laws.push_back(m.law);
+  const std::size_t state = has_material_state(sc) ? 3 + declared_columns(laws).size() : 0;
+  const std::size_t components = 3 + 3 + 6 + 9 + 5 + (sc.exact_displacement.empty() ? 0 : 1) + state;
+  return 8.0 * static_cast<double>(components + 3 + 2);
 }
 
 /// Bytes per particle of checkpoint.h5: the particle arrays (x, X, v, F, m, V0, material, field, id; l0 for the
-/// kernels that keep it) and in implicit runs the material state (stress, plastic strain, temperature, energy,
-/// stretch, volume).
+/// kernels that keep it) and with a material state, its arrays (stress, plastic strain, temperature, energy,
+/// stretch, volume, the laws' internal variables).
 double checkpoint_bytes_per_particle(const Scene& sc) {
   const bool half_lengths = with_kernel<2>(sc.kernel, []<class Kernel>() { return reads_half_lengths<Kernel>; });
-  const int values = (half_lengths ? 4 : 3) * sc.dim + sc.dim * sc.dim + 4 + (sc.implicit ? 11 : 0);
-  return 8.0 * values;
+  const std::size_t values = static_cast<std::size_t>((half_lengths ? 4 : 3) * sc.dim + sc.dim * sc.dim + 4) +
+                             (has_material_state(sc) ? 11 + internal_columns : 0);
+  return 8.0 * static_cast<double>(values);
 }
 
 std::string bytes_text(double bytes) {

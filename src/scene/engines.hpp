@@ -67,11 +67,21 @@ std::vector<Vec<Dim>> constraint_velocities(const KinematicConstraints<Dim>& fac
   return v;
 }
 
-/// The output fields of the rate-form state.
-inline void add_state_fields(const MaterialState& s, std::vector<io::PointField>& fields) {
+/// The output fields of the rate-form state, and one for each internal variable the table's laws declare (zero at the
+/// particles whose law does not declare it).
+template <int Dim>
+void add_state_fields(const std::vector<Material>& materials, const ParticleSet<Dim>& p,
+                      std::vector<io::PointField>& fields) {
+  const MaterialState& s = p.state;
   fields.push_back({"plastic_strain", 1, s.eps_bar});
   fields.push_back({"temperature_rise", 1, s.temperature});
   fields.push_back({"internal_energy", 1, s.energy});
+  for (const DeclaredColumn& column : declared_columns(materials)) {
+    std::vector<double> values(p.size(), 0.0);
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (column.declared_by[p.material[i]]) values[i] = s.internal[i][column.column];
+    fields.push_back({column.name, 1, std::move(values)});
+  }
 }
 /// The rate-form state and the volumes in a checkpoint, and back.
 template <int Dim>
@@ -85,7 +95,11 @@ void save_state(const ParticleSet<Dim>& p, io::CheckpointData& c) {
   c.reals["energy"] = s.energy;
   c.reals["stretch3"] = s.stretch3;
   c.reals["V"] = p.V;
-  c.row_widths.insert({{"sigma", 6}, {"eps_bar", 1}, {"temperature", 1}, {"energy", 1}, {"stretch3", 1}, {"V", 1}});
+  std::vector<double> internal;
+  for (const InternalState& row : s.internal) internal.insert(internal.end(), row.begin(), row.end());
+  c.reals["internal"] = internal;
+  c.row_widths.insert({{"sigma", 6}, {"eps_bar", 1}, {"temperature", 1}, {"energy", 1}, {"stretch3", 1}, {"V", 1},
+                       {"internal", static_cast<std::int64_t>(internal_columns)}});
 }
 template <int Dim>
 void load_state(const io::CheckpointData& c, const std::string& where, ParticleSet<Dim>& p) {
@@ -99,6 +113,14 @@ void load_state(const io::CheckpointData& c, const std::string& where, ParticleS
                             std::pair{"energy", &s.energy}, std::pair{"stretch3", &s.stretch3}, std::pair{"V", &p.V}}) {
     if (real(key).size() != p.size()) throw InputError(where + ": array '" + key + "' has the wrong size");
     *array = real(key);
+  }
+  // The laws' internal variables (a checkpoint written before any law declared them holds none: zero).
+  if (const auto it = c.reals.find("internal"); it != c.reals.end()) {
+    if (it->second.size() != internal_columns * p.size())
+      throw InputError(where + ": array 'internal' has the wrong size");
+    for (std::size_t i = 0; i < p.size(); ++i)
+      std::copy_n(it->second.begin() + static_cast<std::ptrdiff_t>(internal_columns * i), internal_columns,
+                  s.internal[i].begin());
   }
 }
 
@@ -151,7 +173,7 @@ class Explicit {
   }
   /// The rate-form state, and with [[contact]] each particle's velocity field (to tell the bodies apart).
   void add_fields(std::vector<io::PointField>& fields) const {
-    if (!sim_.particles().state.empty()) add_state_fields(sim_.particles().state, fields);
+    if (!sim_.particles().state.empty()) add_state_fields(spec_.materials, sim_.particles(), fields);
     if (spec_.contact.fields > 1) {
       const std::vector<std::uint16_t>& field = sim_.particles().field;
       fields.push_back(io::PointField{"field", 1, std::vector<double>(field.begin(), field.end())});
@@ -270,7 +292,9 @@ class Implicit {
     const SymTensor<3>& s = sim_.state().sigma[i];
     for (int k = 0; k < 6; ++k) out[k] = s.c[k];
   }
-  void add_fields(std::vector<io::PointField>& fields) const { add_state_fields(sim_.state(), fields); }
+  void add_fields(std::vector<io::PointField>& fields) const {
+    add_state_fields(spec_.materials, sim_.particles(), fields);
+  }
   void summarize(nlohmann::json& j) const {
     const ImplicitCounters& c = sim_.counters();
     j["implicit"] = {{"theta", spec_.theta},

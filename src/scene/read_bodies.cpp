@@ -94,7 +94,8 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
     if (!(b.k0 >= 0)) s.fail("k0", "expected a lateral stress ratio K0 >= 0");
     const Material& law = sc.materials[b.material].law;
     if (!is_rate_form(law) || std::holds_alternative<NewtonianFluid>(law))
-      s.fail("k0", "a geostatic stress needs a rate-form solid (hypoelastic, von-mises, drucker-prager, mohr-coulomb); "
+      s.fail("k0", "a geostatic stress needs a rate-form solid (hypoelastic, von-mises, drucker-prager, mohr-coulomb, "
+                   "modified-cam-clay); "
                    "material '" + material + "' is not one");
     if (!b.displacement.empty()) s.fail("k0", "a body in geostatic stress starts undisplaced; drop displacement");
   }

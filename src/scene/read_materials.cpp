@@ -1,6 +1,12 @@
 // Reading the [[materials]] tables of a scene: Neo-Hookean, rate-form (hypoelastic, von Mises), frictional
-// (Drucker-Prager, Mohr-Coulomb) and Newtonian fluid.
+// (Drucker-Prager, Mohr-Coulomb) and Newtonian fluid by readers of their own; the laws that declare their keys
+// (modified Cam-Clay; materials/parameters.hpp) from their declarations.
+#include <algorithm>
+#include <iterator>
 #include <numbers>
+#include <utility>
+#include <variant>
+#include <vector>
 
 #include "section.hpp"
 
@@ -121,7 +127,70 @@ NeoHookean read_neo_hookean(const Section& s, const Scene& sc, double rho) {
   return NeoHookean{lambda, mu, rho};
 }
 
+/// The law of `model` among the Material alternatives that declare their keys (DeclaresParameters), read from them:
+/// each key as a number or an expression of the constants, then the law's own checks. False when no such law has
+/// that name.
+template <class... Law>
+bool read_declared(const Section& s, const Scene& sc, const std::string& model, double rho, Material& out,
+                   std::variant<Law...>*) {
+  const auto one = [&]<class L>(L law) {
+    if constexpr (DeclaresParameters<L>) {
+      if (model != L::model) return false;
+      law.rho0 = rho;
+      for (const Parameter<L>& p : L::parameters()) {
+        if (p.required && !s.has(p.key)) s.fail(p.key, std::string("missing: ") + p.what);
+        law.*p.member = s.constant_number(p.key, p.fallback, sc.constants);
+      }
+      check_at_key(s, [&] { validate(Material{law}, "law", sc.dim, sc.geometry); });
+      out = law;
+      return true;
+    }
+    return false;
+  };
+  return (one(Law{}) || ...);
+}
+
+/// The keys of the laws that declare them, and which laws those are.
+template <class... Law>
+std::vector<std::pair<std::string, std::string>> declared_keys(std::variant<Law...>*) {
+  std::vector<std::pair<std::string, std::string>> keys;  // key, model
+  const auto one = [&]<class L>(L*) {
+    if constexpr (DeclaresParameters<L>)
+      for (const Parameter<L>& p : L::parameters()) keys.emplace_back(p.key, L::model);
+  };
+  (one(static_cast<Law*>(nullptr)), ...);
+  return keys;
+}
+
+/// The names of the laws that declare their keys.
+template <class... Law>
+std::vector<std::string> declared_models(std::variant<Law...>*) {
+  std::vector<std::string> models;
+  const auto one = [&]<class L>(L*) {
+    if constexpr (DeclaresParameters<L>) models.emplace_back(L::model);
+  };
+  (one(static_cast<Law*>(nullptr)), ...);
+  return models;
+}
+
+constexpr Material* all_laws = nullptr;
+
+/// The keys of the laws read by the readers above.
+std::vector<std::string> keys_read_above() {
+  std::vector<std::string> keys = {"name", "model", "E", "nu", "lambda", "mu", "density", "specific_heat",
+                                   "yield_strength", "hardening", "limit_strength", "softening", "residual_strength",
+                                   "viscosity", "second_viscosity", "bulk_modulus"};
+  keys.insert(keys.end(), std::begin(frictional_keys), std::end(frictional_keys));
+  return keys;
+}
 }  // namespace
+
+std::vector<std::string> material_keys() {
+  std::vector<std::string> keys = keys_read_above();
+  for (const auto& [key, model] : declared_keys(all_laws))
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+  return keys;
+}
 
 void read_material(const Section& s, Scene& sc) {
   SceneMaterial m;
@@ -129,12 +198,34 @@ void read_material(const Section& s, Scene& sc) {
   if (m.name.empty()) s.fail("name", "missing (each material needs a name bodies refer to)");
   for (const SceneMaterial& other : sc.materials)
     if (other.name == m.name) s.fail("name", "material '" + m.name + "' is defined twice");
-  const std::string model =
-      s.choice("model", "neo-hookean",
-               {"neo-hookean", "hypoelastic", "von-mises", "newtonian-fluid", "drucker-prager", "mohr-coulomb"});
+  const std::vector<std::string> declared_names = declared_models(all_laws);
+  std::vector<std::string> models = {"neo-hookean",    "hypoelastic",   "von-mises",
+                                     "newtonian-fluid", "drucker-prager", "mohr-coulomb"};
+  models.insert(models.end(), declared_names.begin(), declared_names.end());
+  const std::string model = s.choice("model", "neo-hookean", models);
   const double rho = s.required_number("density");
   if (!(rho > 0)) s.fail("density", "expected a positive density [kg/m^3]");
   m.density = rho;
+  // In the table of a law that declares its keys, any key but its own; in another, a key only such laws read.
+  const std::vector<std::pair<std::string, std::string>> declared = declared_keys(all_laws);
+  const std::vector<std::string> above = keys_read_above();
+  const bool is_declared = std::find(declared_names.begin(), declared_names.end(), model) != declared_names.end();
+  for (const std::string& key : material_keys()) {
+    if (key == "name" || key == "model" || key == "density" || !s.has(key)) continue;
+    const auto owner = [&](const std::string& law) {
+      return std::find(declared.begin(), declared.end(), std::pair{key, law}) != declared.end();
+    };
+    if (is_declared && !owner(model)) s.fail(key, "does not apply to model = \"" + model + "\"");
+    if (!is_declared && std::find(above.begin(), above.end(), key) == above.end()) {
+      const auto d = std::find_if(declared.begin(), declared.end(), [&](const auto& x) { return x.first == key; });
+      s.fail(key, "applies to model = \"" + d->second + "\" only");
+    }
+  }
+  if (is_declared) {
+    read_declared(s, sc, model, rho, m.law, all_laws);
+    sc.materials.push_back(m);
+    return;
+  }
   const bool frictional = model == "drucker-prager" || model == "mohr-coulomb";
   if (!frictional)
     for (const char* k : frictional_keys)

@@ -87,9 +87,7 @@ void read_simulation(const Section& s, Scene& sc) {
   const std::string integrator = s.choice("integrator", "usl", {"usf", "usl", "cd", "musl", "implicit"});
   sc.implicit = integrator == "implicit";
   if (!sc.implicit) sc.integrator = parse_integrator(integrator);
-  sc.kernel = parse_kernel(s.choice("kernel", "cpgimp",
-                                     {"linear", "ugimp", "cpgimp", "bspline2", "bspline3", "bspline2-clamped",
-                                      "bspline3-clamped", "cpdi", "ugimp-wide", "cpgimp-wide", "cpdi2"}));
+  sc.kernel = parse_kernel(s.choice("kernel", "cpgimp", kernel_names()));
   if (s.has("gimp_length")) {
     sc.gimp_length = s.number("gimp_length", 0);
     if (!(*sc.gimp_length >= 0)) s.fail("gimp_length", "expected a smoothing length >= 0 [m] (0: linear MPM)");
@@ -363,12 +361,7 @@ Scene read_scene_text(const std::string& text, const std::filesystem::path& file
   const std::vector<const toml::table*> materials = top.tables("materials");
   if (materials.empty()) top.fail("materials", "missing: at least one [[materials]] table is needed");
   for (std::size_t k = 0; k < materials.size(); ++k)
-    read_material(Section(*materials[k], "materials[" + std::to_string(k) + "]", loc,
-                          {"name", "model", "E", "nu", "lambda", "mu", "density", "specific_heat", "yield_strength",
-                           "hardening", "limit_strength", "softening", "residual_strength", "viscosity", "second_viscosity",
-                           "bulk_modulus", "cohesion", "friction_angle", "dilatancy_angle", "residual_cohesion",
-                           "residual_friction_angle", "residual_strain", "match", "tension_cutoff"}),
-                  sc);
+    read_material(Section(*materials[k], "materials[" + std::to_string(k) + "]", loc, material_keys()), sc);
   resolve_absorbing_faces(Section(*grid, "grid", loc, {"lo", "hi", "cells", "faces", "constrained_acceleration"}), sc, loc);
   const std::vector<const toml::table*> bodies = top.tables("bodies");
   if (bodies.empty()) top.fail("bodies", "missing: at least one [[bodies]] table is needed");

@@ -227,6 +227,8 @@ inline const std::vector<std::string> time_var{"t"};
 
 /// Read one [[materials]] table into sc.materials.
 void read_material(const Section& s, Scene& sc);
+/// Every key a [[materials]] table may hold (those of the laws that declare theirs included).
+std::vector<std::string> material_keys();
 /// Read bodies[index] into sc.bodies.
 void read_body(const Section& s, Scene& sc, std::size_t index);
 /// Read rigid_bodies[index] into sc.rigid_bodies.

@@ -3,23 +3,29 @@
 #include <array>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "mpm/core/errors.hpp"
 
 namespace mpm {
 
-namespace {
-constexpr std::array<std::string_view, 11> kernel_names{
-    "linear", "ugimp", "cpgimp", "bspline2", "bspline3", "bspline2-clamped", "bspline3-clamped", "cpdi", "ugimp-wide",
-    "cpgimp-wide", "cpdi2"};
-}  // namespace
-
 KernelKind parse_kernel(std::string_view name, std::string_view key) {
-  return parse_name<KernelKind>(kernel_names, name, key);
+  std::array<std::string_view, kernel_registry.size()> names;
+  for (std::size_t i = 0; i < names.size(); ++i) names[i] = kernel_registry[i].name;
+  return parse_name<KernelKind>(names, name, key);
 }
 
-std::string_view to_string(KernelKind k) {
-  return kernel_names[static_cast<std::size_t>(k)];
+std::vector<std::string> kernel_names() {
+  std::vector<std::string> names;
+  for (const KernelEntry& e : kernel_registry) names.emplace_back(e.name);
+  return names;
+}
+
+std::string kernel_name_list() {
+  std::string list;
+  for (std::size_t i = 0; i < kernel_registry.size(); ++i)
+    list += (i == 0 ? "" : i + 1 == kernel_registry.size() ? " or " : ", ") + std::string(kernel_registry[i].name);
+  return list;
 }
 
 std::string half_length_bound(KernelKind k) {

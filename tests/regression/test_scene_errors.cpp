@@ -67,6 +67,10 @@ const std::vector<std::pair<std::string, std::string>> disk_to_file{
     {"center = [0.7, 0.7]\n", ""},
     {"radius = 0.1\n", ""}};
 
+/// The keys of a modified Cam-Clay material but its preconsolidation pressure, in place of the base scene's E and nu.
+const std::string cam_clay =
+    "model = \"modified-cam-clay\"\nM = 1.2\ncompression_index = 0.1\nswelling_index = 0.02\nnu = 0.3";
+
 struct BadScene {
   std::string name;
   /// Applied in order to the base scene: replace the first occurrence of `first` by `second`; an empty `first`
@@ -271,6 +275,19 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"ConeMatchOfMohrCoulomb",
                  {{"nu = 0.3", "nu = 0.3\nmodel = \"mohr-coulomb\"\ncohesion = 1.0\nmatch = \"outer\""}},
                  "materials[0].match", {"applies to model = \"drucker-prager\" only"}, 20},
+        BadScene{"YoungModulusOfCamClay", {{"nu = 0.3", "nu = 0.3\nmodel = \"modified-cam-clay\""}}, "materials[0].E",
+                 {"does not apply to model = \"modified-cam-clay\""}, 16},
+        BadScene{"CamClayKeyOfAnElasticMaterial", {{"nu = 0.3", "nu = 0.3\nM = 1.2"}}, "materials[0].M",
+                 {"applies to model = \"modified-cam-clay\" only"}, 18},
+        BadScene{"CamClayWithoutPreconsolidation", {{"E = 1000.0\nnu = 0.3", cam_clay}},
+                 "materials[0].preconsolidation_pressure", {"missing: the initial preconsolidation pressure"}, 14},
+        BadScene{"CamClaySwellingSteeperThanCompression",
+                 {{"E = 1000.0\nnu = 0.3", cam_clay + "\npreconsolidation_pressure = 1e4"},
+                  {"swelling_index = 0.02", "swelling_index = 0.2"}},
+                 "materials[0].compression_index", {"the normal compression line must be steeper"}, 18},
+        BadScene{"CamClayBodyWithoutConfinement",
+                 {{"E = 1000.0\nnu = 0.3", cam_clay + "\npreconsolidation_pressure = 1e4"}}, "materials[0]",
+                 {"starts at mean effective stress p' = 0 Pa", "k0 under gravity"}, 0},
         BadScene{"GeostaticNeoHookeanBody", {{"ppc = 2", "ppc = 2\nk0 = 0.5"}}, "bodies[1].k0",
                  {"a geostatic stress needs a rate-form solid"}, 33},
         BadScene{"MaterialUndefined", {{"material = \"elastic\"", "material = \"steel\""}}, "bodies[1].material",

@@ -35,8 +35,8 @@ TEST(NewtonianFluid, StepUsesTheRateAndTheNewVolume) {
   Mat<2> dL;
   dL << 0.01, 0.02, 0.0, -0.005;
   const Real dt = 0.1;
-  const MaterialStep r = material_step<2>(Material{f}, SymTensor<3>{}, 0, 1, 1.0, 1.0, Mat<2>::Identity(), dL, dt, 0,
-                                          Geometry::plane_strain);
+  const MaterialStep r = material_step<2>(Material{f}, SymTensor<3>{}, 0, 1, InternalState{}, 1.0, 1.0,
+                                          Mat<2>::Identity(), dL, dt, 0, Geometry::plane_strain);
   ASSERT_TRUE(r.ok);
   const Real J = (Mat<2>::Identity() + dL).determinant(), trD = 0.005 / dt;
   EXPECT_DOUBLE_EQ(r.sigma(0, 1), 0.3 * 0.02 / dt);

@@ -66,7 +66,7 @@ class ImplicitSimulation {
   static MemoryModel memory_model(int krylov_restart, bool frozen_jacobian) {
     constexpr double vec = sizeof(Vec<Dim>), real = sizeof(Real);
     const double state = MaterialState::bytes_per_particle();
-    const double trial = sizeof(SymTensor<3>) + 4 * real + sizeof(Mat<Dim>) + 2 * vec + 1;  // Trial
+    const double trial = sizeof(SymTensor<3>) + 4 * real + sizeof(InternalState) + sizeof(Mat<Dim>) + 2 * vec + 1;  // Trial
     const double particle = ParticleSet<Dim>::bytes_per_particle(reads_half_lengths<Kernel>) + state + trial +
                             sizeof(StoredStencil<Dim, Kernel>) + sizeof(std::int32_t);
     double node = sizeof(GridNode<Dim>) + 4 * vec + Dim * (sizeof(std::int32_t) + sizeof(std::int8_t)) +
@@ -122,6 +122,7 @@ class ImplicitSimulation {
   struct Trial {  // particle state computed by one residual evaluation
     std::vector<SymTensor<3>> sigma;
     std::vector<Real> eps_bar, work, energy, stretch3;
+    std::vector<InternalState> internal;
     std::vector<Mat<Dim>> grad_v;
     std::vector<Real> v_r;    // the radial velocity at the particle, sum_i N_i(x_p) v_ri^L
     std::vector<Vec<Dim>> v;  // v_p^L: Sulsky & Kaul 2004, Eq. (3.2.6) (momentum) or Eq. (2.3.3)

@@ -21,6 +21,7 @@
 
 #include "mpm/core/errors.hpp"
 #include "mpm/core/types.hpp"
+#include "mpm/materials/state.hpp"
 #include "mpm/materials/sym3.hpp"
 
 namespace mpm {
@@ -194,6 +195,7 @@ struct StressUpdate {
                       ///< Eq. (2.3.5) right-hand side)
   Real d_eps_zz;      ///< the out-of-plane strain increment used (solved in plane stress)
   bool plastic;       ///< whether the return map was active
+  InternalState internal{};  ///< the law's internal variables at the end (those it declares; cam_clay.hpp)
 };
 
 /// Deviatoric part sigma - tr(sigma)/3 I. Sulsky & Kaul 2004, Eq. (2.1.17).

@@ -34,16 +34,19 @@ struct MaterialStep {
   Real work;           ///< plastic work of the step [J, per unit thickness or radian]
   Real energy;         ///< internal (or stored) energy increment of the step [J, per unit thickness or radian]
   Real stretch3;       ///< out-of-plane stretch
+  InternalState internal;  ///< the law's internal variables (those it declares; zero for the others)
   bool ok;             ///< J > 0, a positive out-of-plane stretch and a finite stress
 };
 
-/// Advance a particle of a rate-form solid (ElastoPlastic, DruckerPrager, MohrCoulomb) of volume V over a step
-/// whose velocity-gradient increment is dL = dt grad v and whose hoop strain increment (axisymmetric) is dt v_r / r. Strain and spin increments: Sulsky & Kaul 2004, Eq. (2.2.18),
-/// Eq. (2.2.19), Eq. (2.2.20); the stress: update_stress; the internal energy with the mid-step stress:
-/// Sulsky & Kaul 2004, Eq. (2.2.16).
+/// Advance a particle of a rate-form solid (ElastoPlastic, DruckerPrager, MohrCoulomb, ModifiedCamClay) of volume V
+/// over a step whose velocity-gradient increment is dL = dt grad v and whose hoop strain increment (axisymmetric) is
+/// dt v_r / r. Strain and spin increments: Sulsky & Kaul 2004, Eq. (2.2.18), Eq. (2.2.19), Eq. (2.2.20); the
+/// stress: update_stress (with the internal variables of the laws that declare them); the internal energy with the
+/// mid-step stress: Sulsky & Kaul 2004, Eq. (2.2.16).
 template <int Dim, class Law>
 MaterialStep rate_form_step(const Law& mat, const SymTensor<3>& sigma, Real eps_bar, Real stretch3, Real V,
-                        const Mat<Dim>& dL, Real hoop_increment, Geometry geometry) {
+                            const Mat<Dim>& dL, Real hoop_increment, Geometry geometry,
+                            const InternalState& internal = {}) {
   const Mat3 dL3 = embed<Dim>(dL);
   Mat3 de = 0.5 * (dL3 + dL3.transpose());
   const Mat3 dW = 0.5 * (dL3 - dL3.transpose());
@@ -53,15 +56,18 @@ MaterialStep rate_form_step(const Law& mat, const SymTensor<3>& sigma, Real eps_
   StressUpdate u;
   if constexpr (std::is_same_v<Law, ElastoPlastic>)
     u = update_stress(mat, sigma_n, eps_bar, de, dW, mode);
+  else if constexpr (requires { Law::state_columns; })
+    u = update_stress(mat, sigma_n, eps_bar, internal, de, dW);
   else
     u = update_stress(mat, sigma_n, eps_bar, de, dW);  // frictional: de(2, 2) as given (no plane stress)
   de(2, 2) = u.d_eps_zz;
-  MaterialStep out;
+  MaterialStep out{};
   out.stretch3 = geometry == Geometry::plane_strain ? 1.0 : stretch3 * (1 + de(2, 2));
   const Real J = (Mat<Dim>::Identity() + dL).determinant() * out.stretch3 / stretch3;
   out.ok = J > 0 && out.stretch3 > 0 && u.sigma.allFinite();
   out.sigma = packed(u.sigma);
   out.eps_bar = u.eps_bar;
+  out.internal = u.internal;
   out.work = u.plastic_work * V;
   out.energy = V * mid_step_work(sym3_of(sigma_n), sym3_of(u.sigma), sym3_of(de));
   return out;
@@ -113,9 +119,9 @@ MaterialStep fluid_step(const NewtonianFluid& law, const SymTensor<3>& sigma, Re
 
 /// One particle over a step dt, whatever its material: hyperelastic_step, rate_form_step or fluid_step.
 template <int Dim>
-MaterialStep material_step(const Material& material, const SymTensor<3>& sigma, Real eps_bar, Real stretch3, Real V,
-                           Real V0, const Mat<Dim>& F, const Mat<Dim>& dL, Real dt, Real hoop_increment,
-                           Geometry geometry) {
+MaterialStep material_step(const Material& material, const SymTensor<3>& sigma, Real eps_bar, Real stretch3,
+                           const InternalState& internal, Real V, Real V0, const Mat<Dim>& F, const Mat<Dim>& dL,
+                           Real dt, Real hoop_increment, Geometry geometry) {
   return std::visit(
       [&](const auto& law) {
         using Law = std::decay_t<decltype(law)>;
@@ -124,7 +130,7 @@ MaterialStep material_step(const Material& material, const SymTensor<3>& sigma, 
         else if constexpr (std::is_same_v<Law, NewtonianFluid>)
           return fluid_step<Dim>(law, sigma, V, F, dL, dt);
         else
-          return rate_form_step<Dim>(law, sigma, eps_bar, stretch3, V, dL, hoop_increment, geometry);
+          return rate_form_step<Dim>(law, sigma, eps_bar, stretch3, V, dL, hoop_increment, geometry, internal);
       },
       material);
 }

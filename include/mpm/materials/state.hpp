@@ -1,11 +1,24 @@
 #pragma once
 /// Per-particle state of the rate-form materials, stored as a structure of arrays by the particle set.
+#include <array>
 #include <cstddef>
 #include <vector>
 
 #include "mpm/core/types.hpp"
 
 namespace mpm {
+
+/// The most internal variables a law keeps per particle beyond the stress and the plastic strain (a law declares
+/// its own in `state_columns`; material.hpp checks that each fits).
+inline constexpr std::size_t internal_columns = 1;
+/// A particle's internal variables, in the order its law declares them (0 where its law declares fewer).
+using InternalState = std::array<Real, internal_columns>;
+
+/// One internal variable a law declares: its name in frames and its unit.
+struct StateColumn {
+  const char* name;
+  const char* unit;
+};
 
 /// Empty while every material is hyperelastic (its stress follows from F alone).
 struct MaterialState {
@@ -14,6 +27,7 @@ struct MaterialState {
   std::vector<Real> temperature;    ///< temperature rise from plastic work (Sulsky & Kaul 2004, Eq. (2.3.5)) [K]
   std::vector<Real> energy;         ///< internal energy (Sulsky & Kaul 2004, Eq. (2.2.16)) [J, per unit thickness or radian]
   std::vector<Real> stretch3;       ///< out-of-plane stretch: 1 (plane strain), F_zz (plane stress), r/R (axisymmetric)
+  std::vector<InternalState> internal;  ///< the internal variables each law declares (start_internal_state)
 
   bool empty() const { return sigma.empty(); }
   /// n unstressed particles.
@@ -28,8 +42,11 @@ struct MaterialState {
     temperature.resize(n, 0);
     energy.resize(n, 0);
     stretch3.resize(n, 1);
+    internal.resize(n, InternalState{});
   }
-  static constexpr std::size_t bytes_per_particle() { return sizeof(SymTensor<3>) + 4 * sizeof(Real); }
+  static constexpr std::size_t bytes_per_particle() {
+    return sizeof(SymTensor<3>) + 4 * sizeof(Real) + sizeof(InternalState);
+  }
 };
 
 }  // namespace mpm

@@ -96,7 +96,7 @@ struct ParticleSet {
   /// Call fn(array) for every array of the material state.
   template <class Fn>
   void for_each_state_array(Fn&& fn) {
-    fn(state.sigma), fn(state.eps_bar), fn(state.temperature), fn(state.energy), fn(state.stretch3);
+    fn(state.sigma), fn(state.eps_bar), fn(state.temperature), fn(state.energy), fn(state.stretch3), fn(state.internal);
   }
   /// Call fn(array) for every array every particle has: all but the material state's and the optional ones.
   template <class Fn>

@@ -1,9 +1,10 @@
 #pragma once
-/// The kernel policies both engines are compiled for, in one list: the engine library holds one translation unit
-/// per engine, dimension and entry (CMakeLists.txt, mpm_instantiate, whose names follow this order), and
-/// with_kernel dispatches a KernelKind to its entry.
+/// The kernel policies both engines are compiled for, in one list: cmake/instantiate.cmake reads it to generate the
+/// engine library's units (a few entries each), and with_kernel dispatches a KernelKind to the entry its registry
+/// line names.
 #include <cstddef>
 #include <tuple>
+#include <utility>
 
 #include "mpm/shape/cpdi.hpp"
 #include "mpm/shape/cpdi2.hpp"
@@ -20,31 +21,25 @@ using KernelPolicies = std::tuple<LinearKernel, GimpKernel, WideGimpKernel, Quad
 template <int Dim, std::size_t I>
 using KernelPolicy = std::tuple_element_t<I, KernelPolicies<Dim>>;
 
-/// Call fn.template operator()<Kernel>() with the kernel policy for a kernel kind in Dim dimensions (coarse run-time
-/// choice).
+static_assert([] {
+  for (const KernelEntry& e : kernel_registry)
+    if (e.policy >= std::tuple_size_v<KernelPolicies<1>>) return false;
+  return true;
+}(), "every kernel of kernel_registry names an entry of KernelPolicies");
+
+/// Call fn.template operator()<KernelPolicy<Dim, policy>>() (entry `policy` of KernelPolicies, I and beyond).
+template <int Dim, std::size_t I = 0, class Fn>
+decltype(auto) with_policy(std::size_t policy, Fn&& fn) {
+  if constexpr (I + 1 < std::tuple_size_v<KernelPolicies<Dim>>)
+    if (policy != I) return with_policy<Dim, I + 1>(policy, std::forward<Fn>(fn));
+  return fn.template operator()<KernelPolicy<Dim, I>>();
+}
+
+/// Call fn.template operator()<Kernel>() with the kernel policy of a kernel kind in Dim dimensions (its registry
+/// entry's; a coarse run-time choice).
 template <int Dim, class Fn>
 decltype(auto) with_kernel(KernelKind k, Fn&& fn) {
-  switch (k) {
-    case KernelKind::cpdi:
-      return fn.template operator()<CpdiKernel<Dim>>();
-    case KernelKind::cpdi2:
-      return fn.template operator()<Cpdi2Kernel<Dim>>();
-    case KernelKind::linear:
-      return fn.template operator()<LinearKernel>();
-    case KernelKind::ugimp:
-    case KernelKind::cpgimp:
-      return fn.template operator()<GimpKernel>();
-    case KernelKind::ugimp_wide:
-    case KernelKind::cpgimp_wide:
-      return fn.template operator()<WideGimpKernel>();
-    case KernelKind::bspline2:
-    case KernelKind::bspline2_clamped:
-      return fn.template operator()<QuadraticBSplineKernel>();
-    case KernelKind::bspline3:
-    case KernelKind::bspline3_clamped:
-      break;
-  }
-  return fn.template operator()<CubicBSplineKernel>();
+  return with_policy<Dim>(kernel_entry(k).policy, std::forward<Fn>(fn));
 }
 
 }  // namespace mpm
