@@ -50,6 +50,8 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
     if (b.file.empty()) s.fail("file", "missing (a CSV file of positions and volumes)");
     if (b.file.is_relative()) b.file = sc.file.parent_path() / b.file;
     if (!std::filesystem::exists(b.file)) s.fail("file", "cannot open " + b.file.string());
+    if (!std::filesystem::is_regular_file(b.file))
+      s.fail("file", b.file.string() + " is not a regular file (a CSV file of positions and volumes)");
   } else {
     if ((shape == "disk" && sc.dim != 2) || (shape == "sphere" && sc.dim != 3))
       s.fail("shape", "\"disk\" is for 2-D scenes, \"sphere\" for 3-D");

@@ -51,6 +51,9 @@ std::string apply_override(toml::table& doc, const std::string& assignment) {
   std::vector<std::string> keys;
   std::stringstream ss(path);
   for (std::string k; std::getline(ss, k, '.');) keys.push_back(k);
+  if (keys.size() > max_key_depth)
+    throw InputError("--set " + assignment.substr(0, 40) + "...: a key path deeper than " +
+                     std::to_string(max_key_depth) + " levels");
   toml::node* at = &doc;
   std::string key_path;
   for (std::size_t i = 0; i + 1 < keys.size(); ++i) {
@@ -291,6 +294,7 @@ Scene read_scene_text(const std::string& text, const std::filesystem::path& file
   sc.text = text;
   Locator loc{file.string(), {}};
   toml::table doc;
+  refuse_deep_keys(sc.text, file.string());
   try {
     doc = toml::parse(sc.text, file.string());
   } catch (const toml::parse_error& e) {
@@ -303,6 +307,8 @@ Scene read_scene_text(const std::string& text, const std::filesystem::path& file
     for (auto&& [k, v] : *c) {
       const std::string name(k.str());
       if (!v.is_number()) loc.fail(&v, "constants." + name, "expected a number, got " + describe(v));
+      if (!std::isfinite(number_value(v)))
+        loc.fail(&v, "constants." + name, "expected a finite number, got " + describe(v));
       if (!valid_name(name))
         loc.fail(&v, "constants." + name, "expected a name of letters, digits and '_' that starts with a letter");
       if (reserved_name(name))

@@ -12,6 +12,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "mpm/core/errors.hpp"
@@ -226,6 +227,12 @@ inline const std::vector<std::string> reference_time_vars[] = {{"X", "t"}, {"X",
 inline const std::vector<std::string> time_var{"t"};
 
 /// Read one [[materials]] table into sc.materials.
+/// The deepest a key of a scene may nest: the segments of a dotted key or table header, or of a --set path.
+inline constexpr std::size_t max_key_depth = 64;
+/// Throw InputError ("FILE:LINE: a key nested deeper than ...") if a key of a scene's text nests deeper than
+/// max_key_depth, before toml++ parses it (its parser recurses once per segment).
+void refuse_deep_keys(std::string_view text, const std::string& file);
+
 void read_material(const Section& s, Scene& sc);
 /// Every key a [[materials]] table may hold (those of the laws that declare theirs included).
 std::vector<std::string> material_keys();

@@ -177,6 +177,13 @@ TEST_P(SceneError, OneLineNamingFileLineAndKeyAndExitStatus2) {
   }
 }
 
+/// A dotted key of n segments, "k.k.k...".
+std::string dotted_key(int n) {
+  std::string key = "k";
+  for (int i = 1; i < n; ++i) key += ".k";
+  return key;
+}
+
 std::string traction_on(const std::string& body, const std::string& face) {
   return "[loads]\n[[loads.traction]]\nbody = \"" + body + "\"\nface = \"" + face + "\"\ntraction = [1.0, 0.0]\n";
 }
@@ -288,6 +295,16 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"CamClayBodyWithoutConfinement",
                  {{"E = 1000.0\nnu = 0.3", cam_clay + "\npreconsolidation_pressure = 1e4"}}, "materials[0]",
                  {"starts at mean effective stress p' = 0 Pa", "k0 under gravity"}, 0},
+        BadScene{"ConstantNotANumber", {{"", "[constants]\nc = nan\n"}}, "constants.c",
+                 {"expected a finite number, got nan"}, 35},
+        BadScene{"ConstantInfinite", {{"", "[constants]\nc = -inf\n"}}, "constants.c",
+                 {"expected a finite number, got -inf"}, 35},
+        BadScene{"ParticleFileIsAFolder", {{"shape = \"disk\"", "shape = \"file\"\nfile = \".\""}}, "bodies[1].file",
+                 {"is not a regular file"}, 30},
+        BadScene{"KeysNestedTooDeep", {{"", dotted_key(100) + " = 1\n"}}, "",
+                 {"a key nested deeper than 64 levels"}, 34},
+        BadScene{"SetPathTooDeep", {}, "", {"--set", "a key path deeper than 64 levels"}, 0,
+                 "--set '" + dotted_key(100) + "=1'", "", ""},
         BadScene{"GeostaticNeoHookeanBody", {{"ppc = 2", "ppc = 2\nk0 = 0.5"}}, "bodies[1].k0",
                  {"a geostatic stress needs a rate-form solid"}, 33},
         BadScene{"MaterialUndefined", {{"material = \"elastic\"", "material = \"steel\""}}, "bodies[1].material",
