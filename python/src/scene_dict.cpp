@@ -20,38 +20,47 @@ namespace mpm::python {
 
 namespace {
 
-toml::array to_array(py::handle seq, const std::string& key);
-toml::table to_table(py::handle dict, const std::string& key);
+/// The deepest a dict or list may nest, as the scene reader's keys may (src/scene/section.hpp, max_key_depth): a
+/// dict that contains itself, or one nested thousands deep, is refused instead of overflowing the stack.
+constexpr int max_depth = 64;
 
-/// A Python value as a TOML value: bool, integer, float, str, a sequence (array) or a dict (table). `key` names it
-/// in the ValueError for anything else.
+toml::array to_array(py::handle seq, const std::string& key, int depth);
+toml::table to_table(py::handle dict, const std::string& key, int depth);
+
+/// A Python value at nesting `depth` as a TOML value: bool, integer, float, str, a sequence (array) or a dict
+/// (table). `key` names it in the ValueError for anything else.
 template <class Put>
-void put_value(py::handle v, const std::string& key, Put&& put) {
+void put_value(py::handle v, const std::string& key, int depth, Put&& put) {
+  if (depth > max_depth)
+    throw InputError(key.substr(0, 200) + (key.size() > 200 ? "...: " : ": ") + "nested deeper than " +
+                     std::to_string(max_depth) + " levels (a dict or list that contains itself?)");
   if (py::isinstance<py::bool_>(v)) return put(v.cast<bool>());
   if (py::isinstance<py::str>(v)) return put(v.cast<std::string>());
-  if (py::isinstance<py::dict>(v)) return put(to_table(v, key));
+  if (py::isinstance<py::dict>(v)) return put(to_table(v, key, depth + 1));
   if (py::isinstance<py::float_>(v)) return put(v.cast<double>());
   if (py::hasattr(v, "__index__")) return put(v.cast<std::int64_t>());  // int, numpy's integers
   if (py::hasattr(v, "__float__")) return put(v.cast<double>());      // numpy's floats
-  if (py::isinstance<py::sequence>(v)) return put(to_array(v, key));
+  if (py::isinstance<py::sequence>(v)) return put(to_array(v, key, depth + 1));
   throw InputError(key + ": expected a number, string, list or dict, got a " +
                    std::string(py::str(v.get_type().attr("__name__"))));
 }
 
-toml::array to_array(py::handle seq, const std::string& key) {
+toml::array to_array(py::handle seq, const std::string& key, int depth) {
   toml::array out;
   std::size_t k = 0;
   for (py::handle item : seq)
-    put_value(item, key + "[" + std::to_string(k++) + "]", [&](auto&& value) { out.push_back(std::move(value)); });
+    put_value(item, key + "[" + std::to_string(k++) + "]", depth,
+              [&](auto&& value) { out.push_back(std::move(value)); });
   return out;
 }
 
-toml::table to_table(py::handle dict, const std::string& key) {
+toml::table to_table(py::handle dict, const std::string& key, int depth) {
   toml::table out;
   for (auto [k, v] : py::reinterpret_borrow<py::dict>(dict)) {
     if (!py::isinstance<py::str>(k)) throw InputError(key + ": expected string keys");
     const std::string name = k.cast<std::string>();
-    put_value(v, key.empty() ? name : key + "." + name, [&](auto&& value) { out.insert(name, std::move(value)); });
+    put_value(v, key.empty() ? name : key + "." + name, depth,
+              [&](auto&& value) { out.insert(name, std::move(value)); });
   }
   return out;
 }
@@ -59,7 +68,7 @@ toml::table to_table(py::handle dict, const std::string& key) {
 /// A Python value in TOML syntax, as one would write it after --set: 0.5, "usl", [20, 20], { E = 1e7 }.
 std::string toml_text(py::handle v, const std::string& key) {
   std::string out;
-  put_value(v, key, [&](auto&& value) {
+  put_value(v, key, 0, [&](auto&& value) {
     using T = std::decay_t<decltype(value)>;
     if constexpr (std::is_same_v<T, bool>) {
       out = value ? "true" : "false";
@@ -116,7 +125,7 @@ void bind_scene(py::module_& m) {
           "from_dict",
           [](const py::dict& scene, const std::string& name, const py::dict& overrides) {
             std::ostringstream text;
-            text << toml::toml_formatter(to_table(scene, ""));
+            text << toml::toml_formatter(to_table(scene, "", 0));
             return std::make_shared<Scene>(read_scene_text(text.str(), name, assignments(overrides)));
           },
           py::arg("scene"), py::arg("name") = "<dict>", py::arg("overrides") = py::dict())

@@ -26,6 +26,25 @@ def test_from_dict_names_the_key():
         mpm.Scene.from_dict({"simulation": {"end_time": object()}})
 
 
+def test_from_dict_refuses_a_dict_that_contains_itself_or_nests_too_deep():
+    # Both overflowed the stack and ended Python (issue 47, item 6); the limit is the reader's 64 levels.
+    looped = {"simulation": {}}
+    looped["simulation"]["again"] = looped
+    with pytest.raises(ValueError, match=r"nested deeper than 64 levels \(a dict or list that contains itself\?\)$"):
+        mpm.Scene.from_dict(looped)
+    listed = []
+    listed.append(listed)
+    with pytest.raises(ValueError, match=r"^simulation\.x\[0\]\[0\].*\.\.\.: nested deeper than 64 levels"):
+        mpm.Scene.from_dict({"simulation": {"x": listed}})
+    deep = {}
+    for _ in range(20000):
+        deep = {"k": deep}
+    with pytest.raises(ValueError, match="nested deeper than 64 levels"):
+        mpm.Scene.from_dict(deep)
+    with pytest.raises(ValueError, match="nested deeper than 64 levels"):
+        mpm.Scene.from_toml(DISKS, overrides={"simulation.x": deep})
+
+
 def test_missing_file():
     with pytest.raises(ValueError, match="no-such.toml: cannot open the scene file"):
         mpm.Scene.from_toml("no-such.toml")
