@@ -4,23 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "mpm/core/errors.hpp"
 
 namespace mpm {
 
-namespace {
-std::string number(Real x) {
-  std::ostringstream s;
-  s.precision(6);
-  s << x;
-  return s.str();
-}
-[[noreturn]] void bad(const std::string& where, const char* key, const std::string& what) {
-  throw InputError(where + "." + key + ": " + what);
-}
-}  // namespace
+// A number in messages, and the "where.KEY: what" error of the laws' checks (elastoplastic.hpp).
+using detail::bad_input;
+using detail::number;
 
 InternalState ModifiedCamClay::initial_state(const SymTensor<3>& sigma) const {
   const Eigen::Matrix3d s = sigma.full();
@@ -38,25 +29,25 @@ InternalState ModifiedCamClay::initial_state(const SymTensor<3>& sigma) const {
 
 void validate(const ModifiedCamClay& m, const std::string& where, Geometry geometry) {
   const auto positive = [&](Real v, const char* key, const char* what) {
-    if (!(std::isfinite(v) && v > 0)) bad(where, key, std::string("expected ") + what + ", got " + number(v));
+    if (!(std::isfinite(v) && v > 0)) bad_input(where, key, std::string("expected ") + what + ", got " + number(v));
   };
   positive(m.rho0, "density", "a positive density [kg/m^3]");
   positive(m.M, "M", "a positive slope of the critical state line");
   positive(m.kappa_star, "swelling_index", "a positive slope kappa* of the swelling line (ln v against ln p')");
   positive(m.lambda_star, "compression_index", "a positive slope lambda* of the normal compression line");
   if (!(m.lambda_star > m.kappa_star))
-    bad(where, "compression_index",
+    bad_input(where, "compression_index",
         "the normal compression line must be steeper than the swelling line (lambda* = " + number(m.lambda_star) +
             " > kappa* = " + number(m.kappa_star) + ")");
   if (std::isnan(m.nu) == std::isnan(m.G))
-    bad(where, std::isnan(m.nu) ? "nu" : "shear_modulus",
+    bad_input(where, std::isnan(m.nu) ? "nu" : "shear_modulus",
         "give exactly one of nu (a constant Poisson ratio) and shear_modulus (a constant G)");
   if (!std::isnan(m.nu) && !(m.nu > -1 && m.nu < 0.5))
-    bad(where, "nu", "expected a Poisson ratio in (-1, 0.5), got " + number(m.nu));
+    bad_input(where, "nu", "expected a Poisson ratio in (-1, 0.5), got " + number(m.nu));
   if (!std::isnan(m.G)) positive(m.G, "shear_modulus", "a positive shear modulus [Pa]");
   positive(m.pc0, "preconsolidation_pressure", "a positive preconsolidation pressure [Pa] (compression positive)");
   if (geometry == Geometry::plane_stress)
-    bad(where, "model", "modified Cam-Clay runs in plane strain, axisymmetry or 3-D, not plane stress");
+    bad_input(where, "model", "modified Cam-Clay runs in plane strain, axisymmetry or 3-D, not plane stress");
 }
 
 StressUpdate update_stress(const ModifiedCamClay& m, const Eigen::Matrix3d& sigma_n, Real eps_bar_n,
