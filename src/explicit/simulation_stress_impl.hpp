@@ -37,13 +37,13 @@ ParticleFault Simulation<Dim, Kernel>::update_stress(Real dt) {
       // Only the fluid reads F (its J): the solids' rate form needs none.
       const Mat<Dim> F_start =
           std::holds_alternative<NewtonianFluid>(material) ? Mat<Dim>(step.inverse() * p.F[i]) : p.F[i];
-      const MaterialStep r = material_step<Dim>(material, s.sigma[i], s.eps_bar[i], s.stretch3[i], s.internal[i],
+      const MaterialStep r = material_step<Dim>(material, s.sigma[i], s.eps_bar[i], s.stretch3[i], s.internal_at(i),
                                                 V_start, p.V0[i], F_start, dL, dt,
                                                 axisymmetric_ ? dt * hoop_rate_[i] : 0, spec_.geometry);
       ok = r.ok;
       s.sigma[i] = r.sigma;
       s.eps_bar[i] = r.eps_bar;
-      s.internal[i] = r.internal;
+      s.set_internal(i, r.internal);
       s.energy[i] += r.energy;
       const auto* law = std::get_if<ElastoPlastic>(&material);
       if (law && law->specific_heat > 0) s.temperature[i] += r.work / (p.m[i] * law->specific_heat);

@@ -24,7 +24,7 @@ void ImplicitSimulation<Dim, Kernel>::project(Real dt) {
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
     GridNode<Dim>& node = grid_.nodes[n];
-    node.v = node.m > min_node_mass_ ? Vec<Dim>(node.v / node.m) : Vec<Dim>::Zero();
+    node_velocity(node, min_node_mass_);
     f_ext_[n] = node.m * spec_.gravity;
   });
   scatter_force(particles_.state.sigma, f_k_);

@@ -8,6 +8,7 @@
 #include "mpm/implicit/simulation.hpp"
 #include "mpm/materials/material_step.hpp"
 #include "mpm/transfer/g2p.hpp"
+#include "mpm/transfer/p2g.hpp"
 
 namespace mpm {
 
@@ -39,8 +40,7 @@ void ImplicitSimulation<Dim, Kernel>::node_velocity_from(const Eigen::VectorXd& 
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) { trial_.v[i] = p.v[i] + dv_[i]; });
   scatter_momentum(trial_.v);  // the momentum P^L into v_new
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
-    GridNode<Dim>& node = grid_.nodes[n];
-    node.v_new = node.m > min_node_mass_ ? Vec<Dim>(node.v_new / node.m) : Vec<Dim>::Zero();
+    momentum_to_velocity(grid_.nodes[n].v_new, grid_.nodes[n].m, min_node_mass_);
   });
   for (const Fixed& f : fixed_) grid_.nodes[f.node].v_new[f.component] = f.value;
   constraints_.mirror(grid_, &GridNode<Dim>::v_new);
@@ -65,7 +65,7 @@ bool ImplicitSimulation<Dim, Kernel>::residual_at(const Eigen::VectorXd& x, Real
   t.work.resize(np);
   t.energy.resize(np);
   t.stretch3.resize(np);
-  t.internal.resize(np);
+  t.internal.resize(p.state.keeps_internal ? np : 0);
   t.grad_v.resize(np);
   t.ok.resize(np);
   t.v_r.resize(np);
@@ -86,7 +86,7 @@ bool ImplicitSimulation<Dim, Kernel>::residual_at(const Eigen::VectorXd& x, Real
     const MaterialState& state = p.state;
     const MaterialStep u =
         material_step<Dim>(spec_.materials[p.material[i]], state.sigma[i], state.eps_bar[i], state.stretch3[i],
-                           state.internal[i], p.V[i], p.V0[i], p.F[i], dt * t.grad_v[i], dt,
+                           state.internal_at(i), p.V[i], p.V0[i], p.F[i], dt * t.grad_v[i], dt,
                            geometry == Geometry::axisymmetric ? dt * t.v_r[i] / p.x[i][0] : 0, geometry);
     t.ok[i] = u.ok;
     t.sigma[i] = u.sigma;
@@ -94,7 +94,7 @@ bool ImplicitSimulation<Dim, Kernel>::residual_at(const Eigen::VectorXd& x, Real
     t.work[i] = u.work;
     t.energy[i] = u.energy;
     t.stretch3[i] = u.stretch3;
-    t.internal[i] = u.internal;
+    if (state.keeps_internal) t.internal[i] = u.internal;
   });
   for (std::size_t i = 0; i < np; ++i)
     if (!t.ok[i]) return false;

@@ -333,7 +333,7 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
     p.V[i] = p.V0[i] * p.F[i].determinant() * particles_.state.stretch3[i];
     particles_.state.sigma[i] = trial_.sigma[i];
     particles_.state.eps_bar[i] = trial_.eps_bar[i];
-    particles_.state.internal[i] = trial_.internal[i];
+    if (particles_.state.keeps_internal) particles_.state.internal[i] = trial_.internal[i];
     particles_.state.energy[i] += trial_.energy[i];
     const auto* law = std::get_if<ElastoPlastic>(&spec_.materials[p.material[i]]);
     if (law && law->specific_heat > 0)

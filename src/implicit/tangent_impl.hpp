@@ -64,7 +64,7 @@ bool ImplicitSimulation<Dim, Kernel>::factorise_tangent(const Eigen::VectorXd& x
     const MaterialState& s = particles_.state;
     const auto stress_at = [&](const Mat<Dim>& dL_k, Real hoop_k) {
       return material_step<Dim>(spec_.materials[p.material[i]], s.sigma[i], s.eps_bar[i], s.stretch3[i],
-                                s.internal[i], p.V[i], p.V0[i], p.F[i], dL_k, dt, hoop_k, geometry)
+                                s.internal_at(i), p.V[i], p.V0[i], p.F[i], dL_k, dt, hoop_k, geometry)
           .sigma.full();
     };
     const Mat3 base = stress_at(dL, hoop_increment);

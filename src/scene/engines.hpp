@@ -95,11 +95,12 @@ void save_state(const ParticleSet<Dim>& p, io::CheckpointData& c) {
   c.reals["energy"] = s.energy;
   c.reals["stretch3"] = s.stretch3;
   c.reals["V"] = p.V;
+  c.row_widths.insert({{"sigma", 6}, {"eps_bar", 1}, {"temperature", 1}, {"energy", 1}, {"stretch3", 1}, {"V", 1}});
+  if (!s.keeps_internal) return;
   std::vector<double> internal;
   for (const InternalState& row : s.internal) internal.insert(internal.end(), row.begin(), row.end());
   c.reals["internal"] = internal;
-  c.row_widths.insert({{"sigma", 6}, {"eps_bar", 1}, {"temperature", 1}, {"energy", 1}, {"stretch3", 1}, {"V", 1},
-                       {"internal", static_cast<std::int64_t>(internal_columns)}});
+  c.row_widths.insert({"internal", static_cast<std::int64_t>(internal_columns)});
 }
 template <int Dim>
 void load_state(const io::CheckpointData& c, const std::string& where, ParticleSet<Dim>& p) {
@@ -114,8 +115,9 @@ void load_state(const io::CheckpointData& c, const std::string& where, ParticleS
     if (real(key).size() != p.size()) throw InputError(where + ": array '" + key + "' has the wrong size");
     *array = real(key);
   }
-  // The laws' internal variables (a checkpoint written before any law declared them holds none: zero).
-  if (const auto it = c.reals.find("internal"); it != c.reals.end()) {
+  // The laws' internal variables, where the table's laws declare some (a checkpoint written before any law declared
+  // them holds none: zero).
+  if (const auto it = c.reals.find("internal"); s.keeps_internal && it != c.reals.end()) {
     if (it->second.size() != internal_columns * p.size())
       throw InputError(where + ": array 'internal' has the wrong size");
     for (std::size_t i = 0; i < p.size(); ++i)

@@ -171,10 +171,16 @@ inline void validate(const Material& m, const std::string& where, int dim, Geome
                              "rate-form material (hypoelastic or von-mises)");
 }
 
-/// Set each particle's internal variables to their initial values at its stress (zero for the laws that declare
-/// none); throw InputError naming the particle's material where its law cannot start from that stress.
+/// Keep the internal variables only where a law of the table declares some (MaterialState::keeps_internal), and set
+/// each particle's to their initial values at its stress (zero for the laws that declare none); throw InputError
+/// naming the particle's material where its law cannot start from that stress.
 inline void start_internal_state(const std::vector<Material>& materials, const std::vector<std::uint16_t>& material,
                                  MaterialState& s) {
+  s.keeps_internal = false;
+  for (const Material& m : materials)
+    s.keeps_internal = s.keeps_internal ||
+                       std::visit([](const auto& law) { return DeclaresState<std::decay_t<decltype(law)>>; }, m);
+  s.internal.assign(s.keeps_internal ? s.sigma.size() : 0, InternalState{});
   for (std::size_t i = 0; i < s.internal.size(); ++i)
     std::visit(
         [&](const auto& law) {
@@ -184,8 +190,6 @@ inline void start_internal_state(const std::vector<Material>& materials, const s
             } catch (const InputError& e) {
               throw InputError("materials[" + std::to_string(material[i]) + "]: " + e.what());
             }
-          } else {
-            s.internal[i] = InternalState{};
           }
         },
         materials[material[i]]);

@@ -27,12 +27,17 @@ struct MaterialState {
   std::vector<Real> temperature;    ///< temperature rise from plastic work (Sulsky & Kaul 2004, Eq. (2.3.5)) [K]
   std::vector<Real> energy;         ///< internal energy (Sulsky & Kaul 2004, Eq. (2.2.16)) [J, per unit thickness or radian]
   std::vector<Real> stretch3;       ///< out-of-plane stretch: 1 (plane strain), F_zz (plane stress), r/R (axisymmetric)
-  std::vector<InternalState> internal;  ///< the internal variables each law declares (start_internal_state)
+  /// The internal variables each law declares; kept (keeps_internal) only where a law of the table declares some,
+  /// so that the other runs neither store nor move them (start_internal_state).
+  std::vector<InternalState> internal;
+  bool keeps_internal = false;
 
   bool empty() const { return sigma.empty(); }
-  /// n unstressed particles.
+  /// n unstressed particles (keeping the internal variables or not, as before).
   void resize(std::size_t n) {
+    const bool keep = keeps_internal;
     *this = MaterialState{};
+    keeps_internal = keep;
     resize_keeping(n);
   }
   /// Grow (or shrink) to n particles, keeping the first ones' state; new particles start unstressed.
@@ -42,8 +47,14 @@ struct MaterialState {
     temperature.resize(n, 0);
     energy.resize(n, 0);
     stretch3.resize(n, 1);
-    internal.resize(n, InternalState{});
+    internal.resize(keeps_internal ? n : 0, InternalState{});
   }
+  /// Particle i's internal variables: zero where no law of the table declares any.
+  InternalState internal_at(std::size_t i) const { return keeps_internal ? internal[i] : InternalState{}; }
+  void set_internal(std::size_t i, const InternalState& values) {
+    if (keeps_internal) internal[i] = values;
+  }
+  /// The bytes per particle, with the internal variables where a law may keep them (an upper bound otherwise).
   static constexpr std::size_t bytes_per_particle() {
     return sizeof(SymTensor<3>) + 4 * sizeof(Real) + sizeof(InternalState);
   }

@@ -93,10 +93,11 @@ struct ParticleSet {
     fn(corners);
     fn(l0);
   }
-  /// Call fn(array) for every array of the material state.
+  /// Call fn(array) for every array of the material state, the internal variables where it keeps them.
   template <class Fn>
   void for_each_state_array(Fn&& fn) {
-    fn(state.sigma), fn(state.eps_bar), fn(state.temperature), fn(state.energy), fn(state.stretch3), fn(state.internal);
+    fn(state.sigma), fn(state.eps_bar), fn(state.temperature), fn(state.energy), fn(state.stretch3);
+    if (state.keeps_internal) fn(state.internal);
   }
   /// Call fn(array) for every array every particle has: all but the material state's and the optional ones.
   template <class Fn>

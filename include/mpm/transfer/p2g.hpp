@@ -277,13 +277,19 @@ void p2g(const ParticleSet<Dim>& p, const ParticleStencils<Dim, Kernel>& stencil
   }
 }
 
-/// Turn nodal momentum into velocity v_i = p_i / m_i (Wallstedt & Guilkey 2008, Eq. (9)); empty nodes get zero.
+/// Turn a nodal momentum into velocity v_i = p_i / m_i (Wallstedt & Guilkey 2008, Eq. (9)) in place; a node of mass
+/// min_mass or less gets zero. Both engines' projections of momentum end here.
+template <int Dim>
+inline void momentum_to_velocity(Vec<Dim>& momentum, Real m, Real min_mass) {
+  if (m > min_mass)
+    momentum /= m;
+  else
+    momentum.setZero();
+}
+/// momentum_to_velocity of the node's momentum v.
 template <int Dim>
 inline void node_velocity(GridNode<Dim>& node, Real min_mass) {
-  if (node.m > min_mass)
-    node.v /= node.m;
-  else
-    node.v.setZero();
+  momentum_to_velocity(node.v, node.m, min_mass);
 }
 
 /// Turn nodal force into acceleration a_i = (f_int + f_ext)/m_i + g (Wallstedt & Guilkey 2008,
