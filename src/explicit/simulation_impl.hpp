@@ -61,7 +61,7 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
       contact_fields_(static_cast<std::size_t>(spec.contact.fields - 1), grid_),
       contact_(spec.contact),
       contact_positions_(measures_gaps(spec.contact) ? static_cast<std::size_t>(spec.contact.fields) : 0, grid_),
-      halo_(grid_.geometry),
+      periodic_halo_(grid_.geometry),
       constraints_(spec.boundary, grid_.geometry, box_halo_.owned_layers()),
       rigid_(spec.rigid_bodies, grid_.geometry),
       neo_hookean_(neo_hookean_only(spec.materials)),
@@ -113,7 +113,7 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
     start_internal_state(spec.materials, p.material, p.state);
     size_rates();
   }
-  build_stencils();  // sizes the per-particle arrays, so that steps do not allocate
+  prepare_step();  // sizes the per-particle arrays, so that steps do not allocate
 }
 
 template <int Dim, class Kernel>
@@ -232,7 +232,7 @@ void Simulation<Dim, Kernel>::run_until(Real t_end) {
 // (Wallstedt & Guilkey 2008, Eq. (8) to Eq. (18)).
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::step_usf(Real dt) {
-  build_stencils();
+  prepare_step();
   scatter<Scatter{.mass_momentum = true, .force = false, .volume_gradient = true}>();
   field_velocities(&GridNode<Dim>::v, true);
   for (Grid<Dim>* field : field_grids())
@@ -253,7 +253,7 @@ void Simulation<Dim, Kernel>::step_usf(Real dt) {
 // this is the centered difference (Wallstedt & Guilkey 2008, Eq. (40) to Eq. (50)).
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::step_usl(Real dt, Real accel_scale) {
-  build_stencils();
+  prepare_step();
   scatter<Scatter{.mass_momentum = true, .force = true, .volume_gradient = true}>();
   grid_velocity_and_update(dt, accel_scale);
   constrain_update(time_ + dt, dt);
@@ -278,7 +278,7 @@ void Simulation<Dim, Kernel>::step_usl(Real dt, Real accel_scale) {
 // updated particle velocities (Wallstedt & Guilkey 2008, Eq. (51) replaces Eq. (47)).
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::step_musl(Real dt, Real accel_scale) {
-  build_stencils();
+  prepare_step();
   scatter<Scatter{.mass_momentum = true, .force = true, .volume_gradient = true}>();
   grid_velocity_and_update(dt, accel_scale);
   constrain_update(time_ + dt, dt);
@@ -321,7 +321,7 @@ void Simulation<Dim, Kernel>::scatter_positions() {
     if (box_halo_.divided()) kept.emplace(grid.geometry, order_);
     p2g_add_keeping(KeepFaceTiles<Dim>(kept), stencils(), order_, k, grid, positions);
     if (kept) box_halo_.sum(grid, kept->take(), true, false, *comm_);
-    halo_.sum_into_owners(grid, &GridNode<Dim>::v);
+    periodic_halo_.sum_into_owners(grid, &GridNode<Dim>::v);
     constraints_.fold_and_mirror(grid, &GridNode<Dim>::v);
   }
 }

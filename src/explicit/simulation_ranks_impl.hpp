@@ -222,7 +222,7 @@ void Simulation<Dim, Kernel>::use_box(BoxHalo<Dim> box) {
   grid_ = Grid<Dim>(box_halo_.box());
   contact_fields_.assign(static_cast<std::size_t>(contact_.fields() - 1), grid_);
   if (!contact_positions_.empty()) contact_positions_.assign(static_cast<std::size_t>(contact_.fields()), grid_);
-  halo_ = Halo<Dim>(grid_.geometry);
+  periodic_halo_ = PeriodicHalo<Dim>(grid_.geometry);
   KinematicConstraints<Dim> constraints(spec_.boundary, grid_.geometry, box_halo_.owned_layers());
   constraints.keep_reactions(constraints_);  // the step's, not yet reported
   constraints_ = std::move(constraints);

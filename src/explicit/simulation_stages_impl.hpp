@@ -35,7 +35,7 @@ void Simulation<Dim, Kernel>::settle() {
 }
 
 template <int Dim, class Kernel>
-void Simulation<Dim, Kernel>::build_stencils() {
+void Simulation<Dim, Kernel>::prepare_step() {
   located_half_lengths_.clear();  // those of a step that stopped (the storage stays for the next)
   settle();
   evaluate_body_force();
@@ -79,9 +79,9 @@ void Simulation<Dim, Kernel>::scatter() {
       box_halo_.sum(grid, kept->take(), what.mass_momentum, what.force, *comm_, nullptr, what.volume_gradient);
     if constexpr (what.force && Dim == 2)  // the hoop force in a pass of its own, as in the implicit step
       if (axisymmetric_) scatter_hoop_force(grid, k);
-    if constexpr (what.mass_momentum) halo_.sum_into_owners(grid, NodeFields::mass_momentum);
-    if constexpr (what.volume_gradient) halo_.sum_into_owners(grid, &GridNode<Dim>::v_new);
-    if constexpr (what.force) halo_.sum_into_owners(grid, NodeFields::force);
+    if constexpr (what.mass_momentum) periodic_halo_.sum_into_owners(grid, NodeFields::mass_momentum);
+    if constexpr (what.volume_gradient) periodic_halo_.sum_into_owners(grid, &GridNode<Dim>::v_new);
+    if constexpr (what.force) periodic_halo_.sum_into_owners(grid, NodeFields::force);
     if constexpr (what.mass_momentum) constraints_.fold_and_mirror(grid, NodeFields::mass_momentum);
     if constexpr (what.volume_gradient) constraints_.fold_and_mirror(grid, &GridNode<Dim>::v_new);
     if constexpr (what.force) constraints_.fold_and_mirror(grid, NodeFields::force);
@@ -110,7 +110,7 @@ void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
   ParticleFault fault;
   const std::vector<Grid<Dim>*> fields = field_grids();
   for (int k = 0; k < contact_.fields(); ++k) {  // each field's particles from its own grid
-    halo_.copy_to_ghosts(*fields[k]);
+    periodic_halo_.copy_to_ghosts(*fields[k]);
     const std::optional<ParticleRange> range =
         contact_.active() ? std::optional<ParticleRange>(order_.field_range(k)) : std::nullopt;
     VelocityBlend<Dim> blend;

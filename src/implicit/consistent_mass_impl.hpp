@@ -20,11 +20,11 @@ template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::consistent_mass_times(std::vector<Vec<Dim>>& u) {
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].a = u[n]; });
   constraints_.mirror(grid_, &GridNode<Dim>::a);
-  halo_.for_each_image([&](std::int32_t image, std::int32_t owner) { grid_.nodes[image].a = grid_.nodes[owner].a; });
+  periodic_halo_.for_each_image([&](std::int32_t image, std::int32_t owner) { grid_.nodes[image].a = grid_.nodes[owner].a; });
   g2p_interpolate(stencils(), grid_, &GridNode<Dim>::a, u_p_);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
   p2g_add(stencils(), order_, grid_, Momentum<Dim, NodeSlots<Dim>::a, false>{particles_.m, u_p_});
-  halo_.sum_into_owners(grid_, &GridNode<Dim>::a);
+  periodic_halo_.sum_into_owners(grid_, &GridNode<Dim>::a);
   constraints_.fold_and_mirror(grid_, &GridNode<Dim>::a);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { u[n] = grid_.nodes[n].a; });
 }
@@ -78,7 +78,7 @@ void ImplicitSimulation<Dim, Kernel>::project_consistent(Real dt) {
   for (std::size_t k = 0; k < active.size(); ++k)
     for (int c = 0; c < Dim; ++c) grid_.nodes[active[k]].v[c] = x[static_cast<Eigen::Index>(k * Dim + c)];
   constraints_.mirror(grid_, &GridNode<Dim>::v);
-  halo_.copy_to_ghosts(grid_);
+  periodic_halo_.copy_to_ghosts(grid_);
 }
 
 // The inertia term of the residual, M (v^L - v^k) on every node, into mass_dv_ (Sulsky & Kaul 2004, Eq. (2.4.12)

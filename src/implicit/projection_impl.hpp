@@ -20,7 +20,7 @@ void ImplicitSimulation<Dim, Kernel>::project(Real dt) {
     order_.build(StencilTiles<Dim, Kernel>{stencils_}, particles_.id);
   p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils(), order_, {}, grid_, KeepNothing{}, 0, false,
                                                      affine());  // as explicit
-  halo_.sum_into_owners(grid_, NodeFields::mass_momentum);
+  periodic_halo_.sum_into_owners(grid_, NodeFields::mass_momentum);
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
     GridNode<Dim>& node = grid_.nodes[n];
@@ -88,7 +88,7 @@ void ImplicitSimulation<Dim, Kernel>::scatter_momentum(const std::vector<Vec<Dim
     p2g_add(stencils(), order_, grid_, AffineMomentum<Dim, NodeSlots<Dim>::v_new, false>{particles_.m, v_p, *affine()});
   else
     p2g_add(stencils(), order_, grid_, Momentum<Dim, NodeSlots<Dim>::v_new, false>{particles_.m, v_p});
-  halo_.sum_into_owners(grid_, &GridNode<Dim>::v_new);
+  periodic_halo_.sum_into_owners(grid_, &GridNode<Dim>::v_new);
   constraints_.fold_and_mirror(grid_, &GridNode<Dim>::v_new);
 }
 
@@ -101,7 +101,7 @@ void ImplicitSimulation<Dim, Kernel>::scatter_force(const std::vector<SymTensor<
   p2g_add(stencils(), order_, grid_, InternalForce<Dim, SymTensor<3>>{p.V, sigma});
   if constexpr (Dim == 2)  // the hoop force in a pass of its own, as in the explicit step
     if (spec_.geometry == Geometry::axisymmetric) p2g_add(stencils(), order_, grid_, HoopForce{p.V, sigma, p.x});
-  halo_.sum_into_owners(grid_, NodeFields::force);
+  periodic_halo_.sum_into_owners(grid_, NodeFields::force);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { f[n] = grid_.nodes[n].a; });
 }
@@ -123,7 +123,7 @@ void ImplicitSimulation<Dim, Kernel>::add_body_force(Real dt) {
   spec_.surface_loads.accelerate(p, t1, theta, spec_.geometry, body_accel_);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
   p2g_add(stencils(), order_, grid_, BodyForce<Dim>{p.m, body_accel_});
-  halo_.sum_into_owners(grid_, NodeFields::force);
+  periodic_halo_.sum_into_owners(grid_, NodeFields::force);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { f_ext_[n] += grid_.nodes[n].a; });
 }

@@ -29,7 +29,7 @@ void ImplicitSimulation<Dim, Kernel>::node_velocity_from(const Eigen::VectorXd& 
   }
   for (const Fixed& f : fixed_) grid_.nodes[f.node].v_new[f.component] = f.value;
   constraints_.mirror(grid_, &GridNode<Dim>::v_new);
-  halo_.copy_to_ghosts(grid_);
+  periodic_halo_.copy_to_ghosts(grid_);
   if (!momentum) return;
   for (std::size_t n = 0; n < grid_.size(); ++n) momentum_velocity_[n] = grid_.nodes[n].v_new;  // P_i^L / m_i
   // v_p^L = v_p^k + sum_i (P_i^L - P_i^k) N_i(x_p) / m_i (Sulsky & Kaul 2004, Eq. (3.2.6): the momentum change
@@ -44,7 +44,7 @@ void ImplicitSimulation<Dim, Kernel>::node_velocity_from(const Eigen::VectorXd& 
   });
   for (const Fixed& f : fixed_) grid_.nodes[f.node].v_new[f.component] = f.value;
   constraints_.mirror(grid_, &GridNode<Dim>::v_new);
-  halo_.copy_to_ghosts(grid_);
+  periodic_halo_.copy_to_ghosts(grid_);
 }
 
 // F(x) of Sulsky & Kaul 2004, Eq. (2.4.12), in the form (P^L - P^k) - dt ((1 - theta) f^k + theta f^L + f^ext)

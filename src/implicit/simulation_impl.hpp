@@ -50,7 +50,7 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
       grid_(GridGeometry<Dim>{spec.grid_lo, spec.h, spec.cells, Kernel::ghost, {}, periodic_axes(spec.boundary),
                               outflow_faces(spec.boundary), wall_faces(spec.boundary),
                               clamped_faces(spec.kernel, spec.boundary)}),
-      halo_(grid_.geometry),
+      periodic_halo_(grid_.geometry),
       constraints_(spec.boundary, grid_.geometry),
       layout_(grid_.geometry),
       order_(grid_.geometry, Kernel::width),
@@ -78,7 +78,7 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
   face_reactions_.assign(constraints_.names().size(), Vec<Dim>::Zero());
   mirrored_.assign(grid_.size(), 0);
   constraints_.mark_mirrored(mirrored_);
-  halo_.for_each_image([&](std::int32_t image, std::int32_t) { mirrored_[image] = 1; });
+  periodic_halo_.for_each_image([&](std::int32_t image, std::int32_t) { mirrored_[image] = 1; });
   const std::size_t nodes = grid_.size();
   f_k_.assign(nodes, Vec<Dim>::Zero());
   f_ext_.assign(nodes, Vec<Dim>::Zero());

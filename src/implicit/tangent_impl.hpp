@@ -88,7 +88,7 @@ bool ImplicitSimulation<Dim, Kernel>::factorise_tangent(const Eigen::VectorXd& x
   const auto n = static_cast<Eigen::Index>(dof_node_.size());
   std::vector<int> dof_of(grid_.size() * Dim, -1);
   for (Eigen::Index k = 0; k < n; ++k) dof_of[dof_node_[k] * Dim + dof_comp_[k]] = static_cast<int>(k);
-  halo_.for_each_image([&](std::int32_t image, std::int32_t owner) {  // an image stands for its owner's unknowns
+  periodic_halo_.for_each_image([&](std::int32_t image, std::int32_t owner) {  // an image stands for its owner's unknowns
     for (int c = 0; c < Dim; ++c) dof_of[image * Dim + c] = dof_of[owner * Dim + c];
   });
   struct Local {

@@ -14,7 +14,7 @@
 #include "mpm/distributed/box_halo.hpp"
 #include "mpm/distributed/communicator.hpp"
 #include "mpm/grid/grid.hpp"
-#include "mpm/grid/halo.hpp"
+#include "mpm/grid/periodic_halo.hpp"
 #include "mpm/explicit/spec.hpp"
 #include "mpm/particles/outflow.hpp"
 #include "mpm/particles/particles.hpp"
@@ -205,7 +205,9 @@ class Simulation {
   std::vector<Grid<Dim>*> field_grids();
 
   // Stages shared by the integrators.
-  void build_stencils();
+  /// What a step needs before its first pass: the stencils located and the particles settled into the scatter
+  /// order (settle), the body force evaluated, the loads' start velocities and tiles kept, the rigid bodies located.
+  void prepare_step();
   /// Keep the half-lengths the stencils were located with, where a pass changes them before the stencils' last
   /// use (USF with cpGIMP): located_half_lengths_, until the step ends.
   void keep_located_half_lengths();
@@ -252,7 +254,7 @@ class Simulation {
   MultiFieldContact<Dim> contact_;
   /// With gap detection, each field's sums m_p x_p S_ip (v slot) for its mass centres (scatter_positions).
   std::vector<Grid<Dim>> contact_positions_;
-  Halo<Dim> halo_;
+  PeriodicHalo<Dim> periodic_halo_;
   KinematicConstraints<Dim> constraints_;
   RigidBodies<Dim> rigid_;
   /// Every material Neo-Hookean: their laws, for the stress in G2P's lanes (empty otherwise).

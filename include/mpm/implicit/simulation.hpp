@@ -12,7 +12,7 @@
 #include "mpm/boundary/rigid_bodies.hpp"
 #include "mpm/core/memory.hpp"
 #include "mpm/grid/grid.hpp"
-#include "mpm/grid/halo.hpp"
+#include "mpm/grid/periodic_halo.hpp"
 #include "mpm/implicit/spec.hpp"
 #include "mpm/particles/outflow.hpp"
 #include "mpm/particles/particles.hpp"
@@ -172,7 +172,7 @@ class ImplicitSimulation {
   ImplicitSpec<Dim> spec_;
   ParticleSet<Dim> particles_;
   Grid<Dim> grid_;
-  Halo<Dim> halo_;
+  PeriodicHalo<Dim> periodic_halo_;
   KinematicConstraints<Dim> constraints_;
   NodeLayout<Dim> layout_;
   Real min_node_mass_ = 0;

@@ -1,9 +1,9 @@
-#include "mpm/grid/halo.hpp"
+#include "mpm/grid/periodic_halo.hpp"
 
 namespace mpm {
 
 template <int Dim>
-Halo<Dim>::Halo(const GridGeometry<Dim>& g) {
+PeriodicHalo<Dim>::PeriodicHalo(const GridGeometry<Dim>& g) {
   bool any = false;
   for (int d = 0; d < Dim; ++d) any = any || g.periodic[d];
   if (!any) return;
@@ -24,7 +24,7 @@ Halo<Dim>::Halo(const GridGeometry<Dim>& g) {
 }
 
 template <int Dim>
-void Halo<Dim>::sum_into_owners(Grid<Dim>& grid, NodeFields fields) const {
+void PeriodicHalo<Dim>::sum_into_owners(Grid<Dim>& grid, NodeFields fields) const {
   if (fields == NodeFields::force) return sum_into_owners(grid, &GridNode<Dim>::a);
   for (std::size_t k = 0; k < image_.size(); ++k) grid.nodes[owner_[k]].m += grid.nodes[image_[k]].m;
   for (std::size_t k = 0; k < image_.size(); ++k) grid.nodes[image_[k]].m = grid.nodes[owner_[k]].m;
@@ -32,19 +32,19 @@ void Halo<Dim>::sum_into_owners(Grid<Dim>& grid, NodeFields fields) const {
 }
 
 template <int Dim>
-void Halo<Dim>::sum_into_owners(Grid<Dim>& grid, NodeVelocity<Dim> field) const {
+void PeriodicHalo<Dim>::sum_into_owners(Grid<Dim>& grid, NodeVelocity<Dim> field) const {
   // Each image adds into its owner in flat-index order, whatever the thread count: the sums are deterministic.
   for (std::size_t k = 0; k < image_.size(); ++k) grid.nodes[owner_[k]].*field += grid.nodes[image_[k]].*field;
   for (std::size_t k = 0; k < image_.size(); ++k) grid.nodes[image_[k]].*field = grid.nodes[owner_[k]].*field;
 }
 
 template <int Dim>
-void Halo<Dim>::copy_to_ghosts(Grid<Dim>& grid) const {
+void PeriodicHalo<Dim>::copy_to_ghosts(Grid<Dim>& grid) const {
   for (std::size_t k = 0; k < image_.size(); ++k) grid.nodes[image_[k]] = grid.nodes[owner_[k]];
 }
 
-template class Halo<1>;
-template class Halo<2>;
-template class Halo<3>;
+template class PeriodicHalo<1>;
+template class PeriodicHalo<2>;
+template class PeriodicHalo<3>;
 
 }  // namespace mpm

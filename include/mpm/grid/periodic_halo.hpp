@@ -13,9 +13,9 @@
 namespace mpm {
 
 template <int Dim>
-class Halo {
+class PeriodicHalo {
  public:
-  explicit Halo(const GridGeometry<Dim>& g);
+  explicit PeriodicHalo(const GridGeometry<Dim>& g);
 
   /// After P2G: add the images' contributions into their owners, and give the images the sums, so that every
   /// copy of a node holds the same fields.
