@@ -133,7 +133,7 @@ class KinematicConstraints {
     int component;
     int group;
     Real resistance;  ///< [N s/m]
-    bool owned;       ///< its force counts in the group's reaction (the box owns the node)
+    bool owned;       ///< its force counts in the group's reaction (owned, no copy of another node)
   };
   /// Every dashpot of the absorbing faces, group by group.
   std::vector<Dashpot> dashpots() const;
@@ -183,7 +183,7 @@ class KinematicConstraints {
     std::vector<std::int32_t> nodes;
     int component;             ///< constrained component, or -1 for all
     VelocityFn<Dim> velocity;  ///< empty: zero
-    std::vector<std::uint8_t> owned;  ///< per node: its reaction counts here (the box owns it)
+    std::vector<std::uint8_t> owned;  ///< per node: its reaction counts (owned here, not a copy)
     Real friction = -1;               ///< >= 0: a Coulomb wall (component -1), whose outward normal is `normal`
     Vec<Dim> normal = Vec<Dim>::Zero();
     /// An absorbing face (impedances > 0): the area of the face each node carries [m^(Dim-1)].
