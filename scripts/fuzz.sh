@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Build the libFuzzer targets (clang, ASan + UBSan), replay every input that ever crashed them
 # (fuzz/regressions/TARGET/), then fuzz each target for SECONDS (default 60) from a seed corpus: the example
-# scenes, and checkpoints written by build/bin/mpm from them. Fails on any crash, leak, hang or uncaught exception;
-# the input that caused it is left in build-fuzz/artifacts/ (add it to fuzz/regressions/ once fixed).
+# scenes, and checkpoints written by build/bin/mpm from them; then the Python scene conversion for SECONDS. Fails on
+# any crash, leak, hang or uncaught exception; the input that caused it is left in build-fuzz/artifacts/ (add it
+# to fuzz/regressions/ once fixed).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-60}"
@@ -35,13 +36,22 @@ for target in fuzz_scene fuzz_checkpoint; do
     ASAN_OPTIONS=halt_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
       "build-fuzz/bin/$target" "${inputs[@]}" 2>&1 | tail -1
   fi
+  dict=()
+  [ -f "fuzz/$target.dict" ] && dict=(-dict="fuzz/$target.dict")
   echo "== $target: fuzzing for $seconds s"
   ASAN_OPTIONS=halt_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
     "build-fuzz/bin/$target" "$corpus/$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
-    -max_len="${max_len[$target]}" -artifact_prefix="$artifacts" -print_final_stats=1 2>&1 |
+    -max_len="${max_len[$target]}" -artifact_prefix="$artifacts" -print_final_stats=1 "${dict[@]}" 2>&1 |
     grep -E "stat::number_of_executed_units|stat::new_units_added|ERROR|SUMMARY|artifact|Done" || true
   if [ -n "$(ls -A "$artifacts")" ]; then
     echo "fuzz: $target found a failing input: $(ls "$artifacts")" >&2
     exit 1
   fi
 done
+
+# The Python scene conversion (mpm.Scene.from_dict), which libFuzzer cannot drive: a mutation fuzzer of its own on
+# the release build's module, for the same time (python/tests/scene_dict_fuzz.py).
+if [ -f build/python/mpm/__init__.py ]; then
+  echo "== scene_dict_fuzz: fuzzing for $seconds s"
+  PYTHONPATH=build/python python3 python/tests/scene_dict_fuzz.py "$seconds"
+fi

@@ -194,7 +194,7 @@ Action add_bench(CLI::App& app) {
   cmd->add_option("--particles", o->particles, "approximate particle count")
       ->check(CLI::Range(1L, 1000000000L));
   cmd->add_option("--steps", o->steps, "time steps per run")->check(CLI::PositiveNumber);
-  cmd->add_option("--threads", o->threads, "threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--threads", o->threads, "threads (0: all cores)")->check(CLI::Range(0, max_threads));
   cmd->add_option("--repeat", o->repeat, "runs; the median is reported")->check(CLI::PositiveNumber);
   cmd->add_flag("--json", o->json, "print one JSON object");
   cmd->add_flag("--roofline", o->roofline,

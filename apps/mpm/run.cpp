@@ -1,11 +1,13 @@
 // `mpm run SCENE` and `mpm render DIR`: run a scene file with its outputs, and draw pictures of the results.
 #include <cmath>
 #include <iostream>
+#include <limits>
 
 #include "commands.hpp"
 #include <unistd.h>
 
 #include "mpm/core/errors.hpp"
+#include "mpm/core/parallel.hpp"
 #include "mpm/distributed/communicator.hpp"
 #include "mpm/scene/budget.hpp"
 #include "mpm/scene/run.hpp"
@@ -81,7 +83,9 @@ Action add_run(CLI::App& app) {
                   "refuse runs estimated to need more memory, e.g. 8G (default: the machine's physical memory)");
   cmd->add_flag("--dry-run", o->dry_run, "check the scene and print the run's budget; write nothing");
   return [o]() {
-    if (o->run.threads < 0) throw InputError("--threads: expected a non-negative count");
+    if (o->run.threads < 0 || o->run.threads > max_threads)
+      throw InputError("--threads: expected a non-negative count of at most " + std::to_string(max_threads) + ", got " +
+                       std::to_string(o->run.threads));
     if (o->run.stop_after < 0) throw InputError("--stop-after: expected a non-negative step count");
     if (o->run.checkpoint_every < 0) throw InputError("--checkpoint-every: expected a non-negative step count");
     if (!o->restart.empty() && !std::filesystem::exists(o->restart))
@@ -90,8 +94,9 @@ Action add_run(CLI::App& app) {
     const Scene scene = read_scene(o->scene, o->overrides);
     check_output_folder(o->out);
     const Budget budget = estimate_budget(scene);
+    // A restart's output is checked against what is left of the run once its checkpoint is read (SceneRun).
     const BudgetLimits limits{o->max_memory.empty() ? physical_memory_bytes() : parse_bytes(o->max_memory),
-                              free_space_bytes(o->out)};
+                              o->restart.empty() ? free_space_bytes(o->out) : std::numeric_limits<double>::infinity()};
     check_budget(scene, budget, limits);
     o->run.out_dir = o->out;
     o->run.restart = o->restart;

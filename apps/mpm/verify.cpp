@@ -48,7 +48,7 @@ struct CaseOptions {
     cmd->add_option("--amplitude", options.amplitude, "displacement amplitude A");
     cmd->add_option("--nu", options.poisson, "Poisson's ratio of the axis-aligned and shear-wave cases in [0, 0.5) (default 0.3)");
     cmd->add_option("--end-time", options.end_time, "end time (default: one period)");
-    cmd->add_option("--threads", threads, "threads (0: all cores)")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--threads", threads, "threads (0: all cores)")->check(CLI::Range(0, max_threads));
     cmd->add_flag("--json", json, "print JSON");
   }
   /// Parse names and validate; throws InputError naming the argument.

@@ -119,8 +119,11 @@ class Simulation:
         those of `mpm run`, whatever `until` and `every`. callback(sim) is called after every step, or with `every`
         after the step that passes each multiple of it (t = k every, as [output] every places frames) and after the
         last step. The GIL is released while it steps; Ctrl-C (KeyboardInterrupt) stops it after a whole step, in a
-        state to inspect, checkpoint or continue. Reaching the end time closes the outputs (summary.json)."""
+        state to inspect, checkpoint or continue. Reaching the end time closes the outputs (summary.json). A callback
+        that calls close() ends the run with a ValueError at the next step: a closed simulation does not advance."""
         target = self.end_time if until is None else float(until)
+        if math.isnan(target):
+            raise ValueError("until: expected a time [s], got nan")
         if every is not None and not every > 0:
             raise ValueError(f"every: expected a positive time, got {every}")
 
@@ -151,7 +154,8 @@ class Simulation:
         self._s.checkpoint(path)
 
     def close(self):
-        """Finish the outputs: the last frame, summary.json (status ok, stopped or failed). Later calls do nothing."""
+        """Finish the outputs: the last frame, summary.json (status ok, stopped or failed). Later calls do nothing;
+        step(), run(), checkpoint() and set_velocities() then raise ValueError (the state may still be read)."""
         self._s.close()
 
     def __enter__(self):

@@ -25,6 +25,7 @@ namespace {
 constexpr int max_depth = 64;
 
 toml::array to_array(py::handle seq, const std::string& key, int depth);
+
 toml::table to_table(py::handle dict, const std::string& key, int depth);
 
 /// A Python value at nesting `depth` as a TOML value: bool, integer, float, str, a sequence (array) or a dict
@@ -38,10 +39,16 @@ void put_value(py::handle v, const std::string& key, int depth, Put&& put) {
   if (py::isinstance<py::str>(v)) return put(v.cast<std::string>());
   if (py::isinstance<py::dict>(v)) return put(to_table(v, key, depth + 1));
   if (py::isinstance<py::float_>(v)) return put(v.cast<double>());
-  if (py::hasattr(v, "__index__")) return put(v.cast<std::int64_t>());  // int, numpy's integers
+  if (py::hasattr(v, "__index__")) {  // int, numpy's integers
+    try {
+      return put(v.cast<std::int64_t>());
+    } catch (const py::cast_error&) {
+      throw InputError(key + ": expected an integer of at most 64 bits (|n| < 9.2e18), got " + short_repr(v));
+    }
+  }
   if (py::hasattr(v, "__float__")) return put(v.cast<double>());      // numpy's floats
   if (py::isinstance<py::sequence>(v)) return put(to_array(v, key, depth + 1));
-  throw InputError(key + ": expected a number, string, list or dict, got a " +
+  throw InputError(key + ": expected a number, string, list or dict, got a value of type " +
                    std::string(py::str(v.get_type().attr("__name__"))));
 }
 

@@ -45,8 +45,11 @@ StudyRequest request(const std::string& which, const py::dict& kw) {
         throw InputError(key + ": not an option of the studies (kernel, transfer, integrator, cfl_speed, error, start, "
                                "constrained_acceleration, dim, cells, ppc, cfl, theta, amplitude, nu, end_time)");
     } catch (const py::cast_error&) {
-      throw InputError(key + ": expected " + (name ? "a name" : "a number") + ", got a " +
-                       std::string(py::str(v.get_type().attr("__name__"))));
+      const bool integer = key == "dim" || key == "cells" || key == "ppc";
+      if (integer && py::hasattr(v, "__index__"))
+        throw InputError(key + ": expected an integer of at most 2147483647, got " + short_repr(v));
+      throw InputError(key + ": expected " + (name ? "a name" : integer ? "an integer" : "a number") + ", got " +
+                       short_repr(v));
     }
   }
   return r;

@@ -2,6 +2,7 @@
 SimulationFailure (a RuntimeError) and the outputs say so, as the command's do."""
 import json
 
+import numpy as np
 import pytest
 
 import mpm
@@ -22,7 +23,7 @@ def test_a_bad_value_is_the_commands_message(key, value, text):
 def test_from_dict_names_the_key():
     with pytest.raises(ValueError, match=r"^<dict>:1: simulation: expected a table, got 3$"):
         mpm.Scene.from_dict({"simulation": 3})
-    with pytest.raises(ValueError, match=r"simulation\.end_time: expected a number, string, list or dict, got a object"):
+    with pytest.raises(ValueError, match=r"simulation\.end_time: expected a number, string, list or dict, got a value of type object$"):
         mpm.Scene.from_dict({"simulation": {"end_time": object()}})
 
 
@@ -43,6 +44,16 @@ def test_from_dict_refuses_a_dict_that_contains_itself_or_nests_too_deep():
         mpm.Scene.from_dict(deep)
     with pytest.raises(ValueError, match="nested deeper than 64 levels"):
         mpm.Scene.from_toml(DISKS, overrides={"simulation.x": deep})
+
+
+def test_messages_name_the_key_not_the_cpp():
+    # A huge integer was "Unable to cast Python instance to C++ type", a scene too large for the machine
+    # "vector::reserve" (issue 47, item 8); Simulation now refuses what `mpm run` refuses, with its message.
+    with pytest.raises(ValueError, match=r"^bodies\[0\]\.ppc: expected an integer of at most 64 bits .*, got 10{30}$"):
+        mpm.Scene.from_dict({"bodies": [{"ppc": 10**30}]})
+    huge = mpm.Scene.from_toml(DISKS, overrides={"grid.cells": [40000, 40000], "bodies.0.ppc": 4})
+    with pytest.raises(ValueError, match=r"bodies\[0\] \(lower-left\): seeds about .* particles"):
+        mpm.Simulation(huge)
 
 
 def test_missing_file():
@@ -76,10 +87,42 @@ def test_stepping_past_the_end():
         sim.step()
 
 
+def test_a_closed_simulation_does_not_advance(tmp_path):
+    # After close() the calls that advance or write were accepted and ran on (issue 47, item 7).
+    sim = mpm.Simulation(mpm.Scene.from_toml(DISKS), out=tmp_path / "out")
+    sim.step()
+    sim.close()
+    velocities = np.zeros(sim.particles["x"].shape)
+    for name, call in [("step", sim.step), ("step", sim.run), ("checkpoint", lambda: sim.checkpoint(tmp_path / "c.h5")),
+                       ("set_velocities", lambda: sim.set_velocities(velocities))]:
+        with pytest.raises(ValueError, match=f"^{name}: the simulation is closed"):
+            call()
+    assert sim.steps == 1 and not (tmp_path / "c.h5").exists()
+    sim.close()  # a second close does nothing
+    with open(tmp_path / "out" / "summary.json") as f:
+        assert json.load(f)["steps"] == 1
+
+
+def test_a_callback_that_closes_ends_the_run():
+    sim = mpm.Simulation(mpm.Scene.from_toml(DISKS))
+    with pytest.raises(ValueError, match="^step: the simulation is closed"):
+        sim.run(callback=lambda s: s.close())
+    assert sim.steps == 1
+
+
+def test_run_until_nan_is_refused():
+    sim = mpm.Simulation(mpm.Scene.from_toml(DISKS))
+    with pytest.raises(ValueError, match="^until: expected a time \\[s\\], got nan$"):
+        sim.run(until=float("nan"))
+    assert sim.steps == 0
+
+
 def test_bad_options():
     scene = mpm.Scene.from_toml(DISKS)
     with pytest.raises(ValueError, match="threads: expected a non-negative count"):
         mpm.Simulation(scene, threads=-1)
+    with pytest.raises(ValueError, match="threads: expected a non-negative count of at most 512 .*, got 100000"):
+        mpm.Simulation(scene, threads=100000)
     with pytest.raises(ValueError, match="checkpoint_every: the checkpoints go into the output folder"):
         mpm.Simulation(scene, checkpoint_every=5)
     with pytest.raises(ValueError, match="^--restart: checkpoint no-such.h5: no such file$"):

@@ -27,8 +27,13 @@ def test_bad_study_options():
         mpm.verify("bar-1d", cfl_speed="fast")
     with pytest.raises(ValueError, match="colour: not an option of the studies"):
         mpm.verify("bar-1d", colour="red")
-    with pytest.raises(ValueError, match="cells: expected a number, got a str"):
+    with pytest.raises(ValueError, match="^cells: expected an integer, got 'many'$"):
         mpm.verify("bar-1d", cells="many")
+    # A huge integer was "expected a number, got a int" (issue 47, item 8).
+    with pytest.raises(ValueError, match="^cells: expected an integer of at most 2147483647, got 100000000000000000000$"):
+        mpm.verify("bar-1d", cells=10**20)
+    with pytest.raises(ValueError, match="^cfl: expected a number, got 'x'$"):
+        mpm.verify("bar-1d", cfl="x")
     with pytest.raises(ValueError, match="^--cells: expected at least 2 cells per axis$"):
         mpm.verify("bar-1d", cells=1)
     with pytest.raises(ValueError, match="^--vary: expected cells or cfl"):

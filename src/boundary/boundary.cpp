@@ -17,21 +17,6 @@ void for_all_nodes(const GridGeometry<Dim>& g, Fn&& fn) {
   for (std::ptrdiff_t f = 0; f < n; ++f) fn(static_cast<std::int32_t>(f), g.global(g.coords(f)));
 }
 
-/// Whether the node at global grid coordinates i repeats another node: beyond a symmetry plane, a mirror ghost that
-/// fold_and_mirror overwrites with its partner's fields; along a periodic axis, outside [0, cells - 1], an image
-/// that PeriodicHalo fills with its owner's sums. Such a node is held as its original is, but no reaction, friction
-/// power or force moment counts it: its original does, as the implicit engine's unknowns skip it (mirrored_).
-/// Ghosts beyond the other faces hold particles' mass of their own, and count.
-template <int Dim>
-bool repeats_another(const BoundarySpec<Dim>& spec, const IVec<Dim>& cells, const IVec<Dim>& i) {
-  for (int d = 0; d < Dim; ++d) {
-    const FaceType lo = spec.faces[2 * d].type, hi = spec.faces[2 * d + 1].type;
-    if (lo == FaceType::periodic && (i[d] < 0 || i[d] >= cells[d])) return true;
-    if ((lo == FaceType::symmetry && i[d] < 0) || (hi == FaceType::symmetry && i[d] > cells[d])) return true;
-  }
-  return false;
-}
-
 template <int Dim>
 Vec<Dim> reflect(Vec<Dim> v, int axis) {
   v[axis] = -v[axis];
@@ -138,10 +123,11 @@ KinematicConstraints<Dim>::KinematicConstraints(const BoundarySpec<Dim>& spec, c
     groups_.push_back(std::move(grp));
   }
   // A group's reaction counts the nodes this box owns, copies of other nodes excepted (repeats_another).
+  const std::array<FaceType, 2 * Dim> types = face_types(spec);
   for (Group& grp : groups_)
     for (std::int32_t f : grp.nodes) {
       const IVec<Dim> i = g.coords(f);
-      bool mine = !repeats_another<Dim>(spec, g.cells, g.global(i));
+      bool mine = !repeats_another<Dim>(types, g.cells, g.global(i));
       for (int d = 0; d < Dim; ++d) mine = mine && i[d] + g.ghost < owned[d];
       grp.owned.push_back(mine);
     }

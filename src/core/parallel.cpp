@@ -78,7 +78,7 @@ int default_threads() {
   if (const char* env = std::getenv("OMP_NUM_THREADS")) {
     char* end = nullptr;
     const long n = std::strtol(env, &end, 10);
-    if (end != env && n > 0) return static_cast<int>(std::min(n, 512L));
+    if (end != env && n > 0) return static_cast<int>(std::min<long>(n, max_threads));
   }
   cpu_set_t set;
   if (sched_getaffinity(0, sizeof set, &set) == 0) return std::max(1, CPU_COUNT(&set));
@@ -253,7 +253,7 @@ bool run_chunks(std::ptrdiff_t n, ChunkRunner run, void* body) {
 
 void set_num_threads(int n) {
   const std::lock_guard<std::mutex> lock(pool_mutex);
-  configured_threads = n > 0 ? std::min(n, 512) : default_threads();
+  configured_threads = n > 0 ? std::min(n, max_threads) : default_threads();
 }
 
 int num_threads() {

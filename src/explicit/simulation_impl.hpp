@@ -10,6 +10,7 @@
 
 #include "mpm/boundary/rigid_bodies_locate.hpp"
 #include "mpm/core/errors.hpp"
+#include "mpm/core/time_step.hpp"
 #include "mpm/explicit/simulation.hpp"
 #include "mpm/particles/pack.hpp"
 #include "mpm/particles/validate.hpp"
@@ -63,7 +64,7 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
       contact_positions_(measures_gaps(spec.contact) ? static_cast<std::size_t>(spec.contact.fields) : 0, grid_),
       periodic_halo_(grid_.geometry),
       constraints_(spec.boundary, grid_.geometry, box_halo_.owned_layers()),
-      rigid_(spec.rigid_bodies, grid_.geometry),
+      rigid_(spec.rigid_bodies, grid_.geometry, face_types(spec.boundary)),
       neo_hookean_(neo_hookean_only(spec.materials)),
       drucker_prager_(drucker_prager_rows(spec.materials)),
       axisymmetric_(Dim == 2 && spec.geometry == Geometry::axisymmetric),
@@ -148,7 +149,9 @@ Real Simulation<Dim, Kernel>::next_dt() const {
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::step(Real max_dt) {
   remove_outflow();
-  const Real dt = std::min(next_dt(), max_dt);
+  const Real stable_dt = next_dt();
+  check_step_advances(steps_, time_, stable_dt);
+  const Real dt = std::min(stable_dt, max_dt);
   // Centered difference starts from v^{-1/2} by halving the first grid acceleration, unless the particles were
   // given v^{-1/2} (Wallstedt & Guilkey 2008, Sec. 4); UVF-MPM is a modification of it and does the same.
   const Real first_scale = steps_ == 0 && !spec_.half_step_velocity_given ? 0.5 : 1.0;
@@ -345,8 +348,17 @@ void Simulation<Dim, Kernel>::constrain_update(Real t_new, Real dt) {
   for (Grid<Dim>* field : field_grids()) {
     constraints_.constrain_update(*field, t_new, dt, add);
     rigid_.constrain_update(*field, t_new, dt, add);
+    mirror_rigid_bodies(*field, {&GridNode<Dim>::a, &GridNode<Dim>::v_new});
     add = true;
   }
+}
+
+template <int Dim, class Kernel>
+void Simulation<Dim, Kernel>::mirror_rigid_bodies(Grid<Dim>& field, std::initializer_list<NodeVelocity<Dim>> values) {
+  // A rigid body's update at a ghost beyond a symmetry plane is its own (a Coulomb body's normal there comes from
+  // its points on one side only); the ghost must stay the reflection of its real node, which the reactions count.
+  if (rigid_.empty()) return;
+  for (NodeVelocity<Dim> v : values) constraints_.mirror(field, v);
 }
 
 template <int Dim, class Kernel>
@@ -354,6 +366,7 @@ void Simulation<Dim, Kernel>::constrain_velocity(NodeVelocity<Dim> v, Real t) {
   for (Grid<Dim>* field : field_grids()) {
     constraints_.constrain_velocity(*field, v, t);
     rigid_.constrain_velocity(*field, v, t);
+    mirror_rigid_bodies(*field, {v});
   }
 }
 

@@ -188,10 +188,10 @@ std::string Simulation<Dim, Kernel>::failure_message(std::size_t i, Real dt) con
   else if (!grid_.geometry.contains(p.x[i]))
     cause = "left the grid at " + format_point<Dim>(p.x[i]);
   else if (!(J > 0))
-    cause = "det F = " + std::to_string(J) + " <= 0 (material inverted)";
+    cause = "det F = " + format_number(J) + " <= 0 (material inverted)";
   else if (!p.state.empty() && !(p.state.stretch3[i] > 0 && p.V[i] > 0))
-    cause = "volume V / V0 = " + std::to_string(p.V[i] / p.V0[i]) + " with out-of-plane stretch " +
-            std::to_string(p.state.stretch3[i]) + " (material inverted)";
+    cause = "volume V / V0 = " + format_number(p.V[i] / p.V0[i]) + " with out-of-plane stretch " +
+            format_number(p.state.stretch3[i]) + " (material inverted)";
   else if (!p.state.empty() && !p.state.sigma[i].full().allFinite())
     cause = "non-finite stress from the material update";
   else if (moves_corners<Kernel>)

@@ -7,6 +7,7 @@
 
 #include "mpm/boundary/rigid_bodies_locate.hpp"
 #include "mpm/core/errors.hpp"
+#include "mpm/core/time_step.hpp"
 #include "mpm/core/parallel.hpp"
 
 #include "mpm/implicit/simulation.hpp"
@@ -54,7 +55,7 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
       constraints_(spec.boundary, grid_.geometry),
       layout_(grid_.geometry),
       order_(grid_.geometry, Kernel::width),
-      rigid_(spec.rigid_bodies, grid_.geometry) {
+      rigid_(spec.rigid_bodies, grid_.geometry, face_types(spec.boundary)) {
   dashpots_ = constraints_.dashpots();
   ParticleSet<Dim>& p = particles_;
   p.half_lengths = half_lengths_of(spec.kernel);
@@ -141,6 +142,7 @@ void ImplicitSimulation<Dim, Kernel>::step(Real max_dt) {
   // A step that would leave less than 1e-6 of itself to max_dt (the end time, reached through sums of rounded steps)
   // takes that sliver along: a sliver step's residual, divided by its dt, would be round-off.
   if (max_dt > dt && max_dt - dt < 1e-6 * dt) dt = max_dt;
+  check_step_advances(steps_, time_, dt);
   bool halved = false;
   attempts_.clear();
   for (int retry = 0; !try_step(dt); ++retry) {

@@ -9,6 +9,13 @@
 
 namespace mpm {
 
+std::string format_number(Real x) {
+  std::ostringstream os;
+  os.precision(9);
+  os << x;
+  return os.str();
+}
+
 template <int Dim>
 std::string format_point(const Vec<Dim>& x) {
   std::ostringstream os;

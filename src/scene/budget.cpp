@@ -84,6 +84,13 @@ double wave_speed_at_rest(const Scene& sc) {
   return c;
 }
 
+/// The first step [s]: the scene's dt, or the CFL condition on the fastest wave at rest plus the fastest particle
+/// (`speed`), times the implicit engine's step factor.
+double first_dt(const Scene& sc, double speed) {
+  const double explicit_dt = sc.dt > 0 ? sc.dt : sc.cfl * sc.h / (wave_speed_at_rest(sc) + speed);
+  return sc.implicit ? explicit_dt * sc.implicit_step.step_factor : explicit_dt;
+}
+
 template <int Dim>
 MemoryModel engine_memory(const Scene& sc) {
   return with_kernel<Dim>(sc.kernel, [&]<class Kernel>() {
@@ -161,7 +168,7 @@ std::string count_text(double n) {
 }
 }  // namespace
 
-Budget estimate_budget(const Scene& sc) {
+Budget estimate_budget(const Scene& sc, double initial_speed, double start_time) {
   Budget b;
   for (std::size_t k = 0; k < sc.bodies.size(); ++k) {
     const double n = count_body(sc, sc.bodies[k]);
@@ -172,10 +179,12 @@ Budget estimate_budget(const Scene& sc) {
   b.nodes = 1;
   for (int d = 0; d < sc.dim; ++d) b.nodes *= sc.cells[d] + 1.0 + 2.0 * ghost;
 
-  const double explicit_dt = sc.dt > 0 ? sc.dt : sc.cfl * sc.h / wave_speed_at_rest(sc);
-  b.first_dt = sc.implicit ? explicit_dt * sc.implicit_step.step_factor : explicit_dt;
-  b.steps = std::max(1.0, std::ceil(sc.end_time / b.first_dt * (1 - 1e-14)));
-  b.frames = 2 + (sc.output_every > 0 ? std::floor(sc.end_time / sc.output_every) : 0);
+  // From start_time (a restart's) to the end: the steps, and the frames the run adds (t = 0's, k every, the last).
+  const double span = sc.end_time - start_time;
+  b.first_dt = first_dt(sc, initial_speed);
+  b.steps = std::max(1.0, std::ceil(span / b.first_dt * (1 - 1e-14)));
+  b.frames = (start_time > 0 ? 1 : 2) +
+             (sc.output_every > 0 ? std::floor(sc.end_time / sc.output_every) - std::floor(start_time / sc.output_every) : 0);
 
   // Memory: the engine's arrays, the velocities of the step before for the work of the loads (the implicit
   // runner's copy; the explicit engine's, with their tiles, when there are loads), and the largest transient
@@ -196,6 +205,15 @@ Budget estimate_budget(const Scene& sc) {
   // newton.csv: about four rows of five columns a step (the examples' steps take 1 to 10 Newton iterations).
   if (sc.newton_log) b.output_bytes += b.steps * 4 * 24 * 5;
   return b;
+}
+
+void check_initial_speed(const Scene& sc, const std::string& where, double speed) {
+  if (!std::isfinite(speed)) refuse(sc, where, "a particle's initial speed overflows (|v| is not finite)");
+  const double dt = first_dt(sc, speed), steps = sc.end_time / dt;
+  if (steps > limits::max_steps)
+    refuse(sc, where,
+           "a particle starts at " + count_text(speed) + " m/s: about " + count_text(steps) + " steps of " +
+               seconds_text(dt) + "; a run takes at most " + count_text(limits::max_steps) + " steps");
 }
 
 void check_budget(const Scene& sc, const Budget& b, const BudgetLimits& lim) {

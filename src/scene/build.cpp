@@ -74,7 +74,7 @@ void read_particle_file(const SceneBody& b, const std::string& key, Real density
     const std::string where = b.file.string() + ":" + std::to_string(line_no) + ": row of " + key + ": ";
     if (!numeric || row.size() != static_cast<std::size_t>(Dim + 1))
       throw InputError(where + "expected " + std::to_string(Dim + 1) +
-                       " comma-separated numbers (position then volume), got '" + line + "'");
+                       " comma-separated numbers (position then volume), got " + in_quotes(line));
     const Real V = row[Dim];
     if (!(V > 0 && std::isfinite(V))) throw InputError(where + "volume must be a positive number");
     Vec<Dim> x;
@@ -299,6 +299,7 @@ ParticleSet<Dim> seed_bodies(const Scene& sc) {
       }
       if (!b.velocity.empty()) p.v[i] = vector_value<Vec<Dim>>(b.velocity, std::span<const double>(X.data(), Dim));
     }
+    check_initial_speed(sc, name + ".velocity", fastest_speed<Dim>(std::span(p.v).subspan(first)));
     if (b.k0 >= 0) {
       const Vec<Dim> g = to_vec<Dim>(sc.gravity);
       if (!(g.norm() > 0))

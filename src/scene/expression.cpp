@@ -30,9 +30,9 @@ Expression::Expression(const std::string& text, const std::vector<std::string>& 
     std::string names;
     for (const std::string& v : variables) names += (names.empty() ? "" : ", ") + v;
     const std::string reason = err.GetCode() == mu::ecUNASSIGNABLE_TOKEN
-                                   ? "unknown name '" + err.GetToken() + "'"
-                                   : err.GetMsg();
-    throw InputError(where + ": cannot evaluate '" + text + "': " + reason +
+                                   ? "unknown name " + in_quotes(err.GetToken())
+                                   : shortened(err.GetMsg());
+    throw InputError(where + ": cannot evaluate " + in_quotes(text) + ": " + reason +
                      " (variables: " + (names.empty() ? "none" : names) + "; constants: pi" +
                      (constants.empty() ? "" : " and [constants]") + ")");
   }

@@ -81,7 +81,7 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
   if (found == sc.materials.end()) {
     std::vector<std::string> names;
     for (const SceneMaterial& m : sc.materials) names.push_back(m.name);
-    s.fail("material", "no material named '" + material + "' (defined: " + join(names) + ")");
+    s.fail("material", "no material named " + in_quotes(material) + " (defined: " + join(names) + ")");
   }
   b.material = static_cast<std::size_t>(found - sc.materials.begin());
   if (s.has("velocity")) b.velocity = s.expressions("velocity", n, position_vars[n - 1], sc.constants);
@@ -98,7 +98,7 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
     if (!is_rate_form(law) || std::holds_alternative<NewtonianFluid>(law))
       s.fail("k0", "a geostatic stress needs a rate-form solid (hypoelastic, von-mises, drucker-prager, mohr-coulomb, "
                    "modified-cam-clay); "
-                   "material '" + material + "' is not one");
+                   "material " + in_quotes(material) + " is not one");
     if (!b.displacement.empty()) s.fail("k0", "a body in geostatic stress starts undisplaced; drop displacement");
   }
   sc.bodies.push_back(std::move(b));
@@ -112,7 +112,7 @@ void read_surface_load(const Section& t, const std::string& kind, Scene& sc, con
   if (!t.has("body")) t.fail("body", "missing (the name of the loaded body)");
   const std::string body = t.text("body", "");
   auto found = std::find_if(sc.bodies.begin(), sc.bodies.end(), [&](const SceneBody& b) { return b.name == body; });
-  if (found == sc.bodies.end()) t.fail("body", "no body named '" + body + "'");
+  if (found == sc.bodies.end()) t.fail("body", "no body named " + in_quotes(body));
   if (found->shape == SceneBody::Shape::file)
     t.fail("body", "surface loads need a body seeded on a lattice (box, disk, sphere or ring), not a particle file");
   load.body = static_cast<std::size_t>(found - sc.bodies.begin());

@@ -32,10 +32,10 @@ std::vector<std::size_t> read_group(const Section& s, const Scene& sc, const tom
     if (found == sc.bodies.end()) {
       for (const SceneRigidBody& r : sc.rigid_bodies)
         if (r.name == name)
-          s.fail("bodies", "'" + name + "' is a rigid body; give it a friction coefficient in its [[rigid_bodies]] table");
+          s.fail("bodies", in_quotes(name) + " is a rigid body; give it a friction coefficient in its [[rigid_bodies]] table");
       std::string known;
       for (const SceneBody& b : sc.bodies) known += (known.empty() ? "" : ", ") + b.name;
-      s.fail("bodies", "unknown body '" + name + "' (the bodies are " + known + ")");
+      s.fail("bodies", "unknown body " + in_quotes(name) + " (the bodies are " + known + ")");
     }
     group.push_back(static_cast<std::size_t>(found - sc.bodies.begin()));
   }

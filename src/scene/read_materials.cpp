@@ -192,6 +192,24 @@ std::vector<std::string> material_keys() {
   return keys;
 }
 
+/// Every time step and budget divides by the wave speed at rest: refuse a law whose moduli overflow it (E = 1.7e308
+/// gives lambda + 2 mu = inf). The key named is the table's largest number, the modulus that overflowed.
+namespace {
+void check_wave_speed(const Section& s, const Material& law) {
+  const double c = wave_speed_at_rest(law);
+  if (std::isfinite(c)) return;
+  std::string largest = "density";
+  double size = 0;
+  for (const std::string& key : material_keys())
+    if (const toml::node* n = s.get(key); n && n->is_number() && std::abs(number_value(*n)) > size) {
+      size = std::abs(number_value(*n));
+      largest = key;
+    }
+  s.fail(largest, "gives the material a wave speed at rest that is not a finite number (its moduli overflow); "
+                  "expected moduli below about 1e300 Pa");
+}
+}  // namespace
+
 void read_material(const Section& s, Scene& sc) {
   SceneMaterial m;
   m.name = s.text("name", "");
@@ -221,16 +239,13 @@ void read_material(const Section& s, Scene& sc) {
       s.fail(key, "applies to model = \"" + d->second + "\" only");
     }
   }
-  if (is_declared) {
-    read_declared(s, sc, model, rho, m.law, all_laws);
-    sc.materials.push_back(m);
-    return;
-  }
   const bool frictional = model == "drucker-prager" || model == "mohr-coulomb";
-  if (!frictional)
+  if (!frictional && !is_declared)
     for (const char* k : frictional_keys)
       if (s.has(k)) s.fail(k, "applies to model = \"drucker-prager\" or \"mohr-coulomb\" only");
-  if (frictional)
+  if (is_declared)
+    read_declared(s, sc, model, rho, m.law, all_laws);
+  else if (frictional)
     m.law = read_frictional(s, sc, model, rho);
   else if (model == "neo-hookean")
     m.law = read_neo_hookean(s, sc, rho);
@@ -238,6 +253,7 @@ void read_material(const Section& s, Scene& sc) {
     m.law = read_fluid(s, sc, rho);
   else
     m.law = read_rate_form(s, model, rho);
+  check_wave_speed(s, m.law);
   sc.materials.push_back(m);
 }
 

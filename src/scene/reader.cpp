@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "mpm/core/errors.hpp"
+#include "mpm/core/parallel.hpp"
 #include "mpm/scene/budget.hpp"
 #include "mpm/scene/scene.hpp"
 #include "section.hpp"
@@ -40,7 +41,7 @@ bool reserved_name(const std::string& name) {
 std::string apply_override(toml::table& doc, const std::string& assignment) {
   const std::size_t eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw InputError("--set: expected key.path=value, got '" + assignment + "'");
+    throw InputError("--set: expected key.path=value, got " + in_quotes(assignment));
   const std::string path = assignment.substr(0, eq), value = assignment.substr(eq + 1);
   toml::table parsed;
   try {
@@ -116,7 +117,8 @@ void read_simulation(const Section& s, Scene& sc) {
   if (sc.transfer == Transfer::apic && s.has("flip_fraction"))
     s.fail("flip_fraction", "applies to transfer = \"flip\" only (APIC's velocity is the grid's)");
   sc.threads = s.integer("threads", 0);
-  if (sc.threads < 0) s.fail("threads", "expected 0 (all cores) or a positive count");
+  if (sc.threads < 0 || sc.threads > max_threads)
+    s.fail("threads", "expected 0 (all cores) or a positive count of at most " + std::to_string(max_threads));
   sc.geometry = parse_geometry(s.choice("geometry", "plane-strain", {"plane-strain", "plane-stress", "axisymmetric"}), "");
   if (s.has("geometry") && sc.dim != 2) s.fail("geometry", "applies to 2-D scenes only");
 }

@@ -11,6 +11,7 @@
 
 #include "mpm/core/errors.hpp"
 #include "mpm/distributed/communicator.hpp"
+#include "mpm/io/checkpoint.hpp"
 #include "mpm/io/vtk.hpp"
 #include "run_csv.hpp"
 #include "run_newton_log.hpp"
@@ -22,7 +23,8 @@ class RunFiles {
   RunFiles(std::filesystem::path dir, const Communicator& comm) : dir_(std::move(dir)), comm_(comm) {}
 
   /// Make the folder. A fresh run clears an earlier run's outputs; a restart at time t (step `steps`) keeps the
-  /// frames, history rows and Newton log rows up to its checkpoint and removes the frame files after them.
+  /// frames, history rows and Newton log rows up to its checkpoint and removes the frame files after them. Both
+  /// remove the temporary checkpoints (checkpoint.h5.tmp-PID-N) a run killed while writing one left behind.
   /// Returns the frames written so far, rank 0's count on every rank (so that all write the next at one step).
   std::int64_t prepare(bool restart, Real t, std::int64_t steps, const std::string& history_header, bool newton_log) {
     std::int64_t frames = 0;
@@ -84,9 +86,10 @@ class RunFiles {
     const fs::path pvd = dir_ / "particles.pvd";
     series_ = restart && fs::exists(pvd) ? io::PvdSeries::resume(pvd, t) : io::PvdSeries(pvd);
     const auto frames = restart ? static_cast<std::int64_t>(series_.entries().size()) : 0;
+    const std::string stray = io::checkpoint_temp_prefix(dir_ / "checkpoint.h5").filename().string();
     for (const fs::directory_entry& e : fs::directory_iterator(dir_)) {
       const std::string name = e.path().filename().string();
-      if (frame_index(e.path()) >= frames ||
+      if (frame_index(e.path()) >= frames || name.rfind(stray, 0) == 0 ||
           (!restart && (name == "particles.pvd" || name == "history.csv" || name == "newton.csv" ||
                         name == "summary.json")))
         fs::remove(e.path(), ec);

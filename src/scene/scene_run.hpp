@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <utility>
@@ -44,15 +45,21 @@ class SceneRun {
     if (comm_.size() > 1 && o.checkpoint_every > 0 && !io::collective_checkpoints())
       throw InputError("--checkpoint-every: this mpm was built without parallel HDF5 (libhdf5-openmpi-dev), which "
                        "the checkpoints of a run divided between ranks need; run in one process to checkpoint");
-    if (o.restart.empty()) return;
-    try {
-      scene_checkpoint::restore<Dim>(io::read_checkpoint(o.restart, comm_), engine_, acc_,
-                                     "--restart " + o.restart.string());
-      previous_time_ = sim_.time();
-    } catch (const InputError& e) {  // name the option: "checkpoint FILE: not an HDF5 file" alone is unclear
-      const std::string what = e.what();
-      throw InputError(what.rfind("--restart", 0) == 0 ? what : "--restart: " + what);
+    if (!o.restart.empty()) {
+      try {
+        scene_checkpoint::restore<Dim>(io::read_checkpoint(o.restart, comm_), engine_, acc_,
+                                       "--restart " + o.restart.string());
+        previous_time_ = sim_.time();
+      } catch (const InputError& e) {  // name the option: "checkpoint FILE: not an HDF5 file" alone is unclear
+        const std::string what = e.what();
+        throw InputError(what.rfind("--restart", 0) == 0 ? what : "--restart: " + what);
+      }
     }
+    // What is left to run, from the particles' speeds: a restart's output fits what remains of the run, not the
+    // whole of it (its memory was checked before the particles were built).
+    budget_ = estimate_budget(sc_, comm_.max(fastest_speed<Dim>(std::as_const(sim_).particles().v)), sim_.time());
+    if (!o.restart.empty() && writes())
+      check_budget(sc_, budget_, {std::numeric_limits<double>::infinity(), free_space_bytes(o_.out_dir)});
   }
 
   /// The command's loop: the budget on stdout, then open(), advance() to the end time (or --stop-after, or a
@@ -330,10 +337,10 @@ class SceneRun {
 
   const Scene& sc_;
   const RunOptions& o_;
-  const Budget budget_ = estimate_budget(sc_);
   Engine engine_;
   decltype(engine_.sim())& sim_;
   const Communicator& comm_;
+  Budget budget_;  // of what is left to run (set by the constructor)
   const bool root_;  // rank 0 writes history.csv, summary.json and the frames' .pvtp and .pvd
   Settling settling_;  // when the kinetic energy of a damped run settled
   RunFiles files_{o_.out_dir, comm_};

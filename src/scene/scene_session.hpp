@@ -63,6 +63,7 @@ class SceneSession final : public Session {
   void step() override {
     if (failure_.size()) throw SimulationFailure("the run failed earlier: " + failure_);
     if (run_.at_end()) throw InputError("step: the scene ended at end_time = " + std::to_string(scene_.end_time) + " s");
+    refuse_if_closed("step");
     try {
       run_.advance();
     } catch (const SimulationFailure& e) {
@@ -80,7 +81,10 @@ class SceneSession final : public Session {
     run_.close(failure_);
   }
 
-  void checkpoint(const std::filesystem::path& file) override { run_.write_checkpoint(file); }
+  void checkpoint(const std::filesystem::path& file) override {
+    refuse_if_closed("checkpoint");
+    run_.write_checkpoint(file);
+  }
 
   SessionTotals totals() const override {
     const Totals<Dim> t = run_.totals();
@@ -157,16 +161,25 @@ class SceneSession final : public Session {
   }
 
   void set_velocities(const double* v, std::size_t count) override {
+    refuse_if_closed("set_velocities");
     if (count != sim().particles().size() * Dim)
       throw InputError("velocities: expected " + std::to_string(sim().particles().size()) + " x " +
                        std::to_string(Dim) + " values, got " + std::to_string(count));
+    std::vector<Vec<Dim>> given(count / Dim);
+    for (std::size_t i = 0; i < given.size(); ++i)
+      for (int d = 0; d < Dim; ++d) given[i][d] = v[i * Dim + d];
+    check_initial_speed(scene_, "set_velocities", fastest_speed<Dim>(given));
     // Through the mutable particles: the explicit engine then recomputes its stencils before the next step.
-    ParticleSet<Dim>& p = run_.engine().sim().particles();
-    for (std::size_t i = 0; i < p.size(); ++i)
-      for (int d = 0; d < Dim; ++d) p.v[i][d] = v[i * Dim + d];
+    run_.engine().sim().particles().v = std::move(given);
   }
 
  private:
+  /// After close() the outputs are finished: the state may be read, not advanced or written.
+  void refuse_if_closed(const std::string& call) const {
+    if (closed_)
+      throw InputError(call + ": the simulation is closed (its outputs are finished); open a new one, with restart "
+                              "from a checkpoint to go on");
+  }
   const auto& sim() const { return run_.engine().sim(); }
   const Scene& scene() const { return scene_; }
   /// The engine's own fields, as the frames write them (the rate-form state, the contact field).

@@ -51,7 +51,7 @@ inline std::string join(const std::vector<std::string>& names) {
 inline std::string describe(const toml::node& n) {
   std::ostringstream os;
   if (n.is_string())
-    os << '\'' << n.value<std::string>().value_or("") << '\'';
+    os << in_quotes(n.value<std::string>().value_or(""));
   else if (n.is_table())
     os << "a table";
   else if (n.is_array())
@@ -123,7 +123,7 @@ class Section {
   std::string choice(const std::string& k, const std::string& fallback, const std::vector<std::string>& options) const {
     const std::string v = text(k, fallback);
     if (std::find(options.begin(), options.end(), v) == options.end())
-      fail(k, "expected one of " + join(options) + ", got '" + v + "'");
+      fail(k, "expected one of " + join(options) + ", got " + in_quotes(v));
     return v;
   }
   const toml::array& array(const std::string& k, std::size_t n, const std::string& what) const {

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -15,6 +16,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "support.hpp"
 #include "mpm/io/checkpoint.hpp"
@@ -57,8 +59,38 @@ TEST(Budget, DryRunPrintsTheBudgetWritesNothingAndExits0) {
   EXPECT_EQ(o.status, 0) << o.err;
   // The two disks seed 208 particles each (examples/colliding-disks/README.md); 23 x 23 nodes with the ghosts.
   EXPECT_EQ(o.out.rfind("budget: 416 particles, 529 nodes, ", 0), 0u) << o.out;
+  // The steps count the particles' initial speed |v| = 0.1 sqrt(2) besides the wave speed at rest
+  // c = sqrt((lambda + 2 mu) / rho) = 1.16024 m/s (E = 1000 Pa, nu = 0.3, rho = 1000 kg/m^3): dt = 0.4 x 0.05 m /
+  // 1.30166 m/s = 0.015365 s, and 3 s / dt = 195.2 steps; the wave speed alone would give 175 (issue 47, item 3).
+  EXPECT_NE(o.out.find(", 196 steps (dt 0.0154 s), "), std::string::npos) << o.out;
   EXPECT_EQ(lines(o.out), 1);
   EXPECT_FALSE(fs::exists(dir / "out"));
+  fs::remove_all(dir);
+}
+
+/// The number before `what` in a budget line ("budget: ..., 32 frames, ...").
+double budget_count(const std::string& line, const std::string& what) {
+  const std::size_t at = line.find(" " + what);
+  const std::size_t from = line.rfind(' ', at - 1) + 1;
+  return std::stod(line.substr(from, at - from));
+}
+
+TEST(Budget, ARestartBudgetsWhatIsLeftOfTheRun) {
+  // A restart was budgeted for the whole run's output, and refused after a full disk with room to finish (issue
+  // 47, item 9). Its frames are those after its checkpoint's time t, and the last: 1 + 30 - floor(t / 0.1).
+  const fs::path dir = scratch("restart-budget");
+  const std::string out = (dir / "out").string();
+  ASSERT_EQ(mpm("run " + disks + " --quiet --stop-after 100 --out " + out, dir).status, 0);
+  const double t = mpm::io::read_checkpoint(dir / "out/checkpoint.h5").real_scalars.at("time");
+  const Outcome fresh = mpm("run " + disks + " --dry-run --out " + out, dir);
+  const Outcome restart = mpm("run " + disks + " --dry-run --out " + out + " --restart " + out + "/checkpoint.h5", dir);
+  ASSERT_EQ(restart.status, 0) << restart.err;
+  EXPECT_EQ(budget_count(fresh.out, "frames"), 32);
+  EXPECT_EQ(budget_count(restart.out, "frames"), 31 - std::floor(t / 0.1)) << restart.out << " t = " << t;
+  // Its steps are (3 s - t) / dt, dt from the restored particles' speeds (printed to 3 digits: within one step).
+  const std::size_t at = restart.out.find("(dt ") + 4;
+  const double dt = std::stod(restart.out.substr(at, restart.out.find(' ', at) - at));
+  EXPECT_NEAR(budget_count(restart.out, "steps"), (3 - t) / dt, 1.0) << restart.out << " t = " << t;
   fs::remove_all(dir);
 }
 
@@ -104,6 +136,16 @@ TEST(Budget, AbsurdScenesAreRefusedWithOneLineAndNothingWritten) {
       {"run " + source_dir.string() + out, "cannot open the scene file"},
       {"run " + disks + out + " --threads -3", "--threads: expected a non-negative count"},
       {"run " + disks + out + " --restart " + disks, "--restart"},
+      // A finite initial speed whose square overflows stopped the clock (dt = 0) instead (issue 47, item 3).
+      {"run " + disks + out + " --set bodies.1.velocity=[1e154,0]",
+       "bodies[1] (upper-right).velocity: a particle starts at 1e+154 m/s: about 1.5e+156 steps of 2e-156 s; a run "
+       "takes at most 1e+09 steps"},
+      {"run " + disks + out + " --set bodies.0.velocity=[1.7e308,1.7e308]",
+       "bodies[0] (lower-left).velocity: a particle's initial speed overflows (|v| is not finite)"},
+      // E = 1.7e308 overflowed lambda + 2 mu and ran one step of the whole end time (issue 47, item 4).
+      {"run " + disks + out + " --set materials.0.E=1.7e308",
+       "materials[0].E (from --set materials.0.E=1.7e308): gives the material a wave speed at rest that is not a "
+       "finite number"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.args);
@@ -155,6 +197,25 @@ int wait_status(pid_t pid) {
   int status = 0;
   waitpid(pid, &status, 0);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+}
+
+/// A run killed while it writes a checkpoint leaves checkpoint.h5.tmp-PID-N behind (9 of 15 kills in the issue's
+/// trial); the next run in that folder, fresh or restarted, removes such files and nothing else of the user's.
+TEST(Signals, TheNextRunRemovesTheTemporaryCheckpointsOfAKilledOne) {
+  const fs::path dir = scratch("stray"), out = dir / "out";
+  fs::create_directories(out);
+  for (const char* name : {"checkpoint.h5.tmp-4242-0", "checkpoint.h5.tmp-4243-7", "notes.txt"})
+    std::ofstream(out / name) << "left behind";
+  const std::string run = "run " + disks + " --quiet --set simulation.end_time=0.02 --out " + out.string();
+  ASSERT_EQ(mpm(run + " --checkpoint-every 1", dir).status, 0);
+  std::ofstream(out / "checkpoint.h5.tmp-4244-3") << "left behind";
+  ASSERT_EQ(mpm(run + " --restart " + (out / "checkpoint.h5").string(), dir).status, 0);
+  std::vector<std::string> left;
+  for (const fs::directory_entry& e : fs::directory_iterator(out))
+    if (e.path().filename().string().find(".tmp-") != std::string::npos) left.push_back(e.path().filename().string());
+  EXPECT_TRUE(left.empty()) << left.front();
+  EXPECT_EQ(slurp(out / "notes.txt"), "left behind");
+  fs::remove_all(dir);
 }
 
 TEST(Signals, InterruptWritesACheckpointAndTheRestartEndsBitwiseEqual) {

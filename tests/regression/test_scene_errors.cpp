@@ -295,6 +295,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"CamClayBodyWithoutConfinement",
                  {{"E = 1000.0\nnu = 0.3", cam_clay + "\npreconsolidation_pressure = 1e4"}}, "materials[0]",
                  {"starts at mean effective stress p' = 0 Pa", "k0 under gravity"}, 0},
+        BadScene{"YoungModulusOverflowsTheWaveSpeed", {{"E = 1000.0", "E = 1.7e308"}}, "materials[0].E",
+                 {"gives the material a wave speed at rest that is not a finite number (its moduli overflow)"}, 16},
         BadScene{"ConstantNotANumber", {{"", "[constants]\nc = nan\n"}}, "constants.c",
                  {"expected a finite number, got nan"}, 35},
         BadScene{"ConstantInfinite", {{"", "[constants]\nc = -inf\n"}}, "constants.c",
@@ -400,6 +402,11 @@ INSTANTIATE_TEST_SUITE_P(
                  "{dir}/none.h5"},
         BadScene{"RestartNotACheckpoint", {}, "--restart", {"not an HDF5 file"}, 0, "--restart {scene}"},
         BadScene{"ThreadsNegative", {}, "--threads", {"expected a non-negative count"}, 0, "--threads -1", "", ""},
+        // More than 512 threads were taken as 512 without a word (issue 47, item 10).
+        BadScene{"ThreadsTooMany", {}, "--threads", {"expected a non-negative count of at most 512, got 100000"}, 0,
+                 "--threads 100000", "", ""},
+        BadScene{"SceneThreadsTooMany", {{"cfl = 0.4", "cfl = 0.4\nthreads = 100000"}}, "simulation.threads",
+                 {"expected 0 (all cores) or a positive count of at most 512"}, 8},
         BadScene{"CheckpointEveryNegative", {}, "--checkpoint-every", {"expected a non-negative step count"}, 0,
                  "--checkpoint-every -1", "", ""}),
     [](const ::testing::TestParamInfo<BadScene>& param) { return param.param.name; });

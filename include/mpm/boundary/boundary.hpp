@@ -86,6 +86,29 @@ std::array<bool, 2 * Dim> wall_faces(const BoundarySpec<Dim>& spec) {
   return faces;
 }
 
+/// The type of each face, in the order of BoundarySpec::faces.
+template <int Dim>
+std::array<FaceType, 2 * Dim> face_types(const BoundarySpec<Dim>& spec) {
+  std::array<FaceType, 2 * Dim> types{};
+  for (int f = 0; f < 2 * Dim; ++f) types[f] = spec.faces[f].type;
+  return types;
+}
+
+/// Whether the node at global grid coordinates i repeats another node: beyond a symmetry plane, a mirror ghost that
+/// fold_and_mirror overwrites with its partner's fields; along a periodic axis, outside [0, cells - 1], an image
+/// that PeriodicHalo fills with its owner's sums. Such a node is held as its original is, but no reaction, friction
+/// power or force moment counts it: its original does, as the implicit engine's unknowns skip it (mirrored_).
+/// Ghosts beyond the other faces hold particles' mass of their own, and count. `faces`: face_types.
+template <int Dim>
+bool repeats_another(const std::array<FaceType, 2 * Dim>& faces, const IVec<Dim>& cells, const IVec<Dim>& i) {
+  for (int d = 0; d < Dim; ++d) {
+    const FaceType lo = faces[2 * d], hi = faces[2 * d + 1];
+    if (lo == FaceType::periodic && (i[d] < 0 || i[d] >= cells[d])) return true;
+    if ((lo == FaceType::symmetry && i[d] < 0) || (hi == FaceType::symmetry && i[d] > cells[d])) return true;
+  }
+  return false;
+}
+
 /// Throws InputError (prefixed with `at`) unless every periodic face has a periodic opposite face and its axis
 /// at least 2 cells, and an axisymmetric grid's radial axis is neither periodic nor, on the axis r = lo = 0, an
 /// outflow face.

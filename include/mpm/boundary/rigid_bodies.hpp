@@ -23,9 +23,11 @@ namespace mpm {
 template <int Dim>
 class RigidBodies {
  public:
-  /// Throws InputError when a point lies outside the grid.
-  RigidBodies(std::vector<RigidBody<Dim>> bodies, const GridGeometry<Dim>& g)
+  /// Throws InputError when a point lies outside the grid. `faces` (face_types): the reactions count no node that
+  /// repeats another beyond a symmetry plane or a periodic face (repeats_another).
+  RigidBodies(std::vector<RigidBody<Dim>> bodies, const GridGeometry<Dim>& g, const std::array<FaceType, 2 * Dim>& faces)
       : bodies_(std::move(bodies)),
+        faces_(faces),
         nodes_(bodies_.size()),
         normals_(bodies_.size()),
         displacement_(bodies_.size(), Vec<Dim>::Zero()),
@@ -65,9 +67,10 @@ class RigidBodies {
   template <class Kernel>
   void locate(const GridGeometry<Dim>& g, const std::string& when, const IVec<Dim>& owned);  // rigid_bodies_locate.hpp
 
-  /// The nodes in the box [lo, hi] (to 1e-9 h), each with whether the box of a divided grid owns it.
-  static std::vector<std::pair<std::int32_t, bool>> nodes_inside(const GridGeometry<Dim>& g, const Vec<Dim>& lo,
-                                                                 const Vec<Dim>& hi, const IVec<Dim>& owned) {
+  /// The nodes in the box [lo, hi] (to 1e-9 h), each with whether its reaction counts: the box of a divided grid
+  /// owns it, and it repeats no other node (repeats_another).
+  std::vector<std::pair<std::int32_t, bool>> nodes_inside(const GridGeometry<Dim>& g, const Vec<Dim>& lo,
+                                                          const Vec<Dim>& hi, const IVec<Dim>& owned) const {
     IVec<Dim> first, last;  // storage layers
     for (int d = 0; d < Dim; ++d) {
       const Real tol = 1e-9;
@@ -86,13 +89,20 @@ class RigidBodies {
         flat = flat * g.nodes_along(d) + k[d];
         mine = mine && k[d] < owned[d];
       }
-      out.emplace_back(flat, mine);
+      out.emplace_back(flat, mine && !repeats_another<Dim>(faces_, g.cells, global_node(g, k)));
       int d = 0;
       while (d < Dim && k[d] >= last[d]) k[d] = first[d], ++d;
       if (d == Dim) break;
       ++k[d];
     }
     return out;
+  }
+
+  /// The global grid coordinates of the node in storage layers k.
+  static IVec<Dim> global_node(const GridGeometry<Dim>& g, const IVec<Dim>& k) {
+    IVec<Dim> i;
+    for (int d = 0; d < Dim; ++d) i[d] = k[d] - g.ghost;
+    return g.global(i);
   }
 
   /// Impose the bodies' velocities at time t on a node velocity field.
@@ -152,9 +162,10 @@ class RigidBodies {
 
  private:
   std::vector<RigidBody<Dim>> bodies_;
+  std::array<FaceType, 2 * Dim> faces_;
   std::vector<std::vector<std::int32_t>> nodes_;
   std::vector<std::vector<Vec<Dim>>> normals_;  ///< a Coulomb body's: per touched node, from the material into it
-  std::vector<std::vector<std::uint8_t>> owned_;  ///< per touched node: the box owns it
+  std::vector<std::vector<std::uint8_t>> owned_;  ///< per touched node: its reaction counts (nodes_inside's bool)
   std::vector<Vec<Dim>> displacement_, reactions_;
   std::vector<std::array<ExactSum, Dim>> reaction_sums_;
   ExactSum friction_power_;

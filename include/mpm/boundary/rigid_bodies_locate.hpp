@@ -47,14 +47,15 @@ void RigidBodies<Dim>::locate(const GridGeometry<Dim>& g, const std::string& whe
             if constexpr (Dim == 3) S = w[0][k[0]] * (w[1][k[1]] * w[2][k[2]]);
             bool inside = S > 0, mine = true;
             std::int32_t flat = 0;
+            IVec<Dim> layers;
             for (int d = Dim - 1; d >= 0; --d) {
-              const int layer = first[d] + k[d];
-              inside = inside && layer >= 0 && layer < g.nodes_along(d);
-              mine = mine && layer < owned[d];
-              flat = flat * g.nodes_along(d) + layer;
+              layers[d] = first[d] + k[d];
+              inside = inside && layers[d] >= 0 && layers[d] < g.nodes_along(d);
+              mine = mine && layers[d] < owned[d];
+              flat = flat * g.nodes_along(d) + layers[d];
             }
             if (!inside) continue;
-            touched.emplace_back(flat, mine);
+            touched.emplace_back(flat, mine && !repeats_another<Dim>(faces_, g.cells, global_node(g, layers)));
             if (body.friction < 0) continue;
             Vec<Dim> grad;
             for (int d = 0; d < Dim; ++d) {

@@ -35,6 +35,20 @@ inline void require(bool ok, const std::string& message) {
   if (!ok) throw InputError(message);
 }
 
+/// A text the user gave, for messages: cut to 80 characters (a 10,000-character value would otherwise fill the
+/// message).
+inline std::string shortened(std::string_view text) {
+  return text.size() > 80 ? std::string(text.substr(0, 77)) + "..." : std::string(text);
+}
+
+/// shortened(text) in quotes.
+inline std::string in_quotes(std::string_view text) {
+  std::string out = "'";
+  out += shortened(text);
+  out += '\'';
+  return out;
+}
+
 /// The Enum whose index in `names` is that of `name`; otherwise InputError naming `key` and the expected names.
 template <class Enum, class Names>
 Enum parse_name(const Names& names, std::string_view name, std::string_view key) {
@@ -43,7 +57,7 @@ Enum parse_name(const Names& names, std::string_view name, std::string_view key)
     if (name == names[k]) return static_cast<Enum>(k);
     list += (k ? ", " : "") + std::string(names[k]);
   }
-  throw InputError(std::string(key) + ": unknown name '" + std::string(name) + "' (expected one of " + list + ")");
+  throw InputError(std::string(key) + ": unknown name " + in_quotes(name) + " (expected one of " + list + ")");
 }
 
 inline constexpr int exit_input_error = 2;

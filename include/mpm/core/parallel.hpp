@@ -58,6 +58,9 @@ T parallel_reduce(std::ptrdiff_t n, T identity, Value&& value, Combine&& combine
 
 /// Set the number of threads parallel_for uses; 0 restores the default: OMP_NUM_THREADS where it is set (a
 /// positive integer), else the cores this process may run on.
+/// The most threads a run takes: each entry (--threads, simulation.threads, Python's threads=) refuses more.
+inline constexpr int max_threads = 512;
+
 void set_num_threads(int n);
 
 /// The number of threads parallel_for will use.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <initializer_list>
 #include <limits>
 #include <vector>
 
@@ -194,6 +195,8 @@ class Simulation {
   void constrain_update(Real t_new, Real dt);
   /// Impose them at time t on the node velocity `v` of every field (a projected velocity).
   void constrain_velocity(NodeVelocity<Dim> v, Real t);
+  /// After the rigid bodies: the ghosts beyond symmetry planes reflect their real nodes' `values` again.
+  void mirror_rigid_bodies(Grid<Dim>& field, std::initializer_list<NodeVelocity<Dim>> values);
   /// The grid velocity v^n from the scattered momenta, with contact's first correction, and the advanced
   /// velocity v_new from the forces with its second (Bardenhagen, Brackbill & Sulsky 2000), in every field.
   void grid_velocity_and_update(Real dt, Real accel_scale);

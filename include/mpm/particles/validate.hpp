@@ -14,6 +14,9 @@
 
 namespace mpm {
 
+/// A number with 9 significant digits, for messages ("-1e+308", not std::to_string's 309 digits).
+std::string format_number(Real x);
+
 /// A point as "(x, y)" with 9 significant digits, for messages.
 template <int Dim>
 std::string format_point(const Vec<Dim>& x);

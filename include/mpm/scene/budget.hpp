@@ -23,9 +23,10 @@ struct Budget {
   double particles = 0;
   double nodes = 0;              ///< grid nodes, ghost layers included
   double memory_bytes = 0;       ///< engine arrays plus the run's own buffers at their peak [B]
-  double first_dt = 0;           ///< the first step [s]; for a CFL step, from the wave speed at rest
-  double steps = 0;              ///< end_time / first_dt (at least one)
-  double frames = 0;             ///< particle outputs (particles_NNNN.vtp)
+  double first_dt = 0;           ///< the first step [s]; for a CFL step, from the wave speed at rest plus the
+                                 ///< fastest particle's initial speed
+  double steps = 0;              ///< (end_time - start time) / first_dt (at least one)
+  double frames = 0;             ///< particle outputs (particles_NNNN.vtp) the run adds
   double output_bytes = 0;       ///< frames, history.csv, newton.csv, summary, one checkpoint and its copy [B]
 };
 
@@ -45,8 +46,13 @@ inline constexpr double max_frames = 100'000;
 inline constexpr double max_steps = 1e9;
 }  // namespace limits
 
-/// Estimate the cost of running `scene` (checkpoint_every > 0: checkpoints are written during the run).
-Budget estimate_budget(const Scene& scene);
+/// Estimate the cost of running `scene` whose fastest particle starts at `initial_speed` [m/s] (0 before the
+/// particles are seeded), from `start_time` (a restart's) to its end time.
+Budget estimate_budget(const Scene& scene, double initial_speed = 0, double start_time = 0);
+
+/// Throws InputError naming `where` (a body's velocity key) when the fastest particle, at `speed` [m/s], would make
+/// the run take more than limits::max_steps steps, or its speed overflows.
+void check_initial_speed(const Scene& scene, const std::string& where, double speed);
 
 /// Throws InputError naming the body or key and the estimate when the run exceeds a limit: particles or nodes
 /// past 2^31 - 1, more than limits::max_steps steps, memory past max_memory_bytes (the largest body named),
