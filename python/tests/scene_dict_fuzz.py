@@ -90,7 +90,7 @@ def fuzz(seconds=None, iterations=None, seed=0):
         except ValueError as e:
             refused += 1
             if "\n" in str(e) or len(str(e)) > 2000:
-                raise AssertionError(f"iteration {done} (seed {seed}): not one line: {str(e)[:300]!r}")
+                raise AssertionError(f"iteration {done} (seed {seed}): not one line: {str(e)[:300]!r}") from None
         except Exception as e:
             raise AssertionError(f"iteration {done} (seed {seed}): {type(e).__name__}: {str(e)[:300]}") from e
         done += 1

@@ -39,7 +39,7 @@ void read_box(const Section& s, const Scene& sc, const std::string& what, std::v
 void read_body(const Section& s, Scene& sc, std::size_t index) {
   const auto n = static_cast<std::size_t>(sc.dim);
   SceneBody b;
-  b.name = s.text("name", "body " + std::to_string(index));
+  b.name = s.name("name", "body " + std::to_string(index));
   const std::string shape = s.choice("shape", "box", {"box", "disk", "sphere", "ring", "file"});
   if (shape == "box") {
     b.shape = SceneBody::Shape::box;
@@ -153,7 +153,7 @@ void read_loads(const Section& s, Scene& sc, const Locator& loc) {
 void read_rigid_body(const Section& s, Scene& sc, std::size_t index) {
   const auto n = static_cast<std::size_t>(sc.dim);
   SceneRigidBody r;
-  r.name = s.text("name", "rigid " + std::to_string(index));
+  r.name = s.name("name", "rigid " + std::to_string(index));
   s.choice("shape", "box", {"box"});
   read_box(s, sc, "the rigid body", r.lo, r.hi);
   r.ppc = s.integer("ppc", 2);

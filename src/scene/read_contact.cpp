@@ -34,7 +34,7 @@ std::vector<std::size_t> read_group(const Section& s, const Scene& sc, const tom
         if (r.name == name)
           s.fail("bodies", in_quotes(name) + " is a rigid body; give it a friction coefficient in its [[rigid_bodies]] table");
       std::string known;
-      for (const SceneBody& b : sc.bodies) known += (known.empty() ? "" : ", ") + b.name;
+      for (const SceneBody& b : sc.bodies) known += (known.empty() ? "" : ", ") + b.name;  // names: 64 characters
       s.fail("bodies", "unknown body " + in_quotes(name) + " (the bodies are " + known + ")");
     }
     group.push_back(static_cast<std::size_t>(found - sc.bodies.begin()));

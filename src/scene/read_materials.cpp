@@ -212,7 +212,7 @@ void check_wave_speed(const Section& s, const Material& law) {
 
 void read_material(const Section& s, Scene& sc) {
   SceneMaterial m;
-  m.name = s.text("name", "");
+  m.name = s.name("name", "");
   if (m.name.empty()) s.fail("name", "missing (each material needs a name bodies refer to)");
   for (const SceneMaterial& other : sc.materials)
     if (other.name == m.name) s.fail("name", "material '" + m.name + "' is defined twice");

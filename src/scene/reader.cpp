@@ -213,7 +213,7 @@ void resolve_absorbing_faces(const Section& s, Scene& sc, const Locator& loc) {
     const Section v(*f.get(names[k])->as_table(), f.key_of(names[k]), loc, {"absorbing"});
     const auto m = std::find_if(sc.materials.begin(), sc.materials.end(),
                                 [&](const SceneMaterial& x) { return x.name == face.absorbs; });
-    if (m == sc.materials.end()) v.fail("absorbing", "no material named '" + face.absorbs + "'");
+    if (m == sc.materials.end()) v.fail("absorbing", "no material named " + in_quotes(face.absorbs));
     const ElasticModuli e = small_strain_moduli(m->law);
     face.normal_impedance = std::sqrt((e.lambda + 2 * e.mu) * m->density);  // rho c_p, Lysmer & Kuhlemeyer 1969
     face.shear_impedance = std::sqrt(e.mu * m->density);                    // rho c_s

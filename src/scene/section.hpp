@@ -28,23 +28,25 @@ struct Locator {
 
   std::string where(const toml::node* node, const std::string& key) const {
     if (node && node->source().begin.line > 0)
-      return file + ":" + std::to_string(node->source().begin.line) + ": " + key;
+      return file + ":" + std::to_string(node->source().begin.line) + ": " + shortened(key);
     auto under = [](const std::string& a, const std::string& b) {  // a is b or lies inside it
       return a.size() > b.size() ? a.compare(0, b.size(), b) == 0 && (a[b.size()] == '.' || a[b.size()] == '[')
                                  : a == b;
     };
     for (const auto& [set_key, assignment] : overrides)
-      if (under(key, set_key) || under(set_key, key)) return file + ": " + key + " (from --set " + assignment + ")";
-    return file + ": " + key;
+      if (under(key, set_key) || under(set_key, key))
+        return file + ": " + shortened(key) + " (from --set " + shortened(assignment) + ")";
+    return file + ": " + shortened(key);
   }
   [[noreturn]] void fail(const toml::node* node, const std::string& key, const std::string& what) const {
     throw InputError(where(node, key) + ": " + what);
   }
 };
 
+/// Names for a message, comma-separated, each cut to 80 characters (shortened).
 inline std::string join(const std::vector<std::string>& names) {
   std::string s;
-  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
+  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + shortened(n);
   return s;
 }
 
@@ -119,6 +121,12 @@ class Section {
     if (!n) return fallback;
     if (!n->is_string()) fail(k, "expected a string, got " + describe(*n));
     return n->value<std::string>().value();
+  }
+  /// A name other keys and the messages refer to (a material, a body, a rigid body): at most 64 characters.
+  std::string name(const std::string& k, const std::string& fallback) const {
+    const std::string v = text(k, fallback);
+    if (v.size() > 64) fail(k, "expected a name of at most 64 characters, got " + in_quotes(v));
+    return v;
   }
   std::string choice(const std::string& k, const std::string& fallback, const std::vector<std::string>& options) const {
     const std::string v = text(k, fallback);

@@ -295,6 +295,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"CamClayBodyWithoutConfinement",
                  {{"E = 1000.0\nnu = 0.3", cam_clay + "\npreconsolidation_pressure = 1e4"}}, "materials[0]",
                  {"starts at mean effective stress p' = 0 Pa", "k0 under gravity"}, 0},
+        // Names appear in other keys' messages and in history.csv's columns: a 10,000-character one filled them.
+        BadScene{"BodyNameTooLong", {{"name = \"block\"", "name = \"" + std::string(100, 'b') + "\""}},
+                 "bodies[0].name", {"expected a name of at most 64 characters, got 'bbbbbbbbbb", "bbb...'"}, 21},
         BadScene{"YoungModulusOverflowsTheWaveSpeed", {{"E = 1000.0", "E = 1.7e308"}}, "materials[0].E",
                  {"gives the material a wave speed at rest that is not a finite number (its moduli overflow)"}, 16},
         BadScene{"ConstantNotANumber", {{"", "[constants]\nc = nan\n"}}, "constants.c",
