@@ -1,10 +1,11 @@
-// libFuzzer target: the scene reader on arbitrary bytes. The input is a scene file; lines of it that start with
-// "#--set " are --set overrides, and whatever follows a line "#--particles" is written as the particle CSV file
-// "particles.csv" beside the scene. A scene that reads is budgeted and, when small, seeded (expressions, particle
-// file rows). Bad input must end in mpm::InputError; any other exception, crash, leak or hang is a finding, and so
-// is a scene accepted with a first step or step count that is not a finite positive number (E = 1.7e308 overflowed
-// the wave speed; an initial speed of 1e154 m/s overflowed |v|^2: issue 47, items 3 and 4). fuzz_scene.dict
-// gives the fuzzer huge finite values and deep keys to try.
+// libFuzzer target: the scene reader on arbitrary bytes. The input is a scene file; lines of it that start
+// with
+// "#--set " are --set overrides, and whatever follows a line "#--particles" is written as the particle CSV
+// file "particles.csv" beside the scene. A scene that reads is budgeted and, when small, seeded (expressions,
+// particle file rows). Bad input must end in mpm::InputError; any other exception, crash, leak or hang is a
+// finding, and so is a scene accepted with a first step or step count that is not a finite positive number (E
+// = 1.7e308 overflowed the wave speed; an initial speed of 1e154 m/s overflowed |v|^2: issue 47, items 3 and
+// 4). fuzz_scene.dict gives the fuzzer huge finite values and deep keys to try.
 #include <unistd.h>
 
 #include <cmath>
@@ -34,7 +35,8 @@ const fs::path& work_dir() {
 
 /// A run the reader accepted must have a time step and a step count it can take.
 void check_steps(const mpm::Budget& budget) {
-  if (!(budget.first_dt > 0 && std::isfinite(budget.first_dt) && budget.steps >= 1 && std::isfinite(budget.steps)))
+  if (!(budget.first_dt > 0 && std::isfinite(budget.first_dt) && budget.steps >= 1 &&
+        std::isfinite(budget.steps)))
     __builtin_trap();
 }
 

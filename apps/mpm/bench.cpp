@@ -6,25 +6,25 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
-#include <numbers>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
-#include "roofline.hpp"
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
 #include "mpm/distributed/communicator.hpp"
 #include "mpm/explicit/simulation.hpp"
 #include "mpm/particles/generate.hpp"
 #include "mpm/shape/kernel_kind.hpp"
+#include "roofline.hpp"
 
 namespace mpm::app {
 
 namespace {
-/// The most memory the process has held (its peak resident set, Linux's VmHWM, which starts afresh at exec where
-/// getrusage's maximum carries over the parent's), all ranks' together.
+/// The most memory the process has held (its peak resident set, Linux's VmHWM, which starts afresh at exec
+/// where getrusage's maximum carries over the parent's), all ranks' together.
 double peak_resident_bytes() {
   std::int64_t kib = 0;
   std::ifstream status("/proc/self/status");
@@ -55,10 +55,10 @@ struct BenchOptions {
   std::string material = "neo-hookean";
 };
 
-/// The bench block's material: the Neo-Hookean solid (E = 1 MPa, nu = 0.3, rho = 1000 kg/m^3), the hypoelastic one
-/// of the same moduli (the rate-form path without a return), or a frictional
-/// one of the same elasticity weak enough to yield under the block's weight (c = 1 kPa, phi = 30 degrees,
-/// psi = 0; the weight gives 9.8 kPa at the base), so that the plastic returns are timed.
+/// The bench block's material: the Neo-Hookean solid (E = 1 MPa, nu = 0.3, rho = 1000 kg/m^3), the
+/// hypoelastic one of the same moduli (the rate-form path without a return), or a frictional one of the same
+/// elasticity weak enough to yield under the block's weight (c = 1 kPa, phi = 30 degrees, psi = 0; the weight
+/// gives 9.8 kPa at the base), so that the plastic returns are timed.
 Material bench_material(const std::string& name) {
   if (name == "neo-hookean") return NeoHookean::from_young_poisson(1e6, 0.3, 1000);
   if (name == "hypoelastic") {
@@ -80,11 +80,10 @@ Material bench_material(const std::string& name) {
 
 /// The reference problem: a 1 m elastic block (E = 1 MPa, nu = 0.3, rho = 1000 kg/m^3) under gravity on
 /// fixed nodes (all nodes at or below the block's base), 2 particles per cell per axis, 0.05 m of grid around
-/// it, dt = 5e-5 s on cells of 1/160 m or wider and in proportion to h on finer ones (the Courant number of the
-/// reference size, c dt / h = 0.29 with the P-wave speed c = 36.7 m/s). particle_steps_per_second is the whole
-/// run's: all ranks' particles over the slowest rank's time.
-/// With `contact` the block's two halves (x < 1/2 and x >= 1/2) have a velocity field each and meet by
-/// frictionless contact all along their interface.
+/// it, dt = 5e-5 s on cells of 1/160 m or wider and in proportion to h on finer ones (the Courant number of
+/// the reference size, c dt / h = 0.29 with the P-wave speed c = 36.7 m/s). particle_steps_per_second is the
+/// whole run's: all ranks' particles over the slowest rank's time. With `contact` the block's two halves (x <
+/// 1/2 and x >= 1/2) have a velocity field each and meet by frictionless contact all along their interface.
 template <int Dim, class Kernel>
 nlohmann::json run_block(const BenchOptions& o, KernelKind kind, Integrator integrator) {
   const int ppc = 2;
@@ -116,16 +115,18 @@ nlohmann::json run_block(const BenchOptions& o, KernelKind kind, Integrator inte
     return particles;
   };
 
-  // Under mpirun the ranks divide the block (Simulation with world()): a run's time is the slowest rank's, from
-  // a common start, and its time in communication the largest of the ranks' (waiting for the others included).
+  // Under mpirun the ranks divide the block (Simulation with world()): a run's time is the slowest rank's,
+  // from a common start, and its time in communication the largest of the ranks' (waiting for the others
+  // included).
   const Communicator& comm = world();
   std::vector<double> seconds, communication;
   std::int64_t sent = 0;
   double bytes = 0;
   std::size_t count = 0;  // every rank seeds the whole block and keeps its own part
   for (int r = 0; r < o.repeat; ++r) {
-    // Counted from the set the run is given: a set seeded only to be counted and freed would leave glibc's heap
-    // holding its pages (a freed array below 32 MiB raises the size malloc takes from the heap, not from mmap).
+    // Counted from the set the run is given: a set seeded only to be counted and freed would leave glibc's
+    // heap holding its pages (a freed array below 32 MiB raises the size malloc takes from the heap, not from
+    // mmap).
     ParticleSet<Dim> seeded = seed();
     count = seeded.size();
     Simulation<Dim, Kernel> sim(spec, std::move(seeded), comm);
@@ -175,9 +176,10 @@ int print_roofline(bool json) {
                      .dump()
               << '\n';
   } else {
-    std::cout << r.threads << " threads: memory " << r.triad_bytes_per_second / 1e9 << " GB/s (STREAM triad), "
-              << r.fused_flops_per_second / 1e9 << " GFLOP/s with fused multiply-adds, "
-              << r.separate_flops_per_second / 1e9 << " GFLOP/s with separate multiplies and adds\n";
+    std::cout << r.threads << " threads: memory " << r.triad_bytes_per_second / 1e9
+              << " GB/s (STREAM triad), " << r.fused_flops_per_second / 1e9
+              << " GFLOP/s with fused multiply-adds, " << r.separate_flops_per_second / 1e9
+              << " GFLOP/s with separate multiplies and adds\n";
   }
   return 0;
 }
@@ -197,8 +199,9 @@ Action add_bench(CLI::App& app) {
   cmd->add_option("--threads", o->threads, "threads (0: all cores)")->check(CLI::Range(0, max_threads));
   cmd->add_option("--repeat", o->repeat, "runs; the median is reported")->check(CLI::PositiveNumber);
   cmd->add_flag("--json", o->json, "print one JSON object");
-  cmd->add_flag("--roofline", o->roofline,
-               "measure the machine's memory bandwidth (STREAM triad) and arithmetic peak instead of the block");
+  cmd->add_flag(
+      "--roofline", o->roofline,
+      "measure the machine's memory bandwidth (STREAM triad) and arithmetic peak instead of the block");
   cmd->add_flag("--contact", o->contact, "split the block into two halves meeting by frictionless contact");
   cmd->add_option("--material", o->material, "neo-hookean, hypoelastic, drucker-prager or mohr-coulomb")
       ->check(CLI::IsMember({"neo-hookean", "hypoelastic", "drucker-prager", "mohr-coulomb"}));
@@ -215,12 +218,10 @@ Action add_bench(CLI::App& app) {
     if (o->json) {
       std::cout << result.dump() << '\n';
     } else {
-      std::cout << result["dim"] << "-D " << o->kernel << " " << o->integrator << (o->contact ? " contact" : "")
-                << (o->transfer == "apic" ? " apic" : "") << " "
-                << o->material << ", "
-                << result["particles"]
-                << " particles, " << result["ranks"] << " ranks x " << result["threads"]
-                << " threads: " << result["seconds"].get<double>()
+      std::cout << result["dim"] << "-D " << o->kernel << " " << o->integrator
+                << (o->contact ? " contact" : "") << (o->transfer == "apic" ? " apic" : "") << " "
+                << o->material << ", " << result["particles"] << " particles, " << result["ranks"]
+                << " ranks x " << result["threads"] << " threads: " << result["seconds"].get<double>()
                 << " s median of " << o->repeat << ", "
                 << result["particle_steps_per_second"].get<double>() / 1e6 << " M particle-steps/s, "
                 << result["bytes_per_particle"].get<double>() << " B/particle, "

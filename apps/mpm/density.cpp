@@ -17,13 +17,15 @@ Action add_density(CLI::App& app) {
   };
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
-      "density-1d", "project a constant-density bar on [0, 1] to a grid on [-0.2, 1.2] (Steffen et al. 2008, Fig. 7)");
+      "density-1d",
+      "project a constant-density bar on [0, 1] to a grid on [-0.2, 1.2] (Steffen et al. 2008, Fig. 7)");
   cmd->add_option("--kernel", o->kernel, kernel_name_list());
   cmd->add_option("--cells", o->c.cells, "cells per unit length (a multiple of 5)");
   cmd->add_option("--ppc", o->c.ppc, "particles per cell");
   cmd->add_option("--samples", o->c.samples, "points at which the field is evaluated");
   cmd->add_flag("--aligned", o->c.boundary_aligned, "the grid is [0, 1], the body's own extent (Sec. 4.3)");
-  CLI::Option* length = cmd->add_option("--gimp-length", o->gimp_length, "uGIMP smoothing length l in (0, h]");
+  CLI::Option* length =
+      cmd->add_option("--gimp-length", o->gimp_length, "uGIMP smoothing length l in (0, h]");
   cmd->add_flag("--json", o->json, "print JSON with the nodal and sampled fields");
   return [o, length]() {
     o->c.kernel = parse_kernel(o->kernel, "--kernel");
@@ -45,8 +47,8 @@ Action add_density(CLI::App& app) {
                 << '\n';
     } else {
       std::cout << "projected density, " << o->kernel << ", h = " << d.h << ": nonzero on [" << d.support_lo
-                << ", " << d.support_hi << "] (body [0, 1]), L1 error " << d.l1_error << ", mass outside the body "
-                << d.outside_mass << '\n';
+                << ", " << d.support_hi << "] (body [0, 1]), L1 error " << d.l1_error
+                << ", mass outside the body " << d.outside_mass << '\n';
     }
     return 0;
   };

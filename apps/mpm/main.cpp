@@ -20,16 +20,17 @@ std::ostream& say() {
   return mpm::launched_rank() == 0 ? std::cerr : null;
 }
 
-/// Started among several processes (mpirun, srun): only `mpm run` and `mpm bench` of an MPI build divide their
-/// work between them.
-/// Otherwise say so once, from rank 0, so that the copies do not all write the same output; true when the
-/// command must not go on.
+/// Started among several processes (mpirun, srun): only `mpm run` and `mpm bench` of an MPI build divide
+/// their work between them. Otherwise say so once, from rank 0, so that the copies do not all write the same
+/// output; true when the command must not go on.
 bool refused_among_several(const std::string& command) {
   const int size = mpm::launched_size();
   if (size <= 1 || ((command == "run" || command == "bench") && mpm::built_with_mpi())) return false;
   say() << "mpm: started as one of " << size << " processes, but "
-        << (mpm::built_with_mpi() ? "mpm " + command + " runs in one process (mpm run and mpm bench divide their work between ranks)"
-                                  : std::string("this mpm was built without MPI and runs in one process"))
+        << (mpm::built_with_mpi()
+                ? "mpm " + command +
+                      " runs in one process (mpm run and mpm bench divide their work between ranks)"
+                : std::string("this mpm was built without MPI and runs in one process"))
         << "; start it without mpirun or srun (docs/scaling.md)\n";
   return true;
 }
@@ -37,7 +38,8 @@ bool refused_among_several(const std::string& command) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // A write past the file-size limit (ulimit -f) fails with EFBIG and is reported, instead of killing the program.
+  // A write past the file-size limit (ulimit -f) fails with EFBIG and is reported, instead of killing the
+  // program.
   std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"mpm: material point method for large-deformation solids"};
   app.require_subcommand(1);

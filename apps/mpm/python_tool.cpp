@@ -32,7 +32,8 @@ struct TemporaryScript {
   explicit TemporaryScript(std::string_view text) {
     std::string pattern = (std::filesystem::temp_directory_path() / "mpm-XXXXXX.py").string();
     const int fd = mkstemps(pattern.data(), 3);
-    if (fd < 0) throw ToolError("cannot create a temporary file in " + std::filesystem::temp_directory_path().string());
+    if (fd < 0)
+      throw ToolError("cannot create a temporary file in " + std::filesystem::temp_directory_path().string());
     close(fd);
     path = pattern;
     std::ofstream(path) << text;
@@ -62,9 +63,12 @@ void run_python(std::string_view name, const std::vector<std::string>& args, con
   waitpid(pid, &status, 0);
   const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   if (code == 127) throw ToolError(what + ": needs python3 (" + python + " was not found); set MPM_PYTHON");
-  if (code == 3) throw ToolError(what + ": needs Debian's python3-matplotlib (apt-get install python3-matplotlib)");
+  if (code == 3)
+    throw ToolError(what + ": needs Debian's python3-matplotlib (apt-get install python3-matplotlib)");
   if (code == 4) throw InputError(what + ": invalid request (see the line above)");
-  if (code != 0) throw ToolError(what + ": the " + std::string(name) + " helper failed (exit " + std::to_string(code) + ")");
+  if (code != 0)
+    throw ToolError(what + ": the " + std::string(name) + " helper failed (exit " + std::to_string(code) +
+                    ")");
 }
 
 }  // namespace mpm::app

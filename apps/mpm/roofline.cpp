@@ -1,4 +1,5 @@
-// `mpm bench --roofline`: the two limits of this machine a time step can meet, measured with the pool's threads.
+// `mpm bench --roofline`: the two limits of this machine a time step can meet, measured with the pool's
+// threads.
 #include "roofline.hpp"
 
 #include <algorithm>
@@ -20,8 +21,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 /// STREAM's triad a = b + s c (McCalpin 1995) over arrays far larger than the caches: the best of `repeat`
-/// sweeps, counted as STREAM counts it (24 bytes an element: two loads and a store; the write-allocate read of
-/// a, which the hardware adds, is not counted).
+/// sweeps, counted as STREAM counts it (24 bytes an element: two loads and a store; the write-allocate read
+/// of a, which the hardware adds, is not counted).
 double triad_bytes_per_second(std::ptrdiff_t n, int repeat) {
   std::vector<double> a(static_cast<std::size_t>(n)), b(a.size()), c(a.size());
   parallel_for(n, [&](std::ptrdiff_t i) {
@@ -57,10 +58,10 @@ template <bool fused>
   }
 }
 
-/// 8 independent chains of 4 lanes of x = x a + b on each thread, in registers: the arithmetic peak on 256-bit
-/// vectors, the width the code is compiled for. `fused` uses one fused multiply-add per step (2 flops in one
-/// instruction), else a multiply and an add, which is what the project's code compiles to (-ffp-contract=off
-/// keeps IEEE rounding of every product).
+/// 8 independent chains of 4 lanes of x = x a + b on each thread, in registers: the arithmetic peak on
+/// 256-bit vectors, the width the code is compiled for. `fused` uses one fused multiply-add per step (2 flops
+/// in one instruction), else a multiply and an add, which is what the project's code compiles to
+/// (-ffp-contract=off keeps IEEE rounding of every product).
 template <bool fused>
 double chains(long iterations) {
   const Quad a = {0.999999999, 0.999999998, 0.999999997, 0.999999996}, b = {1e-9, 2e-9, 3e-9, 4e-9};

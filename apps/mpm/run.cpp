@@ -1,16 +1,17 @@
 // `mpm run SCENE` and `mpm render DIR`: run a scene file with its outputs, and draw pictures of the results.
+#include "mpm/scene/run.hpp"
+
+#include <unistd.h>
+
 #include <cmath>
 #include <iostream>
 #include <limits>
 
 #include "commands.hpp"
-#include <unistd.h>
-
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
 #include "mpm/distributed/communicator.hpp"
 #include "mpm/scene/budget.hpp"
-#include "mpm/scene/run.hpp"
 #include "mpm/scene/scene.hpp"
 #include "python_tool.hpp"
 
@@ -49,11 +50,13 @@ double parse_bytes(const std::string& text) {
   static const std::string units = "KMGT";
   double scale = 1;
   if (suffix.size() == 1 && units.find(static_cast<char>(std::toupper(suffix[0]))) != std::string::npos)
-    scale = std::pow(1024.0, 1.0 + static_cast<double>(units.find(static_cast<char>(std::toupper(suffix[0])))));
+    scale =
+        std::pow(1024.0, 1.0 + static_cast<double>(units.find(static_cast<char>(std::toupper(suffix[0])))));
   else if (!suffix.empty())
     used = 0;
   if (used == 0 || !(value > 0) || !std::isfinite(value))
-    throw InputError("--max-memory: expected a positive size such as 8G, 512M or 2e9 (bytes), got '" + text + "'");
+    throw InputError("--max-memory: expected a positive size such as 8G, 512M or 2e9 (bytes), got '" + text +
+                     "'");
   return value * scale;
 }
 }  // namespace
@@ -73,21 +76,25 @@ Action add_run(CLI::App& app) {
   cmd->add_option("scene", o->scene, "the scene file")->required();
   cmd->add_option("--out", o->out, "output folder (default: out)");
   cmd->add_option("--threads", o->run.threads, "threads (default: the scene's, else all cores)");
-  cmd->add_option("--set", o->overrides, "override a scene value, e.g. --set simulation.end_time=0.5 (repeatable)");
+  cmd->add_option("--set", o->overrides,
+                  "override a scene value, e.g. --set simulation.end_time=0.5 (repeatable)");
   cmd->add_flag("--quiet", o->run.quiet, "no progress line");
-  cmd->add_option("--checkpoint-every", o->run.checkpoint_every, "write OUT/checkpoint.h5 every this many steps");
+  cmd->add_option("--checkpoint-every", o->run.checkpoint_every,
+                  "write OUT/checkpoint.h5 every this many steps");
   cmd->add_option("--restart", o->restart, "continue from a checkpoint written by this scene");
   cmd->add_option("--stop-after", o->run.stop_after,
                   "stop after this many steps, writing OUT/checkpoint.h5 to continue from with --restart");
-  cmd->add_option("--max-memory", o->max_memory,
-                  "refuse runs estimated to need more memory, e.g. 8G (default: the machine's physical memory)");
+  cmd->add_option(
+      "--max-memory", o->max_memory,
+      "refuse runs estimated to need more memory, e.g. 8G (default: the machine's physical memory)");
   cmd->add_flag("--dry-run", o->dry_run, "check the scene and print the run's budget; write nothing");
   return [o]() {
     if (o->run.threads < 0 || o->run.threads > max_threads)
-      throw InputError("--threads: expected a non-negative count of at most " + std::to_string(max_threads) + ", got " +
-                       std::to_string(o->run.threads));
+      throw InputError("--threads: expected a non-negative count of at most " + std::to_string(max_threads) +
+                       ", got " + std::to_string(o->run.threads));
     if (o->run.stop_after < 0) throw InputError("--stop-after: expected a non-negative step count");
-    if (o->run.checkpoint_every < 0) throw InputError("--checkpoint-every: expected a non-negative step count");
+    if (o->run.checkpoint_every < 0)
+      throw InputError("--checkpoint-every: expected a non-negative step count");
     if (!o->restart.empty() && !std::filesystem::exists(o->restart))
       throw InputError("--restart: no checkpoint at " + o->restart);
     if (o->out.empty()) throw InputError("--out: expected a folder");
@@ -95,8 +102,9 @@ Action add_run(CLI::App& app) {
     check_output_folder(o->out);
     const Budget budget = estimate_budget(scene);
     // A restart's output is checked against what is left of the run once its checkpoint is read (SceneRun).
-    const BudgetLimits limits{o->max_memory.empty() ? physical_memory_bytes() : parse_bytes(o->max_memory),
-                              o->restart.empty() ? free_space_bytes(o->out) : std::numeric_limits<double>::infinity()};
+    const BudgetLimits limits{
+        o->max_memory.empty() ? physical_memory_bytes() : parse_bytes(o->max_memory),
+        o->restart.empty() ? free_space_bytes(o->out) : std::numeric_limits<double>::infinity()};
     check_budget(scene, budget, limits);
     o->run.out_dir = o->out;
     o->run.restart = o->restart;
@@ -104,8 +112,8 @@ Action add_run(CLI::App& app) {
     const int status = run_scene(scene, o->run);
     if (o->dry_run) return status;
     if (!o->run.quiet && world().rank() == 0)
-      std::cout << (status == 0 ? "done" : "failed") << ": " << o->out << "/particles.pvd (ParaView), " << o->out
-                << "/history.csv, " << o->out << "/summary.json\n";
+      std::cout << (status == 0 ? "done" : "failed") << ": " << o->out << "/particles.pvd (ParaView), "
+                << o->out << "/history.csv, " << o->out << "/summary.json\n";
     return status;
   };
 }
@@ -118,17 +126,20 @@ Action add_render(CLI::App& app) {
     std::string plane = "xy";
   };
   auto o = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand("render", "draw PNG pictures of a run's particles in a coordinate plane (needs python3-matplotlib)");
+  CLI::App* cmd = app.add_subcommand(
+      "render", "draw PNG pictures of a run's particles in a coordinate plane (needs python3-matplotlib)");
   cmd->add_option("dir", o->dir, "the output folder of `mpm run`")->required();
   cmd->add_option("--field", o->field, "field to colour by, e.g. velocity, J, stress:0 (a component)");
   cmd->add_option("--every", o->every, "draw every K-th output (the last is always drawn)");
-  cmd->add_option("--plane", o->plane, "coordinate plane to draw: xy (default), xz or yz (3-D runs: a projection)");
+  cmd->add_option("--plane", o->plane,
+                  "coordinate plane to draw: xy (default), xz or yz (3-D runs: a projection)");
   return [o]() {
     if (o->every < 1) throw InputError("--every: expected a positive integer");
     if (o->plane != "xy" && o->plane != "xz" && o->plane != "yz")
       throw InputError("--plane: expected xy, xz or yz, got '" + o->plane + "'");
     if (!std::filesystem::exists(std::filesystem::path(o->dir) / "particles.pvd"))
-      throw InputError("render: no particles.pvd in " + o->dir + " (run `mpm run SCENE --out " + o->dir + "` first)");
+      throw InputError("render: no particles.pvd in " + o->dir + " (run `mpm run SCENE --out " + o->dir +
+                       "` first)");
     run_python("render", {o->dir, o->field, std::to_string(o->every), o->plane}, "mpm render");
     return 0;
   };

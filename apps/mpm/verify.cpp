@@ -28,7 +28,8 @@ struct CaseOptions {
   bool json = false;
 
   void add_to(CLI::App* cmd) {
-    cmd->add_option("case", request.case_name, "axis-aligned, bar-1d, expanding-ring or shear-wave")->required();
+    cmd->add_option("case", request.case_name, "axis-aligned, bar-1d, expanding-ring or shear-wave")
+        ->required();
     cmd->add_option("--dim", options.dim, "dimension (axis-aligned: 2 or 3)");
     cmd->add_option("--kernel", request.kernel, kernel_name_list());
     cmd->add_option("--transfer", request.transfer, "particle velocity update: flip or apic");
@@ -40,13 +41,17 @@ struct CaseOptions {
     cmd->add_option("--cfl-speed", request.cfl_speed,
                     "wave speed of the CFL number: particles (max c_p + |v_p| every step) or reference "
                     "(c = sqrt(E / rho0), a fixed step)");
-    cmd->add_option("--error", request.error, "measure the displacement at the particles or the acceleration at the nodes (nodal)");
-    cmd->add_option("--start", request.start, "cd and musl start: halve the first acceleration, or from the exact v^(-1/2)");
-    cmd->add_option("--constrained-acceleration", request.constrained_acceleration,
-                    "acceleration on the symmetry planes' nodes: zero or velocity-difference (Steffen et al. 2008, "
-                    "Eq. 30)");
+    cmd->add_option("--error", request.error,
+                    "measure the displacement at the particles or the acceleration at the nodes (nodal)");
+    cmd->add_option("--start", request.start,
+                    "cd and musl start: halve the first acceleration, or from the exact v^(-1/2)");
+    cmd->add_option(
+        "--constrained-acceleration", request.constrained_acceleration,
+        "acceleration on the symmetry planes' nodes: zero or velocity-difference (Steffen et al. 2008, "
+        "Eq. 30)");
     cmd->add_option("--amplitude", options.amplitude, "displacement amplitude A");
-    cmd->add_option("--nu", options.poisson, "Poisson's ratio of the axis-aligned and shear-wave cases in [0, 0.5) (default 0.3)");
+    cmd->add_option("--nu", options.poisson,
+                    "Poisson's ratio of the axis-aligned and shear-wave cases in [0, 0.5) (default 0.3)");
     cmd->add_option("--end-time", options.end_time, "end time (default: one period)");
     cmd->add_option("--threads", threads, "threads (0: all cores)")->check(CLI::Range(0, max_threads));
     cmd->add_flag("--json", json, "print JSON");
@@ -112,8 +117,8 @@ Action add_verify(CLI::App& app) {
     if (c->json) {
       std::cout << j.dump() << '\n';
     } else {
-      std::cout << to_string(which) << ", " << c->request.kernel << " + " << c->request.integrator << ", " << c->options.cells
-                << " cells per axis, " << r.steps << " steps to t = " << r.end_time
+      std::cout << to_string(which) << ", " << c->request.kernel << " + " << c->request.integrator << ", "
+                << c->options.cells << " cells per axis, " << r.steps << " steps to t = " << r.end_time
                 << " s: " << (r.ok ? "ok" : "FAILED: " + r.failure) << "\n  L_inf = " << r.error.linf
                 << "  L1 = " << r.error.l1() << "  L2 = " << r.error.l2() << '\n';
       if (!csv.empty()) std::cout << "  final particle states: " << csv.string() << '\n';
@@ -130,22 +135,23 @@ void write_table_csv(const std::string& file, const nlohmann::json& rows, const 
   os << "kernel,integrator,transfer," << vary << ",linf,l1,l2,order,status,steps\n";
   for (const nlohmann::json& row : rows)
     os << row["kernel"].get<std::string>() << ',' << row["integrator"].get<std::string>() << ','
-       << row["transfer"].get<std::string>() << ',' << row[vary]
-       << ',' << row["linf"] << ',' << row["l1"] << ',' << row["l2"] << ','
-       << (row.contains("order") ? row["order"].dump() : "") << ',' << row["status"].get<std::string>() << ','
-       << row["steps"] << '\n';
+       << row["transfer"].get<std::string>() << ',' << row[vary] << ',' << row["linf"] << ',' << row["l1"]
+       << ',' << row["l2"] << ',' << (row.contains("order") ? row["order"].dump() : "") << ','
+       << row["status"].get<std::string>() << ',' << row["steps"] << '\n';
 }
 
 void print_table(const nlohmann::json& rows, const std::string& vary) {
   std::string current;
   for (const nlohmann::json& row : rows) {
-    const std::string series = row["kernel"].get<std::string>() + " + " + row["integrator"].get<std::string>() +
+    const std::string series = row["kernel"].get<std::string>() + " + " +
+                               row["integrator"].get<std::string>() +
                                (row["transfer"] == "apic" ? " + apic" : "");
     if (series != current) {
       current = series;
       std::cout << row["case"].get<std::string>() << ", " << series << ", varying " << vary << "\n"
                 << std::setw(10) << vary << std::setw(14) << "L_inf" << std::setw(14) << "L1" << std::setw(14)
-                << "L2" << std::setw(9) << "order" << "  status\n";
+                << "L2" << std::setw(9) << "order"
+                << "  status\n";
     }
     std::cout << std::setw(10) << row[vary].get<double>() << std::setw(14) << row["linf"].get<double>()
               << std::setw(14) << row["l1"].get<double>() << std::setw(14) << row["l2"].get<double>()
@@ -160,7 +166,8 @@ void print_table(const nlohmann::json& rows, const std::string& vary) {
 }
 
 /// The log-log plot of every series, drawn by the embedded python/convergence.py.
-void plot(const std::string& png, const nlohmann::json& rows, const std::string& vary, const std::string& title) {
+void plot(const std::string& png, const nlohmann::json& rows, const std::string& vary,
+          const std::string& title) {
   const std::filesystem::path data = std::filesystem::path(png).replace_extension(".plot.json");
   {
     std::ofstream os(data);
@@ -187,10 +194,12 @@ Action add_converge(CLI::App& app) {
   cmd->add_option("--vary", *vary, "cells or cfl")->required();
   cmd->add_option("--values", *values, "comma-separated values, e.g. 8,16,32")->required();
   cmd->add_option("--series", *series_text,
-                  "several kernel:integrator[:transfer] series in one study, e.g. cpgimp:cd,linear:musl,bspline2:usl:apic "
+                  "several kernel:integrator[:transfer] series in one study, e.g. "
+                  "cpgimp:cd,linear:musl,bspline2:usl:apic "
                   "(replaces --kernel and --integrator)");
   cmd->add_option("--csv", *csv, "write the table to this CSV file");
-  cmd->add_option("--plot", *png, "write a log-log plot of every series to this PNG file (needs python3-matplotlib)");
+  cmd->add_option("--plot", *png,
+                  "write a log-log plot of every series to this PNG file (needs python3-matplotlib)");
   cmd->add_option("--title", *title, "title of the plot (default: the case and what varies)");
   return [c, vary, values, series_text, csv, png, title]() {
     if (*vary != "cells" && *vary != "cfl")

@@ -8,9 +8,9 @@
 PYBIND11_MODULE(_core, m) {
   namespace py = pybind11;
   m.doc() = "The compiled part of the mpm package: use the names the package mpm exports.";
-  // Bad input is a ValueError with the one-line message `mpm` prints before exiting with status 2; a numerical
-  // failure (exit status 1) is mpm.SimulationFailure, a RuntimeError; an output that cannot be written is
-  // mpm.OutputError, an OSError.
+  // Bad input is a ValueError with the one-line message `mpm` prints before exiting with status 2; a
+  // numerical failure (exit status 1) is mpm.SimulationFailure, a RuntimeError; an output that cannot be
+  // written is mpm.OutputError, an OSError.
   static py::exception<mpm::SimulationFailure> failure(m, "SimulationFailure", PyExc_RuntimeError);
   static py::exception<mpm::OutputError> output(m, "OutputError", PyExc_OSError);
   py::register_exception_translator([](std::exception_ptr p) {

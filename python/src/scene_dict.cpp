@@ -2,11 +2,11 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
+#include <toml++/toml.h>
 
 #include <memory>
 #include <sstream>
 #include <string>
-#include <toml++/toml.h>
 #include <type_traits>
 #include <vector>
 
@@ -20,8 +20,9 @@ namespace mpm::python {
 
 namespace {
 
-/// The deepest a dict or list may nest, as the scene reader's keys may (src/scene/section.hpp, max_key_depth): a
-/// dict that contains itself, or one nested thousands deep, is refused instead of overflowing the stack.
+/// The deepest a dict or list may nest, as the scene reader's keys may (src/scene/section.hpp,
+/// max_key_depth): a dict that contains itself, or one nested thousands deep, is refused instead of
+/// overflowing the stack.
 constexpr int max_depth = 64;
 
 toml::array to_array(py::handle seq, const std::string& key, int depth);
@@ -46,7 +47,7 @@ void put_value(py::handle v, const std::string& key, int depth, Put&& put) {
       throw InputError(key + ": expected an integer of at most 64 bits (|n| < 9.2e18), got " + short_repr(v));
     }
   }
-  if (py::hasattr(v, "__float__")) return put(v.cast<double>());      // numpy's floats
+  if (py::hasattr(v, "__float__")) return put(v.cast<double>());  // numpy's floats
   if (py::isinstance<py::sequence>(v)) return put(to_array(v, key, depth + 1));
   throw InputError(key + ": expected a number, string, list or dict, got a value of type " +
                    std::string(py::str(v.get_type().attr("__name__"))));
@@ -87,7 +88,8 @@ std::string toml_text(py::handle v, const std::string& key) {
       out = "{ ";
       bool first = true;
       for (auto [k, item] : py::reinterpret_borrow<py::dict>(v)) {
-        out += (first ? "" : ", ") + std::string(py::str(k)) + " = " + toml_text(item, key + "." + std::string(py::str(k)));
+        out += (first ? "" : ", ") + std::string(py::str(k)) + " = " +
+               toml_text(item, key + "." + std::string(py::str(k)));
         first = false;
       }
       out += " }";

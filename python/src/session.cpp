@@ -1,6 +1,8 @@
-// mpm._core.Session: one scene run driven from Python. It steps without the GIL, in slices of about a fifth of a
-// second, and between slices lets Python handle its signals: Ctrl-C (KeyboardInterrupt) stops a run after a
-// whole step.
+// mpm._core.Session: one scene run driven from Python. It steps without the GIL, in slices of about a fifth
+// of a second, and between slices lets Python handle its signals: Ctrl-C (KeyboardInterrupt) stops a run
+// after a whole step.
+#include "mpm/scene/session.hpp"
+
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -13,7 +15,6 @@
 
 #include "bindings.hpp"
 #include "mpm/core/errors.hpp"
-#include "mpm/scene/session.hpp"
 
 namespace py = pybind11;
 
@@ -30,8 +31,8 @@ struct PySession {
     if (busy) throw std::runtime_error("Simulation: a step is running in another thread");
     return *run;
   }
-  /// Steps while `more()` says so, without the GIL; returns after `seconds` of wall time (and at least one step)
-  /// so that the caller can look at its signals. Returns the steps taken.
+  /// Steps while `more()` says so, without the GIL; returns after `seconds` of wall time (and at least one
+  /// step) so that the caller can look at its signals. Returns the steps taken.
   template <class More>
   std::int64_t steps_while(More&& more, double seconds) {
     Session& s = use();
@@ -45,7 +46,8 @@ struct PySession {
         do {
           s.step();
           ++taken;
-        } while (more() && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < seconds);
+        } while (more() &&
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < seconds);
       } catch (...) {
         error = std::current_exception();
       }
@@ -56,7 +58,8 @@ struct PySession {
   }
 };
 
-/// A read-only NumPy array of a field: a view whose base is the session object (which outlives it), or a copy.
+/// A read-only NumPy array of a field: a view whose base is the session object (which outlives it), or a
+/// copy.
 py::array to_numpy(const FieldArray& f, py::handle owner) {
   const py::dtype type(std::string(1, f.kind == 'f' ? 'f' : f.kind) + std::to_string(f.item_size));
   py::object base;
@@ -83,13 +86,14 @@ void bind_session(py::module_& m) {
              o.restart = restart.value_or("");
              o.checkpoint_every = checkpoint_every;
              if (checkpoint_every > 0 && !out)
-               throw InputError("checkpoint_every: the checkpoints go into the output folder: give out as well");
+               throw InputError(
+                   "checkpoint_every: the checkpoints go into the output folder: give out as well");
              auto s = std::make_unique<PySession>();
              s->run = open_session(scene, o);
              return s;
            }),
-           py::arg("scene"), py::arg("threads") = 0, py::arg("out") = py::none(), py::arg("restart") = py::none(),
-           py::arg("checkpoint_every") = 0)
+           py::arg("scene"), py::arg("threads") = 0, py::arg("out") = py::none(),
+           py::arg("restart") = py::none(), py::arg("checkpoint_every") = 0)
       .def_property_readonly("dim", [](PySession& s) { return s.use().dim(); })
       .def_property_readonly("time", [](PySession& s) { return s.use().time(); })
       .def_property_readonly("steps", [](PySession& s) { return s.use().steps(); })
@@ -136,19 +140,22 @@ void bind_session(py::module_& m) {
              return d;
            })
       .def("particle_field_names", [](PySession& s) { return s.use().particle_field_names(); })
-      .def("particle_field", [](py::object self, const std::string& name) {
-        return to_numpy(self.cast<PySession&>().use().particle_field(name), self);
-      })
+      .def("particle_field",
+           [](py::object self, const std::string& name) {
+             return to_numpy(self.cast<PySession&>().use().particle_field(name), self);
+           })
       .def("grid_fields",
            [](py::object self) {
              py::dict d;
-             for (const FieldArray& f : self.cast<PySession&>().use().grid_fields()) d[py::str(f.name)] = to_numpy(f, self);
+             for (const FieldArray& f : self.cast<PySession&>().use().grid_fields())
+               d[py::str(f.name)] = to_numpy(f, self);
              return d;
            })
       .def("grid_shape", [](PySession& s) { return s.use().grid_shape(); })
-      .def("set_velocities", [](PySession& s, const py::array_t<double, py::array::c_style | py::array::forcecast>& v) {
-        s.use().set_velocities(v.data(), static_cast<std::size_t>(v.size()));
-      });
+      .def("set_velocities",
+           [](PySession& s, const py::array_t<double, py::array::c_style | py::array::forcecast>& v) {
+             s.use().set_velocities(v.data(), static_cast<std::size_t>(v.size()));
+           });
 }
 
 }  // namespace mpm::python

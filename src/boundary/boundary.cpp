@@ -29,26 +29,31 @@ void validate_faces(const BoundarySpec<Dim>& spec, const IVec<Dim>& cells, Geome
                     const std::string& at) {
   for (int f = 0; f < 2 * Dim; ++f) {
     const FaceCondition<Dim>& fc = spec.faces[f];
-    if (std::isnan(fc.friction) || (fc.friction >= 0 && (!std::isfinite(fc.friction) || fc.type != FaceType::velocity)))
+    if (std::isnan(fc.friction) ||
+        (fc.friction >= 0 && (!std::isfinite(fc.friction) || fc.type != FaceType::velocity)))
       throw InputError(at + "boundary " + face_name[f] + ": friction " + std::to_string(fc.friction) +
                        " (a Coulomb wall is a velocity face with a finite friction coefficient >= 0)");
   }
   for (int f = 0; f < 2 * Dim; ++f) {
     const FaceCondition<Dim>& fc = spec.faces[f];
     if (fc.type != FaceType::absorbing) continue;
-    if (!(std::isfinite(fc.normal_impedance) && fc.normal_impedance > 0 && std::isfinite(fc.shear_impedance) &&
-          fc.shear_impedance >= 0))
-      throw InputError(at + "boundary " + face_name[f] + ": an absorbing face needs impedances rho c_p > 0 and rho c_s >= 0");
+    if (!(std::isfinite(fc.normal_impedance) && fc.normal_impedance > 0 &&
+          std::isfinite(fc.shear_impedance) && fc.shear_impedance >= 0))
+      throw InputError(at + "boundary " + face_name[f] +
+                       ": an absorbing face needs impedances rho c_p > 0 and rho c_s >= 0");
     if (geometry == Geometry::axisymmetric)
-      throw InputError(at + "boundary " + face_name[f] + ": absorbing faces are for plane and 3-D grids, not axisymmetric ones");
+      throw InputError(at + "boundary " + face_name[f] +
+                       ": absorbing faces are for plane and 3-D grids, not axisymmetric ones");
   }
   for (int d = 0; d < Dim; ++d) {
-    const bool lo = spec.faces[2 * d].type == FaceType::periodic, hi = spec.faces[2 * d + 1].type == FaceType::periodic;
+    const bool lo = spec.faces[2 * d].type == FaceType::periodic,
+               hi = spec.faces[2 * d + 1].type == FaceType::periodic;
     if (lo != hi)
       throw InputError(at + "boundary " + face_name[lo ? 2 * d + 1 : 2 * d] +
                        ": expected \"periodic\", as its opposite face " + face_name[lo ? 2 * d : 2 * d + 1] +
                        " is (periodic faces come in pairs)");
-    if (lo && cells[d] < 2) throw InputError(at + "boundary " + face_name[2 * d] + ": a periodic axis needs at least 2 cells");
+    if (lo && cells[d] < 2)
+      throw InputError(at + "boundary " + face_name[2 * d] + ": a periodic axis needs at least 2 cells");
   }
   if (geometry != Geometry::axisymmetric) return;
   if (spec.faces[0].type == FaceType::periodic)
@@ -76,7 +81,8 @@ KinematicConstraints<Dim>::KinematicConstraints(const BoundarySpec<Dim>& spec, c
       });
       groups_.push_back(std::move(grp));
     } else if (fc.type == FaceType::absorbing) {
-      // The nodes on the face plane, each carrying h^(Dim-1) of the face, half of it per face edge it lies on.
+      // The nodes on the face plane, each carrying h^(Dim-1) of the face, half of it per face edge it lies
+      // on.
       Group grp{face_name[face], {}, -1, {}, {}};
       grp.normal[axis] = outward;
       grp.normal_impedance = fc.normal_impedance;
@@ -98,7 +104,8 @@ KinematicConstraints<Dim>::KinematicConstraints(const BoundarySpec<Dim>& spec, c
         if (k == 0) grp.nodes.push_back(f);
         if (k > 0) {
           // The mirror node, in this box's coordinates. A box of a divided grid holds both or neither of the
-          // pairs any of its particles reach (cut_limit in mpm/distributed/box_halo.hpp); the rest are skipped.
+          // pairs any of its particles reach (cut_limit in mpm/distributed/box_halo.hpp); the rest are
+          // skipped.
           IVec<Dim> j = i;
           j[axis] = plane - k * outward;
           for (int d = 0; d < Dim; ++d) j[d] -= g.offset[d];
@@ -148,7 +155,8 @@ template <int Dim>
 void KinematicConstraints<Dim>::fold_and_mirror(Grid<Dim>& grid, NodeFields fields) const {
   if (fields == NodeFields::force) return fold_and_mirror(grid, &GridNode<Dim>::a);
   for (const Mirror& mir : mirrors_)
-    for (std::size_t k = 0; k < mir.ghost.size(); ++k) grid.nodes[mir.real[k]].m += grid.nodes[mir.ghost[k]].m;
+    for (std::size_t k = 0; k < mir.ghost.size(); ++k)
+      grid.nodes[mir.real[k]].m += grid.nodes[mir.ghost[k]].m;
   for (auto it = mirrors_.rbegin(); it != mirrors_.rend(); ++it)
     for (std::size_t k = 0; k < it->ghost.size(); ++k) grid.nodes[it->ghost[k]].m = grid.nodes[it->real[k]].m;
   fold_and_mirror(grid, &GridNode<Dim>::v);
@@ -250,9 +258,9 @@ void KinematicConstraints<Dim>::constrain_update(Grid<Dim>& grid, Real t_new, Re
     for (std::size_t k = 0; k < grp.nodes.size(); ++k) {
       GridNode<Dim>& node = grid.nodes[grp.nodes[k]];
       if (grp.absorbing()) {
-        // The dashpots of Lysmer & Kuhlemeyer 1969, implicit in the advanced velocity so that they are stable at any
-        // step: m (v_c - v) = dt (f - Z A v_c), i.e. v_c = m v_new / (m + dt Z A) with Z = rho c_p along the
-        // normal and rho c_s across it; the particles receive a + (v_c - v_new) / dt.
+        // The dashpots of Lysmer & Kuhlemeyer 1969, implicit in the advanced velocity so that they are stable
+        // at any step: m (v_c - v) = dt (f - Z A v_c), i.e. v_c = m v_new / (m + dt Z A) with Z = rho c_p
+        // along the normal and rho c_s across it; the particles receive a + (v_c - v_new) / dt.
         if (!(node.m > 0)) continue;
         const Real vn = node.v_new.dot(grp.normal);
         const Vec<Dim> v_normal = vn * grp.normal, v_shear = node.v_new - v_normal;
@@ -267,7 +275,8 @@ void KinematicConstraints<Dim>::constrain_update(Grid<Dim>& grid, Real t_new, Re
       }
       if (grp.friction >= 0) {  // a Coulomb wall
         const Vec<Dim> free = node.a;
-        coulomb_partner<Dim>(node, val, grp.normal, grp.friction, dt, grp.owned[k], reaction, friction_power_);
+        coulomb_partner<Dim>(node, val, grp.normal, grp.friction, dt, grp.owned[k], reaction,
+                             friction_power_);
         if (!grp.owned[k]) continue;
         // The moments of the normal force along the face plane's axes.
         const Real f_n = -node.m * (node.a - free).dot(grp.normal);

@@ -33,8 +33,12 @@ InterruptHandlers::~InterruptHandlers() {
   sigaction(SIGTERM, &previous_term, nullptr);
 }
 
-int interrupt_requested() { return requested.load(std::memory_order_relaxed); }
+int interrupt_requested() {
+  return requested.load(std::memory_order_relaxed);
+}
 
-const char* signal_name(int signal) { return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "signal"; }
+const char* signal_name(int signal) {
+  return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "signal";
+}
 
 }  // namespace mpm

@@ -22,10 +22,10 @@ namespace mpm {
 
 namespace {
 
-/// How long a thread with nothing to do spins before it sleeps. It bridges the serial work between the loops of
-/// a step (a few microseconds) without a wake-up; a thread that shares its core with another process gives it
-/// back soon after. OpenMP runtimes spin about 100 times longer by default, which is what made a 2-thread run
-/// with one core busy 4-10x slower than a 1-thread run (docs/performance.md, "Sharing the machine").
+/// How long a thread with nothing to do spins before it sleeps. It bridges the serial work between the loops
+/// of a step (a few microseconds) without a wake-up; a thread that shares its core with another process gives
+/// it back soon after. OpenMP runtimes spin about 100 times longer by default, which is what made a 2-thread
+/// run with one core busy 4-10x slower than a 1-thread run (docs/performance.md, "Sharing the machine").
 constexpr auto spin_time = std::chrono::microseconds(50);
 /// Chunks a loop is cut into per thread: enough that a thread set aside by the operating system holds up at
 /// most one small chunk, few enough that claiming them costs nothing measurable. With at most 512 threads a
@@ -53,13 +53,14 @@ bool spin_until(Ready&& ready) {
   }
 }
 
-/// Sleep while `word` holds `expected` (or until woken, or spuriously: callers check again). On Linux a futex on
-/// the word itself, without the shared table of waiters std::atomic's wait keeps in libstdc++.
+/// Sleep while `word` holds `expected` (or until woken, or spuriously: callers check again). On Linux a futex
+/// on the word itself, without the shared table of waiters std::atomic's wait keeps in libstdc++.
 void sleep_while(std::atomic<std::uint32_t>& word, std::uint32_t expected) {
 #ifdef __linux__
   static_assert(sizeof(std::atomic<std::uint32_t>) == sizeof(std::uint32_t) &&
                 std::atomic<std::uint32_t>::is_always_lock_free);
-  syscall(SYS_futex, reinterpret_cast<std::uint32_t*>(&word), FUTEX_WAIT_PRIVATE, expected, nullptr, nullptr, 0);
+  syscall(SYS_futex, reinterpret_cast<std::uint32_t*>(&word), FUTEX_WAIT_PRIVATE, expected, nullptr, nullptr,
+          0);
 #else
   word.wait(expected);
 #endif
@@ -68,7 +69,8 @@ void sleep_while(std::atomic<std::uint32_t>& word, std::uint32_t expected) {
 /// Wake the threads sleeping on `word`.
 void wake_all(std::atomic<std::uint32_t>& word) {
 #ifdef __linux__
-  syscall(SYS_futex, reinterpret_cast<std::uint32_t*>(&word), FUTEX_WAKE_PRIVATE, INT_MAX, nullptr, nullptr, 0);
+  syscall(SYS_futex, reinterpret_cast<std::uint32_t*>(&word), FUTEX_WAKE_PRIVATE, INT_MAX, nullptr, nullptr,
+          0);
 #else
   word.notify_all();
 #endif
@@ -89,12 +91,12 @@ thread_local int this_thread_index = 0;
 thread_local bool inside_loop = false;
 
 /// threads - 1 workers and the thread that starts a loop claim its chunks. Each thread has a home range of
-/// chunks, the same part of every loop as a static division gives it (so a pass finds in its core's cache what
-/// the pass before left there), which it takes from the front; a thread whose home range is done takes chunks
-/// from the back of another's, so a thread the operating system has set aside holds up one chunk at most.
-/// A loop is published as an epoch, and each range's claim word holds the epoch beside the range's bounds, so
-/// that a thread still in an earlier loop, or one that wakes after its loop has ended, claims nothing; the
-/// starting thread waits only for chunks already claimed, not for workers.
+/// chunks, the same part of every loop as a static division gives it (so a pass finds in its core's cache
+/// what the pass before left there), which it takes from the front; a thread whose home range is done takes
+/// chunks from the back of another's, so a thread the operating system has set aside holds up one chunk at
+/// most. A loop is published as an epoch, and each range's claim word holds the epoch beside the range's
+/// bounds, so that a thread still in an earlier loop, or one that wakes after its loop has ended, claims
+/// nothing; the starting thread waits only for chunks already claimed, not for workers.
 class Pool {
  public:
   explicit Pool(int threads) : ranges_(std::make_unique<Range[]>(static_cast<std::size_t>(threads))) {
@@ -130,7 +132,8 @@ class Pool {
     work_on(e, 0);
     if (!spin_until([&] { return remaining_.load(std::memory_order_acquire) == 0; })) {
       waiting_.store(true, std::memory_order_seq_cst);
-      for (std::uint32_t r; (r = remaining_.load(std::memory_order_seq_cst)) != 0;) sleep_while(remaining_, r);
+      for (std::uint32_t r; (r = remaining_.load(std::memory_order_seq_cst)) != 0;)
+        sleep_while(remaining_, r);
       waiting_.store(false, std::memory_order_relaxed);
     }
     const std::exception_ptr failure = failure_;
@@ -145,7 +148,8 @@ class Pool {
     std::atomic<std::uint64_t> word{0};
   };
   static std::uint64_t pack(std::uint32_t epoch, std::ptrdiff_t front, std::ptrdiff_t back) {
-    return std::uint64_t{epoch} << 32 | static_cast<std::uint64_t>(front) << 16 | static_cast<std::uint64_t>(back);
+    return std::uint64_t{epoch} << 32 | static_cast<std::uint64_t>(front) << 16 |
+           static_cast<std::uint64_t>(back);
   }
 
   /// Claim chunk `k` of epoch e from range r: its front (the owner) or its back (another thread).
@@ -179,7 +183,8 @@ class Pool {
 
   /// Run chunk k of the current loop, which cannot end before it is done: its description stays valid.
   void run_chunk(std::ptrdiff_t k) {
-    const std::ptrdiff_t n = n_.load(std::memory_order_relaxed), chunks = chunks_.load(std::memory_order_relaxed);
+    const std::ptrdiff_t n = n_.load(std::memory_order_relaxed),
+                         chunks = chunks_.load(std::memory_order_relaxed);
     if (!failed_.load(std::memory_order_relaxed)) {
       try {
         runner_.load(std::memory_order_relaxed)(body_.load(std::memory_order_relaxed), k * n / chunks,
@@ -261,6 +266,8 @@ int num_threads() {
   return threads_locked();
 }
 
-int thread_index() { return this_thread_index; }
+int thread_index() {
+  return this_thread_index;
+}
 
 }  // namespace mpm

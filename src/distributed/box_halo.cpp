@@ -8,7 +8,8 @@
 namespace mpm {
 namespace {
 
-/// Call fn(i) for every index i with lo <= i < hi (per axis), axis 0 fastest; nothing when the range is empty.
+/// Call fn(i) for every index i with lo <= i < hi (per axis), axis 0 fastest; nothing when the range is
+/// empty.
 template <int Dim, class Fn>
 void for_each_index(const IVec<Dim>& lo, const IVec<Dim>& hi, Fn&& fn) {
   for (int d = 0; d < Dim; ++d)
@@ -49,7 +50,9 @@ struct Header {
 
 template <int Dim>
 BoxHalo<Dim>::BoxHalo(const GridGeometry<Dim>& whole, std::vector<TileBox<Dim>> boxes, int rank, int width)
-    : whole_(whole), box_(box_geometry(whole, boxes[static_cast<std::size_t>(rank)], width)), boxes_(std::move(boxes)),
+    : whole_(whole),
+      box_(box_geometry(whole, boxes[static_cast<std::size_t>(rank)], width)),
+      boxes_(std::move(boxes)),
       rank_(rank) {
   IVec<Dim> tiles;
   for (int d = 0; d < Dim; ++d) tiles[d] = whole.tiles_along(d);
@@ -110,7 +113,8 @@ void BoxHalo<Dim>::sum(Grid<Dim>& grid, std::vector<TileSums<Dim>> kept, bool ma
       for (int d = 0; d < Dim; ++d) lo[d] = h.first[d], hi[d] = h.end[d];
       for_each_index<Dim>(lo, hi, [&](const IVec<Dim>& s) {
         std::size_t r = 0;
-        for (int d = Dim - 1; d >= 0; --d) r = r * static_cast<std::size_t>(ts.extent[d]) + static_cast<std::size_t>(s[d] - ts.first[d]);
+        for (int d = Dim - 1; d >= 0; --d)
+          r = r * static_cast<std::size_t>(ts.extent[d]) + static_cast<std::size_t>(s[d] - ts.first[d]);
         append(to[k], &ts.records[r], 1);
       });
     }
@@ -134,7 +138,8 @@ void BoxHalo<Dim>::sum(Grid<Dim>& grid, std::vector<TileSums<Dim>> kept, bool ma
     }
   if (received.empty()) return;
   std::vector<Part<Dim>> parts;
-  for (std::size_t k = 0; k < received.size(); ++k) parts.push_back({foreign[k].first, foreign[k].second, &received[k]});
+  for (std::size_t k = 0; k < received.size(); ++k)
+    parts.push_back({foreign[k].first, foreign[k].second, &received[k]});
   std::vector<std::int64_t> shared;
   for (const auto& [node, colour] : foreign) shared.push_back(node);
   std::sort(shared.begin(), shared.end());
@@ -146,7 +151,8 @@ void BoxHalo<Dim>::sum(Grid<Dim>& grid, std::vector<TileSums<Dim>> kept, bool ma
     std::size_t k = 0;
     for_each_index<Dim>(lo, hi, [&](const IVec<Dim>& s) {
       const std::int64_t node = local(s);
-      if (std::binary_search(shared.begin(), shared.end(), node)) parts.push_back({node, ts.colour, &ts.records[k]});
+      if (std::binary_search(shared.begin(), shared.end(), node))
+        parts.push_back({node, ts.colour, &ts.records[k]});
       ++k;
     });
   }
@@ -160,7 +166,8 @@ void BoxHalo<Dim>::sum(Grid<Dim>& grid, std::vector<TileSums<Dim>> kept, bool ma
     Real* t = &grid.nodes[static_cast<std::size_t>(at)].m;
     const Real* f = &part->m;
     const auto field = [&](int slot, int count, const Real* base) {
-      for (int c = 0; c < count; ++c) t[slot + c] = (first ? (base ? base[c] : Real(0)) : t[slot + c]) + f[slot + c];
+      for (int c = 0; c < count; ++c)
+        t[slot + c] = (first ? (base ? base[c] : Real(0)) : t[slot + c]) + f[slot + c];
     };
     if (mass_momentum) field(S::m, 1, nullptr), field(S::v, Dim, nullptr);
     if (volume_gradient) field(S::v_new, Dim, nullptr);

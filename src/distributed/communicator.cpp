@@ -73,7 +73,8 @@ class MpiWorld final : public Communicator {
   }
   void sum(std::vector<std::int64_t>& a) const override {
     const Timer timer{seconds_};
-    check(MPI_Allreduce(MPI_IN_PLACE, a.data(), static_cast<int>(a.size()), MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD),
+    check(MPI_Allreduce(MPI_IN_PLACE, a.data(), static_cast<int>(a.size()), MPI_INT64_T, MPI_SUM,
+                        MPI_COMM_WORLD),
           "MPI_Allreduce");
   }
   std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& to) const override {
@@ -85,7 +86,8 @@ class MpiWorld final : public Communicator {
       send_count[r] = static_cast<int>(to[r].size());
       if (r != me) bytes_ += send_count[r];
     }
-    check(MPI_Alltoall(send_count.data(), 1, MPI_INT, recv_count.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Alltoall");
+    check(MPI_Alltoall(send_count.data(), 1, MPI_INT, recv_count.data(), 1, MPI_INT, MPI_COMM_WORLD),
+          "MPI_Alltoall");
     std::vector<std::byte> send, recv;
     int s = 0, q = 0;
     for (int r = 0; r < n; ++r) {
@@ -96,15 +98,16 @@ class MpiWorld final : public Communicator {
       send.insert(send.end(), to[r].begin(), to[r].end());
     }
     recv.resize(static_cast<std::size_t>(q));
-    check(MPI_Alltoallv(send.data(), send_count.data(), send_at.data(), MPI_BYTE, recv.data(), recv_count.data(),
-                        recv_at.data(), MPI_BYTE, MPI_COMM_WORLD),
+    check(MPI_Alltoallv(send.data(), send_count.data(), send_at.data(), MPI_BYTE, recv.data(),
+                        recv_count.data(), recv_at.data(), MPI_BYTE, MPI_COMM_WORLD),
           "MPI_Alltoallv");
     std::vector<std::vector<std::byte>> from(static_cast<std::size_t>(n));
-    for (int r = 0; r < n; ++r) from[r].assign(recv.begin() + recv_at[r], recv.begin() + recv_at[r] + recv_count[r]);
+    for (int r = 0; r < n; ++r)
+      from[r].assign(recv.begin() + recv_at[r], recv.begin() + recv_at[r] + recv_count[r]);
     return from;
   }
-  std::vector<std::vector<std::byte>> exchange_with(const std::vector<int>& peers,
-                                                   const std::vector<std::vector<std::byte>>& to) const override {
+  std::vector<std::vector<std::byte>> exchange_with(
+      const std::vector<int>& peers, const std::vector<std::vector<std::byte>>& to) const override {
     const Timer timer{seconds_};
     // The sizes first, then the bytes; each round's tag keeps its messages apart from the other's.
     constexpr int size_tag = 1, bytes_tag = 2;
@@ -114,7 +117,8 @@ class MpiWorld final : public Communicator {
     for (std::size_t k = 0; k < n; ++k) {
       send_size[k] = static_cast<std::int64_t>(to[k].size());
       bytes_ += send_size[k];
-      check(MPI_Irecv(&recv_size[k], 1, MPI_INT64_T, peers[k], size_tag, MPI_COMM_WORLD, &requests[k]), "MPI_Irecv");
+      check(MPI_Irecv(&recv_size[k], 1, MPI_INT64_T, peers[k], size_tag, MPI_COMM_WORLD, &requests[k]),
+            "MPI_Irecv");
       check(MPI_Isend(&send_size[k], 1, MPI_INT64_T, peers[k], size_tag, MPI_COMM_WORLD, &requests[n + k]),
             "MPI_Isend");
     }
@@ -122,11 +126,11 @@ class MpiWorld final : public Communicator {
     std::vector<std::vector<std::byte>> from(n);
     for (std::size_t k = 0; k < n; ++k) {
       from[k].resize(static_cast<std::size_t>(recv_size[k]));
-      check(MPI_Irecv(from[k].data(), static_cast<int>(recv_size[k]), MPI_BYTE, peers[k], bytes_tag, MPI_COMM_WORLD,
-                      &requests[k]),
+      check(MPI_Irecv(from[k].data(), static_cast<int>(recv_size[k]), MPI_BYTE, peers[k], bytes_tag,
+                      MPI_COMM_WORLD, &requests[k]),
             "MPI_Irecv");
-      check(MPI_Isend(to[k].data(), static_cast<int>(send_size[k]), MPI_BYTE, peers[k], bytes_tag, MPI_COMM_WORLD,
-                      &requests[n + k]),
+      check(MPI_Isend(to[k].data(), static_cast<int>(send_size[k]), MPI_BYTE, peers[k], bytes_tag,
+                      MPI_COMM_WORLD, &requests[n + k]),
             "MPI_Isend");
     }
     check(MPI_Waitall(static_cast<int>(2 * n), requests.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
@@ -149,7 +153,8 @@ bool mpi_active = false;
 
 std::string broadcast_text(const Communicator& comm, const std::string& text, int root) {
   const auto* first = reinterpret_cast<const std::byte*>(text.data());
-  const std::vector<std::byte> bytes = comm.broadcast(std::vector<std::byte>(first, first + text.size()), root);
+  const std::vector<std::byte> bytes =
+      comm.broadcast(std::vector<std::byte>(first, first + text.size()), root);
   std::string out(bytes.size(), '\0');
   std::transform(bytes.begin(), bytes.end(), out.begin(), [](std::byte b) { return static_cast<char>(b); });
   return out;

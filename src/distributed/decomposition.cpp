@@ -28,7 +28,8 @@ void for_each_tile(const IVec<Dim>& tiles, const TileBox<Dim>& b, Fn&& fn) {
 }
 
 template <int Dim>
-std::int64_t weight_of(const IVec<Dim>& tiles, const std::vector<std::int64_t>& weight, const TileBox<Dim>& b) {
+std::int64_t weight_of(const IVec<Dim>& tiles, const std::vector<std::int64_t>& weight,
+                       const TileBox<Dim>& b) {
   std::int64_t w = 0;
   for_each_tile<Dim>(tiles, b, [&](const IVec<Dim>&, std::int64_t flat) { w += weight[flat]; });
   return w;
@@ -47,13 +48,16 @@ void bisect_into(const IVec<Dim>& tiles, const std::vector<std::int64_t>& weight
   for (int d = 0; d < Dim; ++d)
     if (last_cut(d) >= 1 && (axis < 0 || box.hi[d] - box.lo[d] > box.hi[axis] - box.lo[axis])) axis = d;
   if (axis < 0)
-    throw InputError("cannot divide the grid between " + std::to_string(ranks) +
-                     " more ranks: a box is one tile (8 node layers) along every axis it can be cut across; run on "
-                     "fewer ranks");
+    throw InputError(
+        "cannot divide the grid between " + std::to_string(ranks) +
+        " more ranks: a box is one tile (8 node layers) along every axis it can be cut across; run on "
+        "fewer ranks");
   const int length = box.hi[axis] - box.lo[axis];
   // The weight of each tile layer across the axis.
   std::vector<std::int64_t> layer(static_cast<std::size_t>(length), 0);
-  for_each_tile<Dim>(tiles, box, [&](const IVec<Dim>& t, std::int64_t flat) { layer[t[axis] - box.lo[axis]] += weight[flat]; });
+  for_each_tile<Dim>(tiles, box, [&](const IVec<Dim>& t, std::int64_t flat) {
+    layer[t[axis] - box.lo[axis]] += weight[flat];
+  });
   std::int64_t total = 0;
   for (std::int64_t w : layer) total += w;
   const int low_ranks = ranks / 2;
@@ -97,7 +101,8 @@ std::vector<TileBox<Dim>> bisect(const IVec<Dim>& tiles, const std::vector<std::
 }
 
 template <int Dim>
-double imbalance(const IVec<Dim>& tiles, const std::vector<std::int64_t>& weight, const std::vector<TileBox<Dim>>& boxes) {
+double imbalance(const IVec<Dim>& tiles, const std::vector<std::int64_t>& weight,
+                 const std::vector<TileBox<Dim>>& boxes) {
   std::int64_t total = 0, largest = 0;
   for (const TileBox<Dim>& b : boxes) {
     const std::int64_t w = weight_of<Dim>(tiles, weight, b);
@@ -109,13 +114,16 @@ double imbalance(const IVec<Dim>& tiles, const std::vector<std::int64_t>& weight
 }
 
 template std::vector<TileBox<1>> bisect<1>(const IVec<1>&, const std::vector<std::int64_t>&, int,
-                                                const IVec<1>&);
+                                           const IVec<1>&);
 template std::vector<TileBox<2>> bisect<2>(const IVec<2>&, const std::vector<std::int64_t>&, int,
-                                                const IVec<2>&);
+                                           const IVec<2>&);
 template std::vector<TileBox<3>> bisect<3>(const IVec<3>&, const std::vector<std::int64_t>&, int,
-                                                const IVec<3>&);
-template double imbalance<1>(const IVec<1>&, const std::vector<std::int64_t>&, const std::vector<TileBox<1>>&);
-template double imbalance<2>(const IVec<2>&, const std::vector<std::int64_t>&, const std::vector<TileBox<2>>&);
-template double imbalance<3>(const IVec<3>&, const std::vector<std::int64_t>&, const std::vector<TileBox<3>>&);
+                                           const IVec<3>&);
+template double imbalance<1>(const IVec<1>&, const std::vector<std::int64_t>&,
+                             const std::vector<TileBox<1>>&);
+template double imbalance<2>(const IVec<2>&, const std::vector<std::int64_t>&,
+                             const std::vector<TileBox<2>>&);
+template double imbalance<3>(const IVec<3>&, const std::vector<std::int64_t>&,
+                             const std::vector<TileBox<3>>&);
 
 }  // namespace mpm

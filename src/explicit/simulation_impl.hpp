@@ -13,8 +13,8 @@
 #include "mpm/core/time_step.hpp"
 #include "mpm/explicit/simulation.hpp"
 #include "mpm/particles/pack.hpp"
-#include "mpm/particles/validate.hpp"
 #include "mpm/particles/reorder.hpp"
+#include "mpm/particles/validate.hpp"
 #include "mpm/transfer/g2p.hpp"
 #include "mpm/transfer/g2p_stress.hpp"
 #include "mpm/transfer/p2g.hpp"
@@ -22,7 +22,8 @@
 
 namespace mpm {
 
-/// Whether a kernel's gradient stays finite where its weight vanishes (see LinearKernel::light_nodes_unbounded).
+/// Whether a kernel's gradient stays finite where its weight vanishes (see
+/// LinearKernel::light_nodes_unbounded).
 template <class Kernel>
 constexpr bool light_nodes_unbounded() {
   if constexpr (requires { Kernel::light_nodes_unbounded; })
@@ -61,7 +62,8 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
       grid_(box_halo_.box()),
       contact_fields_(static_cast<std::size_t>(spec.contact.fields - 1), grid_),
       contact_(spec.contact),
-      contact_positions_(measures_gaps(spec.contact) ? static_cast<std::size_t>(spec.contact.fields) : 0, grid_),
+      contact_positions_(measures_gaps(spec.contact) ? static_cast<std::size_t>(spec.contact.fields) : 0,
+                         grid_),
       periodic_halo_(grid_.geometry),
       constraints_(spec.boundary, grid_.geometry, box_halo_.owned_layers()),
       rigid_(spec.rigid_bodies, grid_.geometry, face_types(spec.boundary)),
@@ -77,22 +79,24 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
   if (p.size() == 0) throw InputError("particles: the simulation has no particles");
   if (p.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
     throw InputError("particles: more than 2^31 - 1 particles");
-  const Real min_mass = start_particles(p, spec.materials, spec.kernel, g, axisymmetric_, spec.contact.fields);
+  const Real min_mass =
+      start_particles(p, spec.materials, spec.kernel, g, axisymmetric_, spec.contact.fields);
   for (std::size_t i = 0; i < p.size(); ++i)  // the Neo-Hookean stress of F
     if (const auto* law = std::get_if<NeoHookean>(&spec.materials[p.material[i]]))
       p.sigma[i] = law->template stress<Dim>(p.F[i], p.F[i].determinant());
   // Nodes lighter than this are treated as empty (round-off level against the lightest particle).
   min_node_mass_ = 1e-14 * min_mass;
-  // Light nodes, for kernels that need their treatment: less than a quarter of the lightest particle. The strain
-  // a step adds through a node a particle reaches with weight S_ip is about CFL^2 (sigma / E) / S_ip (Wallstedt &
-  // Guilkey 2008, Eq. (39)); the quarter bounds it by 4 CFL^2 sigma / E. No node of a body at rest seeded at 2 or
-  // more particles per cell per axis is lighter (a face node gets 1/4 + 3/4 of a particle per row); a particle
-  // that crosses into an empty cell makes one.
+  // Light nodes, for kernels that need their treatment: less than a quarter of the lightest particle. The
+  // strain a step adds through a node a particle reaches with weight S_ip is about CFL^2 (sigma / E) / S_ip
+  // (Wallstedt & Guilkey 2008, Eq. (39)); the quarter bounds it by 4 CFL^2 sigma / E. No node of a body at
+  // rest seeded at 2 or more particles per cell per axis is lighter (a face node gets 1/4 + 3/4 of a particle
+  // per row); a particle that crosses into an empty cell makes one.
   if (light_nodes_unbounded<Kernel>() && spec.reproject_light_nodes) {
     light_node_mass_.mass = 0.25 * min_mass;
     if (axisymmetric_) {  // a quarter of the lightest particle per unit radius, at the node's radius
       Real min_per_radius = std::numeric_limits<Real>::max();
-      for (std::size_t i = 0; i < p.size(); ++i) min_per_radius = std::min(min_per_radius, p.m[i] / p.X[i][0]);
+      for (std::size_t i = 0; i < p.size(); ++i)
+        min_per_radius = std::min(min_per_radius, p.m[i] / p.X[i][0]);
       light_node_mass_.per_radius = 0.25 * min_per_radius;
       light_node_mass_.lo = g.lo[0];
       light_node_mass_.h = g.h;
@@ -102,13 +106,15 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
     mirror_copies_.assign(grid_.size(), 1);
     constraints_.count_mirror_copies(mirror_copies_);
   }
-  if (spec.transfer == Transfer::apic) p.B.assign(p.size(), Mat<Dim>::Zero());  // the particles start unsheared
-  if constexpr (moves_corners<Kernel>) place_corners(p);  // CPDI2's domains start as CPDI's
+  if (spec.transfer == Transfer::apic)
+    p.B.assign(p.size(), Mat<Dim>::Zero());                          // the particles start unsheared
+  if constexpr (moves_corners<Kernel>) place_corners(p);             // CPDI2's domains start as CPDI's
   if constexpr (!reads_half_lengths<Kernel>) p.drop_half_lengths();  // read by no stage
   // Every rank was given all the particles (the masses above are the whole set's); each keeps its box's.
   if (box_halo_.divided()) erase_particles(p, not_owned());
   if (neo_hookean_.empty()) {
-    // A state the particles bring (a geostatic stress) is kept; otherwise the rate-form solids start unstressed.
+    // A state the particles bring (a geostatic stress) is kept; otherwise the rate-form solids start
+    // unstressed.
     if (p.state.empty()) p.state.resize(p.size());
     for (std::size_t i = 0; i < p.size(); ++i) p.state.sigma[i] = full_stress(i);
     start_internal_state(spec.materials, p.material, p.state);
@@ -134,7 +140,9 @@ Real Simulation<Dim, Kernel>::next_dt() const {
       !neo_hookean_.empty()
           ? parallel_reduce(
                 n, Real{0},
-                [&](std::ptrdiff_t i) { return neo_hookean_[p.material[i]].wave_speed(p.V[i] / p.V0[i]) + p.v[i].norm(); },
+                [&](std::ptrdiff_t i) {
+                  return neo_hookean_[p.material[i]].wave_speed(p.V[i] / p.V0[i]) + p.v[i].norm();
+                },
                 larger)
           : parallel_reduce(
                 n, Real{0},
@@ -152,8 +160,9 @@ void Simulation<Dim, Kernel>::step(Real max_dt) {
   const Real stable_dt = next_dt();
   check_step_advances(steps_, time_, stable_dt);
   const Real dt = std::min(stable_dt, max_dt);
-  // Centered difference starts from v^{-1/2} by halving the first grid acceleration, unless the particles were
-  // given v^{-1/2} (Wallstedt & Guilkey 2008, Sec. 4); UVF-MPM is a modification of it and does the same.
+  // Centered difference starts from v^{-1/2} by halving the first grid acceleration, unless the particles
+  // were given v^{-1/2} (Wallstedt & Guilkey 2008, Sec. 4); UVF-MPM is a modification of it and does the
+  // same.
   const Real first_scale = steps_ == 0 && !spec_.half_step_velocity_given ? 0.5 : 1.0;
   switch (spec_.integrator) {
     case Integrator::usf:
@@ -222,8 +231,9 @@ template <int Dim, class Kernel>
 Real Simulation<Dim, Kernel>::strain_energy(std::size_t i) const {
   const ParticleSet<Dim>& p = particles_;
   const Material& m = spec_.materials[p.material[i]];
-  return is_rate_form(m) ? p.state.energy[i]
-                         : p.V0[i] * std::get<NeoHookean>(m).template energy_density<Dim>(p.F[i], p.F[i].determinant());
+  return is_rate_form(m)
+             ? p.state.energy[i]
+             : p.V0[i] * std::get<NeoHookean>(m).template energy_density<Dim>(p.F[i], p.F[i].determinant());
 }
 
 template <int Dim, class Kernel>
@@ -241,10 +251,12 @@ void Simulation<Dim, Kernel>::step_usf(Real dt) {
   for (Grid<Dim>* field : field_grids())
     for (GridNode<Dim>& node : field->nodes) node.v_new = node.v;
   constrain_velocity(&GridNode<Dim>::v_new, time_);
-  keep_located_half_lengths();  // the deformation pass changes cpGIMP's, the force pass reads the stencils again
+  keep_located_half_lengths();  // the deformation pass changes cpGIMP's, the force pass reads the stencils
+                                // again
   gather<Gather{.velocity = false, .position = false, .deformation = true}>(&GridNode<Dim>::v_new, dt);
   scatter<Scatter{.mass_momentum = false, .force = true}>();
-  for (Grid<Dim>* field : field_grids()) grid_update(*field, spec_.gravity, dt, 1.0, min_node_mass_, spec_.local_damping);
+  for (Grid<Dim>* field : field_grids())
+    grid_update(*field, spec_.gravity, dt, 1.0, min_node_mass_, spec_.local_damping);
   if (contact_.active()) contact_.correct_update(field_grids(), dt);
   constrain_update(time_ + dt, dt);
   gather<Gather{.velocity = true, .position = true, .deformation = false}>(&GridNode<Dim>::v_new, dt);
@@ -252,8 +264,8 @@ void Simulation<Dim, Kernel>::step_usf(Real dt) {
 }
 
 // USL: forces from the previous stress, then the stress is updated from the advanced grid velocity
-// (Wallstedt & Guilkey 2008, Eq. (8), Eq. (9), Eq. (14) to Eq. (19)). With accel_scale = 1/2 on the first step
-// this is the centered difference (Wallstedt & Guilkey 2008, Eq. (40) to Eq. (50)).
+// (Wallstedt & Guilkey 2008, Eq. (8), Eq. (9), Eq. (14) to Eq. (19)). With accel_scale = 1/2 on the first
+// step this is the centered difference (Wallstedt & Guilkey 2008, Eq. (40) to Eq. (50)).
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::step_usl(Real dt, Real accel_scale) {
   prepare_step();
@@ -269,7 +281,8 @@ void Simulation<Dim, Kernel>::step_usl(Real dt, Real accel_scale) {
     gather<Gather{.velocity = true, .position = true, .deformation = true}>(&GridNode<Dim>::v_new, dt);
     return;
   }
-  // Light nodes: move and deform the particles with the velocity re-projected from their updated velocities there.
+  // Light nodes: move and deform the particles with the velocity re-projected from their updated velocities
+  // there.
   gather<Gather{.velocity = true, .position = false, .deformation = false}>(&GridNode<Dim>::v_new, dt);
   reproject_velocity(time_ + dt);
   for (Grid<Dim>* field : field_grids())
@@ -290,8 +303,8 @@ void Simulation<Dim, Kernel>::step_musl(Real dt, Real accel_scale) {
   gather<Gather{.velocity = false, .position = true, .deformation = true}>(&GridNode<Dim>::v, dt);
 }
 
-// The grid velocity v re-projected from the updated particle velocities, corrected by contact at the nodes the
-// step located (the particles have not moved, so the nodal masses and normals are those of the step) and
+// The grid velocity v re-projected from the updated particle velocities, corrected by contact at the nodes
+// the step located (the particles have not moved, so the nodal masses and normals are those of the step) and
 // constrained at t_new (Wallstedt & Guilkey 2008, Eq. (51)).
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::reproject_velocity(Real t_new) {
@@ -313,9 +326,9 @@ void Simulation<Dim, Kernel>::field_velocities(NodeVelocity<Dim> v, bool locate)
 
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::scatter_positions() {
-  // Momentum<v slot, no mass> of the positions: sum_p m_p x_p S_ip, summed over boxes, periodic images and mirrors
-  // as a momentum is (a mirror reflects it about the origin rather than the plane, which moves both fields' mass
-  // centres alike and leaves their distance as it is).
+  // Momentum<v slot, no mass> of the positions: sum_p m_p x_p S_ip, summed over boxes, periodic images and
+  // mirrors as a momentum is (a mirror reflects it about the origin rather than the plane, which moves both
+  // fields' mass centres alike and leaves their distance as it is).
   const Momentum<Dim, NodeSlots<Dim>::v, false> positions{particles_.m, particles_.x};
   for (int k = 0; k < contact_.fields(); ++k) {
     Grid<Dim>& grid = contact_positions_[static_cast<std::size_t>(k)];
@@ -335,10 +348,11 @@ void Simulation<Dim, Kernel>::grid_velocity_and_update(Real dt, Real accel_scale
     grid_velocity_update(grid_, spec_.gravity, dt, accel_scale, min_node_mass_, spec_.local_damping);
     return;
   }
-  // Bardenhagen, Brackbill & Sulsky 2000: the projected velocities are corrected, then the advanced ones, whose
-  // change over dt the accelerations take.
+  // Bardenhagen, Brackbill & Sulsky 2000: the projected velocities are corrected, then the advanced ones,
+  // whose change over dt the accelerations take.
   field_velocities(&GridNode<Dim>::v, true);
-  for (Grid<Dim>* field : field_grids()) grid_update(*field, spec_.gravity, dt, accel_scale, min_node_mass_, spec_.local_damping);
+  for (Grid<Dim>* field : field_grids())
+    grid_update(*field, spec_.gravity, dt, accel_scale, min_node_mass_, spec_.local_damping);
   contact_.correct_update(field_grids(), dt);
 }
 
@@ -354,9 +368,11 @@ void Simulation<Dim, Kernel>::constrain_update(Real t_new, Real dt) {
 }
 
 template <int Dim, class Kernel>
-void Simulation<Dim, Kernel>::mirror_rigid_bodies(Grid<Dim>& field, std::initializer_list<NodeVelocity<Dim>> values) {
-  // A rigid body's update at a ghost beyond a symmetry plane is its own (a Coulomb body's normal there comes from
-  // its points on one side only); the ghost must stay the reflection of its real node, which the reactions count.
+void Simulation<Dim, Kernel>::mirror_rigid_bodies(Grid<Dim>& field,
+                                                  std::initializer_list<NodeVelocity<Dim>> values) {
+  // A rigid body's update at a ghost beyond a symmetry plane is its own (a Coulomb body's normal there comes
+  // from its points on one side only); the ghost must stay the reflection of its real node, which the
+  // reactions count.
   if (rigid_.empty()) return;
   for (NodeVelocity<Dim> v : values) constraints_.mirror(field, v);
 }

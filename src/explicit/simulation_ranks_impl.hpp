@@ -14,19 +14,21 @@
 namespace mpm {
 namespace detail {
 
-/// The global storage layer of the base node of the stencil of a particle at x with half-lengths l: the layers
-/// make_stencil computes, before a box's offset is subtracted.
+/// The global storage layer of the base node of the stencil of a particle at x with half-lengths l: the
+/// layers make_stencil computes, before a box's offset is subtracted.
 template <int Dim, class Kernel>
 IVec<Dim> base_layer(const GridGeometry<Dim>& whole, const Vec<Dim>& x, const Vec<Dim>& l) {
   const Real inv_h = 1 / whole.h;
   IVec<Dim> s;
   typename BoxKernel<Kernel>::Axis axis;
   for (int d = 0; d < Dim; ++d)
-    s[d] = locate_axis<BoxKernel<Kernel>>(whole, d, (x[d] - whole.lo[d]) * inv_h, l[d] * inv_h, axis) + whole.ghost;
+    s[d] = locate_axis<BoxKernel<Kernel>>(whole, d, (x[d] - whole.lo[d]) * inv_h, l[d] * inv_h, axis) +
+           whole.ghost;
   return s;
 }
 
-/// The particles in each tile of the whole grid (flat, axis 0 fastest); particles outside the grid count nowhere.
+/// The particles in each tile of the whole grid (flat, axis 0 fastest); particles outside the grid count
+/// nowhere.
 template <int Dim, class Kernel>
 std::vector<std::int64_t> tile_weights(const GridGeometry<Dim>& whole, const ParticleSet<Dim>& p) {
   std::vector<std::int64_t> weight(whole.tile_count(), 0);
@@ -45,7 +47,8 @@ std::vector<std::int64_t> tile_weights(const GridGeometry<Dim>& whole, const Par
   return weight;
 }
 
-/// Rank comm.rank()'s box of the bisection weighted by `weight`, cut where the symmetry planes allow (cut_limit).
+/// Rank comm.rank()'s box of the bisection weighted by `weight`, cut where the symmetry planes allow
+/// (cut_limit).
 template <int Dim, class Kernel>
 BoxHalo<Dim> boxes_for(const SimulationSpec<Dim>& spec, const GridGeometry<Dim>& whole,
                        const std::vector<std::int64_t>& weight, const Communicator& comm) {
@@ -53,8 +56,9 @@ BoxHalo<Dim> boxes_for(const SimulationSpec<Dim>& spec, const GridGeometry<Dim>&
   for (int d = 0; d < Dim; ++d) tiles[d] = whole.tiles_along(d);
   std::array<bool, Dim> symmetric_high;
   for (int d = 0; d < Dim; ++d) symmetric_high[d] = spec.boundary.faces[2 * d + 1].type == FaceType::symmetry;
-  return BoxHalo<Dim>(whole, bisect<Dim>(tiles, weight, comm.size(), cut_limit<Dim>(whole, symmetric_high, Kernel::width)),
-                      comm.rank(), Kernel::width);
+  return BoxHalo<Dim>(
+      whole, bisect<Dim>(tiles, weight, comm.size(), cut_limit<Dim>(whole, symmetric_high, Kernel::width)),
+      comm.rank(), Kernel::width);
 }
 
 /// The division of the grid between the ranks of comm: bisection of the tiles weighted by the particles in
@@ -65,7 +69,8 @@ BoxHalo<Dim> divide(const SimulationSpec<Dim>& spec, const ParticleSet<Dim>& p, 
   if (comm.size() == 1) return BoxHalo<Dim>(whole);
   for (const FaceCondition<Dim>& f : spec.boundary.faces)
     if (f.type == FaceType::periodic)
-      throw InputError("periodic faces run in one process for now (docs/scaling.md); start mpm without mpirun or srun");
+      throw InputError(
+          "periodic faces run in one process for now (docs/scaling.md); start mpm without mpirun or srun");
   return boxes_for<Dim, Kernel>(spec, whole, tile_weights<Dim, Kernel>(whole, p), comm);
 }
 
@@ -120,7 +125,8 @@ std::vector<std::size_t> Simulation<Dim, Kernel>::not_owned(std::vector<int>* ow
   for (std::size_t i = 0; i < p.size(); ++i) {
     // Particles beyond an outflow face stay until the next removal counts and erases them (remove_outflow).
     if (box_halo_.surely_owned(p.x[i]) || grid_.geometry.beyond_outflow(p.x[i])) continue;
-    const int r = box_halo_.owner(detail::base_layer<Dim, Kernel>(box_halo_.whole(), p.x[i], p.half_length(i)));
+    const int r =
+        box_halo_.owner(detail::base_layer<Dim, Kernel>(box_halo_.whole(), p.x[i], p.half_length(i)));
     if (r == comm_->rank()) continue;
     out.push_back(i);
     if (owner) owner->push_back(r);
@@ -132,21 +138,25 @@ template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::migrate() {
   std::vector<int> owner;
   const std::vector<std::size_t> leaving = not_owned(&owner);
-  // A particle that moved less than a tile goes to a neighbour (BoxHalo::peers), and then every rank exchanges
-  // with its neighbours only; after a new division, or a step longer than a tile, with every rank.
+  // A particle that moved less than a tile goes to a neighbour (BoxHalo::peers), and then every rank
+  // exchanges with its neighbours only; after a new division, or a step longer than a tile, with every rank.
   const std::vector<int>& peers = box_halo_.peers();
   bool near = true;
   for (int r : owner) near = near && std::binary_search(peers.begin(), peers.end(), r);
   const bool everywhere = comm_->max(near ? 0.0 : 1.0) > 0;
   std::vector<std::vector<std::byte>> to(everywhere ? static_cast<std::size_t>(comm_->size()) : peers.size());
-  const PackedArrays with{.state = neo_hookean_.empty(), .affine = spec_.transfer == Transfer::apic,
-                          .corners = moves_corners<Kernel>, .half_lengths = reads_half_lengths<Kernel>};
+  const PackedArrays with{.state = neo_hookean_.empty(),
+                          .affine = spec_.transfer == Transfer::apic,
+                          .corners = moves_corners<Kernel>,
+                          .half_lengths = reads_half_lengths<Kernel>};
   for (std::size_t k = 0; k < leaving.size(); ++k) {
-    const auto to_rank = everywhere ? owner[k] : std::lower_bound(peers.begin(), peers.end(), owner[k]) - peers.begin();
+    const auto to_rank =
+        everywhere ? owner[k] : std::lower_bound(peers.begin(), peers.end(), owner[k]) - peers.begin();
     pack_particle(particles_, leaving[k], with, to[static_cast<std::size_t>(to_rank)]);
   }
   if (!leaving.empty()) erase(leaving);
-  const std::vector<std::vector<std::byte>> from = everywhere ? comm_->exchange(to) : comm_->exchange_with(peers, to);
+  const std::vector<std::vector<std::byte>> from =
+      everywhere ? comm_->exchange(to) : comm_->exchange_with(peers, to);
   const std::size_t first = particles_.size();
   for (const std::vector<std::byte>& bytes : from) unpack_particles(bytes, with, particles_);
   if (particles_.size() == first) return;
@@ -157,8 +167,8 @@ void Simulation<Dim, Kernel>::migrate() {
   const NodeLayout<Dim> layout(grid_.geometry);
   stencils_.resize(particles_.size());
   for (std::size_t i = first; i < particles_.size(); ++i)
-    stencils_[i] =
-        make_stored_stencil<Dim, Kernel>(grid_.geometry, layout, particles_.x[i], domain_of<Dim, Kernel>(particles_, i));
+    stencils_[i] = make_stored_stencil<Dim, Kernel>(grid_.geometry, layout, particles_.x[i],
+                                                    domain_of<Dim, Kernel>(particles_, i));
 }
 
 template <int Dim, class Kernel>
@@ -174,7 +184,8 @@ void Simulation<Dim, Kernel>::check(ParticleFault fault, Real dt) const {
   const std::int64_t first = comm_->min(mine);
   if (first == none) return;
   const int root = static_cast<int>(comm_->min(mine == first ? comm_->rank() : comm_->size()));
-  const std::string mine_text = mine == first ? failure_message(static_cast<std::size_t>(fault.index), dt) : "";
+  const std::string mine_text =
+      mine == first ? failure_message(static_cast<std::size_t>(fault.index), dt) : "";
   throw SimulationFailure(broadcast_text(*comm_, mine_text, root));
 }
 
@@ -221,7 +232,8 @@ void Simulation<Dim, Kernel>::use_box(BoxHalo<Dim> box) {
   box_halo_ = std::move(box);
   grid_ = Grid<Dim>(box_halo_.box());
   contact_fields_.assign(static_cast<std::size_t>(contact_.fields() - 1), grid_);
-  if (!contact_positions_.empty()) contact_positions_.assign(static_cast<std::size_t>(contact_.fields()), grid_);
+  if (!contact_positions_.empty())
+    contact_positions_.assign(static_cast<std::size_t>(contact_.fields()), grid_);
   periodic_halo_ = PeriodicHalo<Dim>(grid_.geometry);
   KinematicConstraints<Dim> constraints(spec_.boundary, grid_.geometry, box_halo_.owned_layers());
   constraints.keep_reactions(constraints_);  // the step's, not yet reported

@@ -1,7 +1,7 @@
 #pragma once
-// The stages of Simulation<Dim, Kernel>'s step shared by its integrators: locating and ordering the particles,
-// P2G with the halo sum, G2P with the stress update, the loads and their power, the failure message. Included
-// by simulation_impl.hpp.
+// The stages of Simulation<Dim, Kernel>'s step shared by its integrators: locating and ordering the
+// particles, P2G with the halo sum, G2P with the stress update, the loads and their power, the failure
+// message. Included by simulation_impl.hpp.
 #include <algorithm>
 #include <optional>
 #include <sstream>
@@ -20,7 +20,8 @@ namespace mpm {
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::settle() {
   if (!stencils_current_)
-    tiles_changed_ = mpm::build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_) || tiles_changed_;
+    tiles_changed_ =
+        mpm::build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_) || tiles_changed_;
   // The scatter order depends only on the tiles, so it is rebuilt only when a particle changed tile; the
   // particles are then stored in that order, so that the transfers read them in sequence.
   if (tiles_changed_) {
@@ -67,16 +68,18 @@ template <int Dim, class Kernel>
 template <Scatter what>
 void Simulation<Dim, Kernel>::scatter() {
   if constexpr (what.volume_gradient)  // only contact reads it
-    if (!contact_.active()) return scatter<Scatter{.mass_momentum = what.mass_momentum, .force = what.force}>();
+    if (!contact_.active())
+      return scatter<Scatter{.mass_momentum = what.mass_momentum, .force = what.force}>();
   const std::vector<Grid<Dim>*> fields = field_grids();
   for (int k = 0; k < contact_.fields(); ++k) {
     Grid<Dim>& grid = *fields[k];
     std::optional<FaceTileSums<Dim>> kept;  // a divided grid's: the sums of its face tiles for the halo sum
     if (box_halo_.divided()) kept.emplace(grid.geometry, order_);
-    p2g<what>(particles_, stencils(), order_, body_accel_, grid, KeepFaceTiles<Dim>(kept), k, has_material_state(),
-              affine());
+    p2g<what>(particles_, stencils(), order_, body_accel_, grid, KeepFaceTiles<Dim>(kept), k,
+              has_material_state(), affine());
     if (kept)  // the halo sum: the sums of tiles of other boxes at the nodes they share
-      box_halo_.sum(grid, kept->take(), what.mass_momentum, what.force, *comm_, nullptr, what.volume_gradient);
+      box_halo_.sum(grid, kept->take(), what.mass_momentum, what.force, *comm_, nullptr,
+                    what.volume_gradient);
     if constexpr (what.force && Dim == 2)  // the hoop force in a pass of its own, as in the implicit step
       if (axisymmetric_) scatter_hoop_force(grid, k);
     if constexpr (what.mass_momentum) periodic_halo_.sum_into_owners(grid, NodeFields::mass_momentum);
@@ -93,7 +96,8 @@ void Simulation<Dim, Kernel>::scatter_hoop_force(Grid<Dim>& grid, int field) req
   const HoopForce hoop{particles_.V, particles_.state.sigma, particles_.x};
   std::optional<FaceTileSums<Dim>> kept;
   if (box_halo_.divided()) {
-    // Onto the forces the halo sum just agreed: a shared node starts from them again, as one process's pass does.
+    // Onto the forces the halo sum just agreed: a shared node starts from them again, as one process's pass
+    // does.
     hoop_base_.resize(grid.size());
     for (std::size_t n = 0; n < grid.size(); ++n) hoop_base_[n] = grid.nodes[n].a;
     kept.emplace(grid.geometry, order_);
@@ -114,7 +118,7 @@ void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
     const std::optional<ParticleRange> range =
         contact_.active() ? std::optional<ParticleRange>(order_.field_range(k)) : std::nullopt;
     VelocityBlend<Dim> blend;
-    if constexpr (what.velocity) {  // from the stencils before G2P moves the particles
+    if constexpr (what.velocity) {             // from the stencils before G2P moves the particles
       if (spec_.transfer == Transfer::apic) {  // PIC's velocity and the affine matrices
         g2p_affine(stencils(), *fields[k], v_grid, pic_velocity_, particles_.B, range);
         blend = {0, &pic_velocity_};
@@ -123,7 +127,8 @@ void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
         blend = {spec_.flip_fraction, &pic_velocity_};
       }
     }
-    if constexpr (what.position && moves_corners<Kernel>)  // CPDI2: the corners, from the stencils of the step's start
+    if constexpr (what.position &&
+                  moves_corners<Kernel>)  // CPDI2: the corners, from the stencils of the step's start
       g2p_corners(stencils(), *fields[k], v_grid, dt, particles_.corners, particles_.corners, range);
     ParticleFault f;
     if constexpr (!what.deformation) {
@@ -162,10 +167,12 @@ template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::account_load_power() {
   // Grouped by the tiles of the step's start, whose particles one rank held, in id order.
   const ParticleSet<Dim>& p = particles_;
-  load_power_ = sum_by_tile<1>([&](std::size_t i) { return start_tile_[i]; }, [&](std::size_t i) {
-    const Vec<Dim> load = body_accel_.empty() ? spec_.gravity : Vec<Dim>(spec_.gravity + body_accel_[i]);
-    return std::array<Real, 1>{p.m[i] * load.dot(0.5 * (v_start_[i] + p.v[i]))};
-  })[0];
+  load_power_ = sum_by_tile<1>(
+      [&](std::size_t i) { return start_tile_[i]; },
+      [&](std::size_t i) {
+        const Vec<Dim> load = body_accel_.empty() ? spec_.gravity : Vec<Dim>(spec_.gravity + body_accel_[i]);
+        return std::array<Real, 1>{p.m[i] * load.dot(0.5 * (v_start_[i] + p.v[i]))};
+      })[0];
 }
 
 template <int Dim, class Kernel>
@@ -197,7 +204,8 @@ std::string Simulation<Dim, Kernel>::failure_message(std::size_t i, Real dt) con
   else if (moves_corners<Kernel>)
     cause = "its CPDI2 domain folded (the Jacobian of its corners' map <= 0 at a corner)";
   else
-    cause = "cpGIMP half-lengths " + format_point<Dim>(p.half_length(i)) + " left " + half_length_bound(spec_.kernel);
+    cause = "cpGIMP half-lengths " + format_point<Dim>(p.half_length(i)) + " left " +
+            half_length_bound(spec_.kernel);
   std::ostringstream os;
   os.precision(9);
   os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << p.id[i] << ": " << cause;
@@ -209,14 +217,14 @@ double Simulation<Dim, Kernel>::bytes_per_particle() const {
   const double n = static_cast<double>(particles_.size());
   // The optional arrays by what they hold (a dropped array that kept its storage shows).
   return static_cast<double>(particles_.bytes_per_particle(false)) + sizeof(StencilT) +
-         static_cast<double>(particles_.l0.capacity() * sizeof(Vec<Dim>) +
-                             located_half_lengths_.capacity() * sizeof(Vec<Dim>) +
-                             order_.bytes() +
-                             body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes() * contact_.fields() +
-                             (particles_.state.empty() ? 0 : particles_.size() * MaterialState::bytes_per_particle()) +
-                             grad_v_.capacity() * sizeof(Mat<Dim>) + hoop_rate_.capacity() * sizeof(Real) +
-                             pic_velocity_.capacity() * sizeof(Vec<Dim>) + particles_.B.capacity() * sizeof(Mat<Dim>) +
-                             particles_.corners.capacity() * sizeof(Corners<Dim>) + reorder_buffer_.bytes()) /
+         static_cast<double>(
+             particles_.l0.capacity() * sizeof(Vec<Dim>) +
+             located_half_lengths_.capacity() * sizeof(Vec<Dim>) + order_.bytes() +
+             body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes() * contact_.fields() +
+             (particles_.state.empty() ? 0 : particles_.size() * MaterialState::bytes_per_particle()) +
+             grad_v_.capacity() * sizeof(Mat<Dim>) + hoop_rate_.capacity() * sizeof(Real) +
+             pic_velocity_.capacity() * sizeof(Vec<Dim>) + particles_.B.capacity() * sizeof(Mat<Dim>) +
+             particles_.corners.capacity() * sizeof(Corners<Dim>) + reorder_buffer_.bytes()) /
              n;
 }
 

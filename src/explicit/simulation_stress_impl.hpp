@@ -1,7 +1,7 @@
 #pragma once
-// The material stages of Simulation<Dim, Kernel>: the stress update after a deforming G2P pass (every material
-// but the Neo-Hookean one, whose stress G2P computes in lanes when it is the only one), the 3 x 3 stress of a
-// particle. Included by simulation_impl.hpp.
+// The material stages of Simulation<Dim, Kernel>: the stress update after a deforming G2P pass (every
+// material but the Neo-Hookean one, whose stress G2P computes in lanes when it is the only one), the 3 x 3
+// stress of a particle. Included by simulation_impl.hpp.
 #include <atomic>
 #include <variant>
 
@@ -37,8 +37,8 @@ ParticleFault Simulation<Dim, Kernel>::update_stress(Real dt) {
       // Only the fluid reads F (its J): the solids' rate form needs none.
       const Mat<Dim> F_start =
           std::holds_alternative<NewtonianFluid>(material) ? Mat<Dim>(step.inverse() * p.F[i]) : p.F[i];
-      const MaterialStep r = material_step<Dim>(material, s.sigma[i], s.eps_bar[i], s.stretch3[i], s.internal_at(i),
-                                                V_start, p.V0[i], F_start, dL, dt,
+      const MaterialStep r = material_step<Dim>(material, s.sigma[i], s.eps_bar[i], s.stretch3[i],
+                                                s.internal_at(i), V_start, p.V0[i], F_start, dL, dt,
                                                 axisymmetric_ ? dt * hoop_rate_[i] : 0, spec_.geometry);
       ok = r.ok;
       s.sigma[i] = r.sigma;

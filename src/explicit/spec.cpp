@@ -36,11 +36,13 @@ void validate(const SimulationSpec<Dim>& s) {
   validate(s.contact);
   if (measures_gaps(s.contact))
     for (const FaceCondition<Dim>& f : s.boundary.faces)
-      require(f.type != FaceType::periodic, "contact: the gap of mass centres is not measured across periodic faces");
+      require(f.type != FaceType::periodic,
+              "contact: the gap of mass centres is not measured across periodic faces");
   for (const RigidBody<Dim>& b : s.rigid_bodies) {
     require(!b.points.empty(), "rigid body '" + b.name + "': has no points");
     require(static_cast<bool>(b.velocity), "rigid body '" + b.name + "': needs a velocity");
-    require(b.friction < 0 || std::isfinite(b.friction), "rigid body '" + b.name + "': friction must be finite");
+    require(b.friction < 0 || std::isfinite(b.friction),
+            "rigid body '" + b.name + "': friction must be finite");
     require(!std::isnan(b.friction), "rigid body '" + b.name + "': friction must be a number");
   }
   if (s.dt > 0) {
@@ -56,7 +58,8 @@ void validate(const SimulationSpec<Dim>& s) {
   require(s.gravity.allFinite(), "gravity: must be finite");
   require(s.local_damping >= 0 && s.local_damping < 1, "local_damping: expected a number in [0, 1)");
   require(s.flip_fraction >= 0 && s.flip_fraction <= 1, "flip_fraction: expected a number in [0, 1]");
-  require(s.transfer != Transfer::apic || s.flip_fraction == 1, "flip_fraction: applies to transfer = \"flip\" only");
+  require(s.transfer != Transfer::apic || s.flip_fraction == 1,
+          "flip_fraction: applies to transfer = \"flip\" only");
 }
 
 template void validate<1>(const SimulationSpec<1>&);

@@ -33,8 +33,10 @@ void PeriodicHalo<Dim>::sum_into_owners(Grid<Dim>& grid, NodeFields fields) cons
 
 template <int Dim>
 void PeriodicHalo<Dim>::sum_into_owners(Grid<Dim>& grid, NodeVelocity<Dim> field) const {
-  // Each image adds into its owner in flat-index order, whatever the thread count: the sums are deterministic.
-  for (std::size_t k = 0; k < image_.size(); ++k) grid.nodes[owner_[k]].*field += grid.nodes[image_[k]].*field;
+  // Each image adds into its owner in flat-index order, whatever the thread count: the sums are
+  // deterministic.
+  for (std::size_t k = 0; k < image_.size(); ++k)
+    grid.nodes[owner_[k]].*field += grid.nodes[image_[k]].*field;
   for (std::size_t k = 0; k < image_.size(); ++k) grid.nodes[image_[k]].*field = grid.nodes[owner_[k]].*field;
 }
 

@@ -11,15 +11,16 @@
 
 namespace mpm {
 
-// Initialisation phase (Sulsky & Kaul 2004, Sec. 2.3.1): lumped mass (Sulsky & Kaul 2004, Eq. (2.2.12)), momentum
-// (Sulsky & Kaul 2004, Eq. (2.2.14) or Eq. (3.2.3)), internal force at t^k (Sulsky & Kaul 2004, Eq. (2.4.6)) and
-// external force; rigid-body stencils at their positions.
+// Initialisation phase (Sulsky & Kaul 2004, Sec. 2.3.1): lumped mass (Sulsky & Kaul 2004, Eq. (2.2.12)),
+// momentum (Sulsky & Kaul 2004, Eq. (2.2.14) or Eq. (3.2.3)), internal force at t^k (Sulsky & Kaul 2004, Eq.
+// (2.4.6)) and external force; rigid-body stencils at their positions.
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::project(Real dt) {
   if (build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_))
     order_.build(StencilTiles<Dim, Kernel>{stencils_}, particles_.id);
-  p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils(), order_, {}, grid_, KeepNothing{}, 0, false,
-                                                     affine());  // as explicit
+  p2g<Scatter{.mass_momentum = true, .force = false}>(particles_, stencils(), order_, {}, grid_,
+                                                      KeepNothing{}, 0, false,
+                                                      affine());  // as explicit
   periodic_halo_.sum_into_owners(grid_, NodeFields::mass_momentum);
   constraints_.fold_and_mirror(grid_, NodeFields::mass_momentum);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) {
@@ -83,24 +84,30 @@ void ImplicitSimulation<Dim, Kernel>::build_dofs(Real t_new) {
 
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::scatter_momentum(const std::vector<Vec<Dim>>& v_p) {
-  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].v_new.setZero(); });
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()),
+               [&](std::ptrdiff_t n) { grid_.nodes[n].v_new.setZero(); });
   if (affine())
-    p2g_add(stencils(), order_, grid_, AffineMomentum<Dim, NodeSlots<Dim>::v_new, false>{particles_.m, v_p, *affine()});
+    p2g_add(stencils(), order_, grid_,
+            AffineMomentum<Dim, NodeSlots<Dim>::v_new, false>{particles_.m, v_p, *affine()});
   else
     p2g_add(stencils(), order_, grid_, Momentum<Dim, NodeSlots<Dim>::v_new, false>{particles_.m, v_p});
   periodic_halo_.sum_into_owners(grid_, &GridNode<Dim>::v_new);
   constraints_.fold_and_mirror(grid_, &GridNode<Dim>::v_new);
 }
 
-// Internal force f_i = -sum_p V_p sigma_p grad N_i(x_p^k) (Sulsky & Kaul 2004, Eq. (2.2.9), Eq. (2.2.10), Eq. (2.4.7)), with
-// the hoop term -V_p sigma_thetatheta N_i / r_p on the radial component in axisymmetry (Sulsky & Schreyer 1996).
+// Internal force f_i = -sum_p V_p sigma_p grad N_i(x_p^k) (Sulsky & Kaul 2004, Eq. (2.2.9), Eq. (2.2.10), Eq.
+// (2.4.7)), with the hoop term -V_p sigma_thetatheta N_i / r_p on the radial component in axisymmetry (Sulsky
+// & Schreyer 1996).
 template <int Dim, class Kernel>
-void ImplicitSimulation<Dim, Kernel>::scatter_force(const std::vector<SymTensor<3>>& sigma, std::vector<Vec<Dim>>& f) {
-  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
+void ImplicitSimulation<Dim, Kernel>::scatter_force(const std::vector<SymTensor<3>>& sigma,
+                                                    std::vector<Vec<Dim>>& f) {
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()),
+               [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
   const ParticleSet<Dim>& p = particles_;
   p2g_add(stencils(), order_, grid_, InternalForce<Dim, SymTensor<3>>{p.V, sigma});
   if constexpr (Dim == 2)  // the hoop force in a pass of its own, as in the explicit step
-    if (spec_.geometry == Geometry::axisymmetric) p2g_add(stencils(), order_, grid_, HoopForce{p.V, sigma, p.x});
+    if (spec_.geometry == Geometry::axisymmetric)
+      p2g_add(stencils(), order_, grid_, HoopForce{p.V, sigma, p.x});
   periodic_halo_.sum_into_owners(grid_, NodeFields::force);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { f[n] = grid_.nodes[n].a; });
@@ -115,17 +122,20 @@ void ImplicitSimulation<Dim, Kernel>::add_body_force(Real dt) {
   const Real theta = spec_.theta, t0 = time_, t1 = time_ + dt;
   body_accel_.resize(p.size());
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
-    body_accel_[i] = spec_.body_force
-                         ? Vec<Dim>((1 - theta) * spec_.body_force(p.X[i], t0) + theta * spec_.body_force(p.X[i], t1))
-                         : Vec<Dim>::Zero();
+    body_accel_[i] =
+        spec_.body_force
+            ? Vec<Dim>((1 - theta) * spec_.body_force(p.X[i], t0) + theta * spec_.body_force(p.X[i], t1))
+            : Vec<Dim>::Zero();
   });
   spec_.surface_loads.accelerate(p, t0, 1 - theta, spec_.geometry, body_accel_);
   spec_.surface_loads.accelerate(p, t1, theta, spec_.geometry, body_accel_);
-  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()),
+               [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
   p2g_add(stencils(), order_, grid_, BodyForce<Dim>{p.m, body_accel_});
   periodic_halo_.sum_into_owners(grid_, NodeFields::force);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
-  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()), [&](std::ptrdiff_t n) { f_ext_[n] += grid_.nodes[n].a; });
+  parallel_for(static_cast<std::ptrdiff_t>(grid_.size()),
+               [&](std::ptrdiff_t n) { f_ext_[n] += grid_.nodes[n].a; });
 }
 
 template <int Dim, class Kernel>

@@ -5,21 +5,19 @@
 #include <limits>
 #include <sstream>
 
+#include "consistent_mass_impl.hpp"
 #include "mpm/boundary/rigid_bodies_locate.hpp"
 #include "mpm/core/errors.hpp"
-#include "mpm/core/time_step.hpp"
 #include "mpm/core/parallel.hpp"
-
+#include "mpm/core/time_step.hpp"
 #include "mpm/implicit/simulation.hpp"
+#include "mpm/materials/material_step.hpp"
 #include "mpm/particles/validate.hpp"
-#include "consistent_mass_impl.hpp"
 #include "projection_impl.hpp"
 #include "residual_impl.hpp"
 #include "tangent_impl.hpp"
-#include "mpm/materials/material_step.hpp"
 
 namespace mpm {
-
 
 /// The discrete momentum equation of one step as a NonlinearProblem over the free nodal unknowns.
 template <int Dim, class Kernel>
@@ -48,8 +46,14 @@ template <int Dim, class Kernel>
 ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spec, ParticleSet<Dim> particles)
     : spec_((validate(spec), spec)),
       particles_(std::move(particles)),
-      grid_(GridGeometry<Dim>{spec.grid_lo, spec.h, spec.cells, Kernel::ghost, {}, periodic_axes(spec.boundary),
-                              outflow_faces(spec.boundary), wall_faces(spec.boundary),
+      grid_(GridGeometry<Dim>{spec.grid_lo,
+                              spec.h,
+                              spec.cells,
+                              Kernel::ghost,
+                              {},
+                              periodic_axes(spec.boundary),
+                              outflow_faces(spec.boundary),
+                              wall_faces(spec.boundary),
                               clamped_faces(spec.kernel, spec.boundary)}),
       periodic_halo_(grid_.geometry),
       constraints_(spec.boundary, grid_.geometry),
@@ -62,7 +66,8 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
   const GridGeometry<Dim>& g = grid_.geometry;
   if (p.size() == 0) throw InputError("particles: the simulation has no particles");
   if (p.state.empty()) p.state.resize(p.size());  // a state the particles bring (a geostatic stress) is kept
-  if (spec.transfer == Transfer::apic) p.B.assign(p.size(), Mat<Dim>::Zero());  // the particles start unsheared
+  if (spec.transfer == Transfer::apic)
+    p.B.assign(p.size(), Mat<Dim>::Zero());               // the particles start unsheared
   if constexpr (moves_corners<Kernel>) place_corners(p);  // CPDI2's domains start as CPDI's
   const bool axisymmetric = Dim == 2 && spec_.geometry == Geometry::axisymmetric;
   const Real min_mass = start_particles(p, spec_.materials, spec_.kernel, g, axisymmetric, 1);
@@ -110,11 +115,13 @@ Real ImplicitSimulation<Dim, Kernel>::wave_speed_of(const Material& material, st
 
 template <int Dim, class Kernel>
 Real ImplicitSimulation<Dim, Kernel>::residual_scale(Real dt) const {
-  return spec_.scaled_residual ? 1 / (modulus_ * std::pow(spec_.h, Dim) * dt) : 1;  // Sulsky & Kaul 2004, Sec. 3.2.2
+  return spec_.scaled_residual ? 1 / (modulus_ * std::pow(spec_.h, Dim) * dt)
+                               : 1;  // Sulsky & Kaul 2004, Sec. 3.2.2
 }
 
 template <int Dim, class Kernel>
-void ImplicitSimulation<Dim, Kernel>::restore(Real time, std::int64_t steps, Real dt, const ImplicitCounters& counters,
+void ImplicitSimulation<Dim, Kernel>::restore(Real time, std::int64_t steps, Real dt,
+                                              const ImplicitCounters& counters,
                                               const std::vector<Vec<Dim>>& rigid_displacement) {
   time_ = time;
   steps_ = steps;
@@ -139,8 +146,8 @@ template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::step(Real max_dt) {
   remove_outflow();
   Real dt = std::min(dt_, max_dt);
-  // A step that would leave less than 1e-6 of itself to max_dt (the end time, reached through sums of rounded steps)
-  // takes that sliver along: a sliver step's residual, divided by its dt, would be round-off.
+  // A step that would leave less than 1e-6 of itself to max_dt (the end time, reached through sums of rounded
+  // steps) takes that sliver along: a sliver step's residual, divided by its dt, would be round-off.
   if (max_dt > dt && max_dt - dt < 1e-6 * dt) dt = max_dt;
   check_step_advances(steps_, time_, dt);
   bool halved = false;
@@ -149,8 +156,8 @@ void ImplicitSimulation<Dim, Kernel>::step(Real max_dt) {
     if (retry == spec_.step.max_retries) {
       std::ostringstream os;
       os.precision(9);
-      os << "step " << steps_ + 1 << ", t = " << time_ << ": the implicit solve failed with dt = " << dt << " after "
-         << retry << " halvings of the step";
+      os << "step " << steps_ + 1 << ", t = " << time_ << ": the implicit solve failed with dt = " << dt
+         << " after " << retry << " halvings of the step";
       throw SimulationFailure(os.str());
     }
     ++counters_.retries;
@@ -159,7 +166,8 @@ void ImplicitSimulation<Dim, Kernel>::step(Real max_dt) {
   }
   time_ += dt;
   ++steps_;
-  // Grow toward the target step (Sulsky & Kaul 2004, footnotes of Tables 1-6), from the halved step after a retry.
+  // Grow toward the target step (Sulsky & Kaul 2004, footnotes of Tables 1-6), from the halved step after a
+  // retry.
   if (halved) dt_ = dt;
   dt_ = std::min(spec_.step.step_factor * explicit_dt_, dt_ * spec_.step.growth);
 }
@@ -208,10 +216,10 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
     };
     if (spec_.frozen_jacobian && !factorise_tangent(x0, dt)) return false;
     const auto pre = [&](const Eigen::VectorXd& v, Eigen::VectorXd& z) { problem.precondition(v, z); };
-    const numerics::LinearStats ls =
-        numerics::conjugate_gradient(apply, -r0, s, spec_.newton.linear_tolerance, spec_.newton.max_krylov,
-                                     spec_.frozen_jacobian ? std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>(pre)
-                                                  : std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>{});
+    const numerics::LinearStats ls = numerics::conjugate_gradient(
+        apply, -r0, s, spec_.newton.linear_tolerance, spec_.newton.max_krylov,
+        spec_.frozen_jacobian ? std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>(pre)
+                              : std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>{});
     counters_.krylov_iterations += ls.iterations;
     counters_.residual_evaluations += ls.iterations + 2;
     x = x0 + s;
@@ -219,7 +227,8 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
     last_newton_ = 1;
     ++counters_.newton_iterations;
   } else {
-    // The frozen-Jacobian preconditioner is built at the initial guess, which then needs no second evaluation.
+    // The frozen-Jacobian preconditioner is built at the initial guess, which then needs no second
+    // evaluation.
     const bool preconditioned = spec_.frozen_jacobian || spec_.solver == ImplicitSolver::newton_direct;
     if (preconditioned) {
       ++counters_.residual_evaluations;
@@ -251,10 +260,9 @@ bool ImplicitSimulation<Dim, Kernel>::try_step(Real dt) {
   return true;
 }
 
-
 // Update the particles from the converged step (Sulsky & Kaul 2004, Eq. (2.3.2), Eq. (2.3.3), Eq. (2.3.4),
-// Eq. (2.3.5), or Eq. (3.2.5), Eq. (3.2.6)); with moves_with_projected_velocity the momentum formulation moves
-// them with the v^L of Sulsky & Kaul 2004, Eq. (3.2.7), as the velocity formulation does. The new
+// Eq. (2.3.5), or Eq. (3.2.5), Eq. (3.2.6)); with moves_with_projected_velocity the momentum formulation
+// moves them with the v^L of Sulsky & Kaul 2004, Eq. (3.2.7), as the velocity formulation does. The new
 // positions are checked before anything changes, so a failure leaves the last good state.
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
@@ -264,28 +272,35 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
   const bool axisymmetric = Dim == 2 && spec_.geometry == Geometry::axisymmetric;
   trial_.x.resize(p.size());
   if (!momentum) trial_.v.resize(p.size());
-  gather_over_active_nodes(
-      [&](const GridNode<Dim>& node, std::size_t n) { return with_momentum ? momentum_velocity_[n] : node.v_new; },
-      v_move_);
+  gather_over_active_nodes([&](const GridNode<Dim>& node,
+                               std::size_t n) { return with_momentum ? momentum_velocity_[n] : node.v_new; },
+                           v_move_);
   // CPDI2: the corners move with the same node velocities, now on GridNode::a (Sadeghirad et al. 2013).
-  if constexpr (moves_corners<Kernel>) g2p_corners(stencils(), grid_, &GridNode<Dim>::a, dt, p.corners, trial_.corners);
-  if (!momentum) gather_over_active_nodes([](const GridNode<Dim>& node, std::size_t) { return node.v_new - node.v; }, dv_);
-  // PIC's velocity for the blend: sum_i S_ip v_i^L of the solution's node velocities (P_i^L / m_i in the momentum
-  // formulation), which v_move_ already is unless the momentum formulation moves with the re-projected velocity.
+  if constexpr (moves_corners<Kernel>)
+    g2p_corners(stencils(), grid_, &GridNode<Dim>::a, dt, p.corners, trial_.corners);
+  if (!momentum)
+    gather_over_active_nodes([](const GridNode<Dim>& node, std::size_t) { return node.v_new - node.v; }, dv_);
+  // PIC's velocity for the blend: sum_i S_ip v_i^L of the solution's node velocities (P_i^L / m_i in the
+  // momentum formulation), which v_move_ already is unless the momentum formulation moves with the
+  // re-projected velocity.
   const bool blend = spec_.flip_fraction < 1;
   const bool own_pic = blend && momentum && !with_momentum;
   if (own_pic)
-    gather_over_active_nodes([&](const GridNode<Dim>&, std::size_t n) { return momentum_velocity_[n]; }, pic_velocity_);
+    gather_over_active_nodes([&](const GridNode<Dim>&, std::size_t n) { return momentum_velocity_[n]; },
+                             pic_velocity_);
   const std::vector<Vec<Dim>>& pic = own_pic ? pic_velocity_ : v_move_;
-  // APIC: the velocity and affine matrix of the solution's node velocities (those PIC takes) at the step's start.
+  // APIC: the velocity and affine matrix of the solution's node velocities (those PIC takes) at the step's
+  // start.
   const bool apic = spec_.transfer == Transfer::apic;
   if (apic) {
-    put_on_active_nodes([&](const GridNode<Dim>& node, std::size_t n) { return momentum ? momentum_velocity_[n] : node.v_new; });
+    put_on_active_nodes([&](const GridNode<Dim>& node, std::size_t n) {
+      return momentum ? momentum_velocity_[n] : node.v_new;
+    });
     g2p_affine(stencils(), grid_, &GridNode<Dim>::a, pic_velocity_, affine_);
   }
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
-    // Sulsky & Kaul 2004, Eq. (2.3.2), or Eq. (3.2.5); a centre carried past a wall stays on it. A CPDI2 particle
-    // goes to its corners' centroid, and its corners with it through a wrap or onto a wall.
+    // Sulsky & Kaul 2004, Eq. (2.3.2), or Eq. (3.2.5); a centre carried past a wall stays on it. A CPDI2
+    // particle goes to its corners' centroid, and its corners with it through a wrap or onto a wall.
     if constexpr (moves_corners<Kernel>) {
       Real corners[Kernel::corners][Dim], near[Dim], centroid[Dim];
       for (int c = 0; c < Kernel::corners; ++c)
@@ -309,13 +324,15 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
   };
   for (std::size_t i = 0; i < p.size(); ++i) {
     if constexpr (moves_corners<Kernel>)
-      if (!trial_.x[i].allFinite()) fail(i, "would fold its CPDI2 domain (the Jacobian of its corners' map <= 0 at a corner)");
+      if (!trial_.x[i].allFinite())
+        fail(i, "would fold its CPDI2 domain (the Jacobian of its corners' map <= 0 at a corner)");
     if (!grid_.geometry.contains(trial_.x[i]) && !grid_.geometry.beyond_outflow(trial_.x[i]))
       fail(i, "would leave the grid");
     if (p.half_lengths == HalfLengths::deformed) {  // the half-lengths l_p0 diag(F) the GIMP stencil holds
       const Mat<Dim> F = (Mat<Dim>::Identity() + dt * trial_.grad_v[i]) * p.F[i];
       for (int d = 0; d < Dim; ++d)
-        if (!(p.l0[i][d] * F(d, d) > 0 && p.l0[i][d] * F(d, d) <= max_half_length(spec_.kernel) * grid_.geometry.h))
+        if (!(p.l0[i][d] * F(d, d) > 0 &&
+              p.l0[i][d] * F(d, d) <= max_half_length(spec_.kernel) * grid_.geometry.h))
           fail(i, "would take its cpGIMP half-length " + std::to_string(p.l0[i][d] * F(d, d)) + " out of " +
                       half_length_bound(spec_.kernel));
     }
@@ -330,8 +347,8 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
     p.F[i] = (Mat<Dim>::Identity() + dt * trial_.grad_v[i]) * p.F[i];
     // The hoop stretch is r / R exactly; the plane-stress thickness stretch accumulates 1 + de_zz.
     particles_.state.stretch3[i] = axisymmetric ? p.x[i][0] / p.X[i][0] : trial_.stretch3[i];
-    // V = V0 det F: Sulsky & Kaul 2004, Eq. (2.3.4), rho^L = rho^k / (1 + tr de), in the exact form det(I + de) of
-    // which 1 + tr de is the first order.
+    // V = V0 det F: Sulsky & Kaul 2004, Eq. (2.3.4), rho^L = rho^k / (1 + tr de), in the exact form det(I +
+    // de) of which 1 + tr de is the first order.
     p.V[i] = p.V0[i] * p.F[i].determinant() * particles_.state.stretch3[i];
     particles_.state.sigma[i] = trial_.sigma[i];
     particles_.state.eps_bar[i] = trial_.eps_bar[i];
@@ -339,7 +356,8 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
     particles_.state.energy[i] += trial_.energy[i];
     const auto* law = std::get_if<ElastoPlastic>(&spec_.materials[p.material[i]]);
     if (law && law->specific_heat > 0)
-      particles_.state.temperature[i] += trial_.work[i] / (p.m[i] * law->specific_heat);  // Sulsky & Kaul 2004, Eq. (2.3.5)
+      particles_.state.temperature[i] +=
+          trial_.work[i] / (p.m[i] * law->specific_heat);  // Sulsky & Kaul 2004, Eq. (2.3.5)
   });
   rigid_.advance(time_, dt);
 }

@@ -23,9 +23,15 @@ Formulation parse_formulation(std::string_view name, std::string_view key) {
 ImplicitSolver parse_solver(std::string_view name, std::string_view key) {
   return parse_name<ImplicitSolver>(solver_names, name, key);
 }
-std::string_view to_string(Geometry g) { return geometry_names[static_cast<std::size_t>(g)]; }
-std::string_view to_string(Formulation f) { return formulation_names[static_cast<std::size_t>(f)]; }
-std::string_view to_string(ImplicitSolver s) { return solver_names[static_cast<std::size_t>(s)]; }
+std::string_view to_string(Geometry g) {
+  return geometry_names[static_cast<std::size_t>(g)];
+}
+std::string_view to_string(Formulation f) {
+  return formulation_names[static_cast<std::size_t>(f)];
+}
+std::string_view to_string(ImplicitSolver s) {
+  return solver_names[static_cast<std::size_t>(s)];
+}
 
 template <int Dim>
 void validate(const ImplicitSpec<Dim>& s, const std::string& where) {
@@ -42,7 +48,8 @@ void validate(const ImplicitSpec<Dim>& s, const std::string& where) {
   for (const FaceCondition<Dim>& f : s.boundary.faces)
     require(!(f.friction >= 0), at + "grid.faces: Coulomb walls (friction) are for the explicit integrators");
   require(s.theta >= 0 && s.theta <= 1, at + "implicit.theta: expected a number in [0, 1]");
-  require(s.flip_fraction >= 0 && s.flip_fraction <= 1, at + "simulation.flip_fraction: expected a number in [0, 1]");
+  require(s.flip_fraction >= 0 && s.flip_fraction <= 1,
+          at + "simulation.flip_fraction: expected a number in [0, 1]");
   require(s.transfer != Transfer::apic || !s.consistent_mass,
           at + "implicit.mass: APIC (transfer = \"apic\") runs with the lumped mass");
   require(s.transfer != Transfer::apic || s.flip_fraction == 1,
@@ -57,7 +64,8 @@ void validate(const ImplicitSpec<Dim>& s, const std::string& where) {
           at + "implicit.positions: \"projected-velocity\" belongs to the momentum formulation (the velocity "
                "formulation moves the particles with its unknown v^L)");
   require(!s.consistent_mass || (!s.frozen_jacobian && s.solver != ImplicitSolver::newton_direct),
-          at + "implicit.mass: the assembled Jacobians of the frozen-Jacobian preconditioner and newton-direct use the "
+          at + "implicit.mass: the assembled Jacobians of the frozen-Jacobian preconditioner and "
+               "newton-direct use the "
                "lumped mass");
   numerics::validate(s.newton, at + "[implicit]");
   const StepControl& c = s.step;
@@ -66,11 +74,13 @@ void validate(const ImplicitSpec<Dim>& s, const std::string& where) {
   else
     require(c.dt == 0 && c.cfl > 0 && c.cfl <= 1, at + "simulation.cfl: expected a number in (0, 1]");
   require(std::isfinite(c.step_factor) && c.step_factor > 0, at + "implicit.step_factor: must be positive");
-  require(std::isfinite(c.start_factor) && c.start_factor > 0, at + "implicit.start_factor: must be positive");
+  require(std::isfinite(c.start_factor) && c.start_factor > 0,
+          at + "implicit.start_factor: must be positive");
   require(c.growth >= 1 && std::isfinite(c.growth), at + "implicit.growth: expected a number >= 1");
   require(c.max_retries >= 0, at + "implicit.max_retries: expected an integer >= 0");
-  require(s.theta > 0 || c.step_factor <= 1,
-          at + "implicit.step_factor: theta = 0 is explicit and conditionally stable; expected step_factor <= 1");
+  require(
+      s.theta > 0 || c.step_factor <= 1,
+      at + "implicit.step_factor: theta = 0 is explicit and conditionally stable; expected step_factor <= 1");
   require(!s.materials.empty(), at + "materials: at least one material is required");
   for (std::size_t k = 0; k < s.materials.size(); ++k)
     validate(s.materials[k], at + "materials[" + std::to_string(k) + "]", Dim, s.geometry);
@@ -82,7 +92,8 @@ void validate(const ImplicitSpec<Dim>& s, const std::string& where) {
   for (const RigidBody<Dim>& b : s.rigid_bodies) {
     require(!b.points.empty(), at + "rigid body '" + b.name + "': has no points");
     require(static_cast<bool>(b.velocity), at + "rigid body '" + b.name + "': needs a velocity");
-    require(!(b.friction >= 0), at + "rigid body '" + b.name + "': Coulomb bodies are for the explicit integrators");
+    require(!(b.friction >= 0),
+            at + "rigid body '" + b.name + "': Coulomb bodies are for the explicit integrators");
   }
 }
 

@@ -1,12 +1,11 @@
 #pragma once
 // The frozen-Jacobian preconditioner of ImplicitSimulation (an improvement not in Sulsky & Kaul 2004, whose
 // Krylov solves are unpreconditioned); included by implicit_simulation_impl.hpp.
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
 #include <algorithm>
 #include <utility>
 #include <vector>
-
-#include <Eigen/SparseCore>
-#include <Eigen/SparseLU>
 
 #include "mpm/core/parallel.hpp"
 #include "mpm/implicit/simulation.hpp"
@@ -21,18 +20,18 @@ struct ImplicitSimulation<Dim, Kernel>::TangentFactor {
   bool factorised = false;
 };
 
-// The Jacobian of F at x, assembled from the particles and factorised by sparse LU. Within a step the stencils,
-// volumes and start-of-step stresses are fixed, so F depends on the unknowns only through
-//   v^L (the unknowns themselves, or in the momentum formulation their re-projection Q P^L, Sulsky & Kaul 2004,
-//   Eq. (3.2.6), Eq. (3.2.7))
+// The Jacobian of F at x, assembled from the particles and factorised by sparse LU. Within a step the
+// stencils, volumes and start-of-step stresses are fixed, so F depends on the unknowns only through
+//   v^L (the unknowns themselves, or in the momentum formulation their re-projection Q P^L, Sulsky & Kaul
+//   2004, Eq. (3.2.6), Eq. (3.2.7))
 //   -> strain increments de_p = dt sym(sum_j v_j^L (x) grad N_j), plus the hoop term dt v_r / r
 //   -> sigma_p(de_p) by material_step -> f_i^L = -sum_p V_p (sigma_p grad N_i + hoop)
 //   (Sulsky & Kaul 2004, Eq. (2.2.18), Eq. (2.2.19), Eq. (2.2.20), Eq. (2.2.21), Eq. (2.4.7))
-// hence dF/dx = scale (D - theta dt K Q + dt Z A), D = I (momentum) or the nodal masses (velocity), K = df^L/dv^L,
-// Q = I in the velocity formulation. The material tangent d sigma / d de is a forward difference of
-// material_step at each particle's trial strain, one call per independent strain component; only the
-// dependence of the Jaumann spin on v^L is left out (a relative error of order sigma / E). Returns false when F
-// cannot be evaluated at x; a singular tangent leaves the solve unpreconditioned.
+// hence dF/dx = scale (D - theta dt K Q + dt Z A), D = I (momentum) or the nodal masses (velocity), K =
+// df^L/dv^L, Q = I in the velocity formulation. The material tangent d sigma / d de is a forward difference
+// of material_step at each particle's trial strain, one call per independent strain component; only the
+// dependence of the Jaumann spin on v^L is left out (a relative error of order sigma / E). Returns false when
+// F cannot be evaluated at x; a singular tangent leaves the solve unpreconditioned.
 template <int Dim, class Kernel>
 bool ImplicitSimulation<Dim, Kernel>::factorise_tangent(const Eigen::VectorXd& x, Real dt) {
   using SpMat = Eigen::SparseMatrix<Real>;
@@ -88,9 +87,10 @@ bool ImplicitSimulation<Dim, Kernel>::factorise_tangent(const Eigen::VectorXd& x
   const auto n = static_cast<Eigen::Index>(dof_node_.size());
   std::vector<int> dof_of(grid_.size() * Dim, -1);
   for (Eigen::Index k = 0; k < n; ++k) dof_of[dof_node_[k] * Dim + dof_comp_[k]] = static_cast<int>(k);
-  periodic_halo_.for_each_image([&](std::int32_t image, std::int32_t owner) {  // an image stands for its owner's unknowns
-    for (int c = 0; c < Dim; ++c) dof_of[image * Dim + c] = dof_of[owner * Dim + c];
-  });
+  periodic_halo_.for_each_image(
+      [&](std::int32_t image, std::int32_t owner) {  // an image stands for its owner's unknowns
+        for (int c = 0; c < Dim; ++c) dof_of[image * Dim + c] = dof_of[owner * Dim + c];
+      });
   struct Local {
     std::int32_t node;
     Real S;
@@ -100,7 +100,9 @@ bool ImplicitSimulation<Dim, Kernel>::factorise_tangent(const Eigen::VectorXd& x
   const auto gather = [&](std::size_t i) {
     local.clear();
     for_each_node(stencils().at(i, grid_.geometry, layout_), layout_,
-                  [&](std::int32_t node, Real S_ip, const Vec<Dim>& dS_ip) { local.push_back({node, S_ip, dS_ip}); });
+                  [&](std::int32_t node, Real S_ip, const Vec<Dim>& dS_ip) {
+                    local.push_back({node, S_ip, dS_ip});
+                  });
   };
   // K: a unit v_jc gives de = dt (sym(e_c (x) grad N_j) + [c = r] N_j / r e_hoop), so
   // d sigma = dt (d_c N_j T_cc + sum_{a != c} d_a N_j T_ac / 2 + [c = r] N_j / r T_hoop).
@@ -140,7 +142,8 @@ bool ImplicitSimulation<Dim, Kernel>::factorise_tangent(const Eigen::VectorXd& x
           for (int c = 0; c < Dim; ++c) {
             const int row = dof_of[a.node * Dim + c], col = dof_of[b.node * Dim + c];
             if (row >= 0 && col >= 0)
-              entries.emplace_back(row, col, p.m[i] * a.S * b.S / (grid_.nodes[a.node].m * grid_.nodes[b.node].m));
+              entries.emplace_back(row, col,
+                                   p.m[i] * a.S * b.S / (grid_.nodes[a.node].m * grid_.nodes[b.node].m));
           }
     }
     SpMat Q(n, n);
@@ -155,7 +158,8 @@ bool ImplicitSimulation<Dim, Kernel>::factorise_tangent(const Eigen::VectorXd& x
   // diagonal approximated).
   for (Eigen::Index k = 0; k < n; ++k) {
     const Real m_node = grid_.nodes[dof_node_[k]].m;
-    J.coeffRef(k, k) += scale * ((momentum ? 1.0 : m_node) + dt * dof_resistance_[k] * (momentum ? 1 / m_node : 1.0));
+    J.coeffRef(k, k) +=
+        scale * ((momentum ? 1.0 : m_node) + dt * dof_resistance_[k] * (momentum ? 1 / m_node : 1.0));
   }
   J.makeCompressed();
   if (!tangent_) tangent_ = std::make_shared<TangentFactor>();

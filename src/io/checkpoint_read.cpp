@@ -1,5 +1,5 @@
-/// Reading a checkpoint (layout in include/mpm/io/checkpoint.hpp): the seal first, then HDF5. On several ranks
-/// each rank opens the file itself and reads its share of the rows; rank 0 checks the seal for all.
+/// Reading a checkpoint (layout in include/mpm/io/checkpoint.hpp): the seal first, then HDF5. On several
+/// ranks each rank opens the file itself and reads its share of the rows; rank 0 checks the seal for all.
 #include <algorithm>
 #include <cstring>
 
@@ -28,7 +28,8 @@ std::vector<std::string> member_names(hid_t group, const std::string& path) {
   check(H5Gget_info(group, &info), "cannot list " + path);
   std::vector<std::string> names;
   for (hsize_t i = 0; i < info.nlinks; ++i) {
-    const ssize_t len = H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
+    const ssize_t len =
+        H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
     if (len < 0) throw Failure("cannot list " + path);
     std::vector<char> buffer(static_cast<std::size_t>(len) + 1);
     if (H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, buffer.data(), buffer.size(),
@@ -39,13 +40,15 @@ std::vector<std::string> member_names(hid_t group, const std::string& path) {
   return names;
 }
 
-/// Calls fn(name, path, dataset) for every member of the group at `group_path`; a missing group holds nothing.
+/// Calls fn(name, path, dataset) for every member of the group at `group_path`; a missing group holds
+/// nothing.
 template <class Fn>
 void for_each_dataset(hid_t file, const char* group_path, Fn&& fn) {
   const htri_t exists = H5Lexists(file, group_path, H5P_DEFAULT);
   if (exists < 0) throw Failure(std::string("cannot look up ") + group_path);
   if (exists == 0) return;
-  Handle group(H5Gopen2(file, group_path, H5P_DEFAULT), H5Gclose, std::string(group_path) + " is not a group");
+  Handle group(H5Gopen2(file, group_path, H5P_DEFAULT), H5Gclose,
+               std::string(group_path) + " is not a group");
   for (const std::string& name : member_names(group.get(), group_path)) {
     const std::string path = std::string(group_path) + "/" + name;
     Handle set(H5Dopen2(group.get(), name.c_str(), H5P_DEFAULT), H5Dclose, path + " is not a dataset");
@@ -63,9 +66,11 @@ std::int64_t row_width(hid_t set, const std::string& path) {
   const htri_t has = H5Aexists(set, row_width_attribute);
   if (has < 0) throw Failure("cannot look up the attributes of " + path);
   if (has == 0) return 0;
-  Handle attribute(H5Aopen(set, row_width_attribute, H5P_DEFAULT), H5Aclose, "cannot open the row width of " + path);
+  Handle attribute(H5Aopen(set, row_width_attribute, H5P_DEFAULT), H5Aclose,
+                   "cannot open the row width of " + path);
   Handle type(H5Aget_type(attribute.get()), H5Tclose, "cannot get the type of the row width of " + path);
-  Handle space(H5Aget_space(attribute.get()), H5Sclose, "cannot get the dataspace of the row width of " + path);
+  Handle space(H5Aget_space(attribute.get()), H5Sclose,
+               "cannot get the dataspace of the row width of " + path);
   if (H5Tget_class(type.get()) != H5T_INTEGER || H5Sget_simple_extent_type(space.get()) != H5S_SCALAR)
     throw Failure("the row width of " + path + " is not an integer");
   std::int64_t width = 0;
@@ -86,9 +91,11 @@ std::vector<T> read_array(hid_t set, const std::string& name, const std::string&
   if (n < 0) throw Failure("cannot get the size of " + path);
   hsize_t first = 0, count = static_cast<hsize_t>(n);
   if (const std::int64_t width = row_width(set, path); width > 0) {
-    if (n % width != 0) throw Failure(path + " of " + std::to_string(n) + " values is not rows of " + std::to_string(width));
+    if (n % width != 0)
+      throw Failure(path + " of " + std::to_string(n) + " values is not rows of " + std::to_string(width));
     const std::int64_t rows = n / width;
-    if (share.rows >= 0 && rows != share.rows) throw Failure(path + " holds another number of rows than the others");
+    if (share.rows >= 0 && rows != share.rows)
+      throw Failure(path + " holds another number of rows than the others");
     share.rows = rows;
     const std::int64_t begin = rows * share.rank / share.ranks, end = rows * (share.rank + 1) / share.ranks;
     first = static_cast<hsize_t>(begin * width);
@@ -98,7 +105,8 @@ std::vector<T> read_array(hid_t set, const std::string& name, const std::string&
   std::vector<T> values(count);
   if (count == 0) return values;
   const hsize_t start[1] = {first}, size[1] = {count};
-  check(H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start, nullptr, size, nullptr), "cannot select in " + path);
+  check(H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start, nullptr, size, nullptr),
+        "cannot select in " + path);
   Handle mem(H5Screate_simple(1, size, nullptr), H5Sclose, "cannot create memory dataspace for " + path);
   check(H5Dread(set, mem_type, mem.get(), space.get(), H5P_DEFAULT, values.data()), "cannot read " + path);
   return values;
@@ -156,7 +164,8 @@ void check_marker(hid_t file) {
     throw Failure("not an mpm checkpoint (format is '" + format + "', expected '" + checkpoint_format + "')");
 
   if (H5Aexists(file, "format_version") <= 0) throw Failure("no 'format_version' attribute");
-  Handle version(H5Aopen(file, "format_version", H5P_DEFAULT), H5Aclose, "cannot open attribute format_version");
+  Handle version(H5Aopen(file, "format_version", H5P_DEFAULT), H5Aclose,
+                 "cannot open attribute format_version");
   Handle vtype(H5Aget_type(version.get()), H5Tclose, "cannot get the type of attribute format_version");
   if (H5Tget_class(vtype.get()) != H5T_INTEGER) throw Failure("'format_version' is not an integer");
   std::int64_t v = 0;
@@ -175,11 +184,13 @@ CheckpointData read_hdf5(const fs::path& path, Share share) {
     data.reals[name] = read_array<double>(set, name, p, H5T_FLOAT, H5T_NATIVE_DOUBLE, "reals", share, data);
   });
   for_each_dataset(file.get(), integers_group, [&](const std::string& name, const std::string& p, hid_t set) {
-    data.integers[name] = read_array<std::int64_t>(set, name, p, H5T_INTEGER, H5T_NATIVE_INT64, "integers", share, data);
+    data.integers[name] =
+        read_array<std::int64_t>(set, name, p, H5T_INTEGER, H5T_NATIVE_INT64, "integers", share, data);
   });
-  for_each_dataset(file.get(), real_scalars_group, [&](const std::string& name, const std::string& p, hid_t set) {
-    data.real_scalars[name] = read_scalar<double>(set, p, H5T_FLOAT, H5T_NATIVE_DOUBLE, "a real");
-  });
+  for_each_dataset(
+      file.get(), real_scalars_group, [&](const std::string& name, const std::string& p, hid_t set) {
+        data.real_scalars[name] = read_scalar<double>(set, p, H5T_FLOAT, H5T_NATIVE_DOUBLE, "a real");
+      });
   for_each_dataset(file.get(), integer_scalars_group,
                    [&](const std::string& name, const std::string& p, hid_t set) {
                      data.integer_scalars[name] =
@@ -204,7 +215,8 @@ std::string refusal(const fs::path& file) {
     case seal::Verdict::foreign:
       return "not an HDF5 file";
     case seal::Verdict::unsealed:
-      return "an HDF5 file without the checkpoint seal (written by another program, or by mpm before checkpoints "
+      return "an HDF5 file without the checkpoint seal (written by another program, or by mpm before "
+             "checkpoints "
              "were sealed): not read";
     case seal::Verdict::corrupt:
       return "corrupt: " + why;
@@ -216,11 +228,16 @@ std::string refusal(const fs::path& file) {
 
 }  // namespace
 
-CheckpointData read_checkpoint(const fs::path& file) { return read_checkpoint(file, one_process()); }
+CheckpointData read_checkpoint(const fs::path& file) {
+  return read_checkpoint(file, one_process());
+}
 
 CheckpointData read_checkpoint(const fs::path& file, const Communicator& comm) {
-  const auto fail = [&](const std::string& what) { throw InputError("checkpoint " + file.string() + ": " + what); };
-  if (const std::string why = broadcast_text(comm, comm.rank() == 0 ? refusal(file) : "", 0); !why.empty()) fail(why);
+  const auto fail = [&](const std::string& what) {
+    throw InputError("checkpoint " + file.string() + ": " + what);
+  };
+  if (const std::string why = broadcast_text(comm, comm.rank() == 0 ? refusal(file) : "", 0); !why.empty())
+    fail(why);
   const SilenceErrors silence;
   CheckpointData data;
   std::string failure;

@@ -74,7 +74,9 @@ Verdict verify(const fs::path& file, std::string& why) {
     return Verdict::corrupt;
   }
   if (h != hash) {
-    why = "its contents do not match the checksum written with them (the file was changed after it was written)";
+    why =
+        "its contents do not match the checksum written with them (the file was changed after it was "
+        "written)";
     return Verdict::corrupt;
   }
   return Verdict::sealed;

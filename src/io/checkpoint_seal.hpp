@@ -1,8 +1,8 @@
 #pragma once
 // The seal of a checkpoint file: the file's first 512 bytes (an HDF5 userblock, which HDF5 skips) hold a text
-// header with the length and the FNV-1a 64-bit hash of everything after them. The reader checks it before HDF5
-// parses the file, so a file changed or truncated after it was written is refused with one line, and HDF5 (which
-// may allocate gigabytes or leak on corrupt input) only ever reads files as they were written.
+// header with the length and the FNV-1a 64-bit hash of everything after them. The reader checks it before
+// HDF5 parses the file, so a file changed or truncated after it was written is refused with one line, and
+// HDF5 (which may allocate gigabytes or leak on corrupt input) only ever reads files as they were written.
 //
 //   mpm-checkpoint-seal 1\n
 //   bytes N\n              (N: bytes after the userblock)

@@ -1,7 +1,7 @@
 /// Writing a checkpoint (layout in include/mpm/io/checkpoint.hpp): to a temporary file in the same directory,
-/// flushed, sealed and fsynced, then renamed over the target (rename(2) is atomic within a file system) and the
-/// directory fsynced, so a reader sees either the old checkpoint or the new one. Divided between ranks, every
-/// rank writes its rows into the one temporary file through MPI-IO, and rank 0 seals and renames it.
+/// flushed, sealed and fsynced, then renamed over the target (rename(2) is atomic within a file system) and
+/// the directory fsynced, so a reader sees either the old checkpoint or the new one. Divided between ranks,
+/// every rank writes its rows into the one temporary file through MPI-IO, and rank 0 seals and renames it.
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -24,8 +24,8 @@ using namespace hdf5;
 namespace {
 
 /// Where this rank's rows go in the file: rows [first, first + count) of `total`. The root writes what every
-/// rank holds alike; `collective`: the file is open on every rank (MPI-IO), and every rank takes part in every
-/// write, selecting nothing where it has nothing to write.
+/// rank holds alike; `collective`: the file is open on every rank (MPI-IO), and every rank takes part in
+/// every write, selecting nothing where it has nothing to write.
 struct Part {
   std::int64_t first = 0, count = 0, total = 0;
   bool root = true;
@@ -79,22 +79,24 @@ Handle create_dataset(hid_t group, const std::string& path, const std::string& n
 Handle transfer(const Part& part) {
   Handle dxpl(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "cannot create transfer properties");
 #ifdef MPM_COLLECTIVE_CHECKPOINTS
-  if (part.collective) check(H5Pset_dxpl_mpio(dxpl.get(), H5FD_MPIO_COLLECTIVE), "cannot set collective transfer");
+  if (part.collective)
+    check(H5Pset_dxpl_mpio(dxpl.get(), H5FD_MPIO_COLLECTIVE), "cannot set collective transfer");
 #else
   (void)part;
 #endif
   return dxpl;
 }
 
-/// Write `values` [first, first + count) of a dataset of `total`: memory and file selections of `count` values,
-/// or none.
-void write_selection(hid_t set, hid_t file_space, hid_t mem_type, const void* values, hsize_t first, hsize_t count,
-                     hid_t dxpl, const std::string& path) {
+/// Write `values` [first, first + count) of a dataset of `total`: memory and file selections of `count`
+/// values, or none.
+void write_selection(hid_t set, hid_t file_space, hid_t mem_type, const void* values, hsize_t first,
+                     hsize_t count, hid_t dxpl, const std::string& path) {
   const hsize_t size[1] = {count > 0 ? count : 1};
   Handle mem(H5Screate_simple(1, size, nullptr), H5Sclose, "cannot create memory dataspace for " + path);
   if (count > 0) {
     const hsize_t start[1] = {first};
-    check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, size, nullptr), "cannot select in " + path);
+    check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, size, nullptr),
+          "cannot select in " + path);
   } else {
     check(H5Sselect_none(file_space), "cannot select in " + path);
     check(H5Sselect_none(mem.get()), "cannot select in " + path);
@@ -118,8 +120,9 @@ void write_array(hid_t group, const std::string& group_path, const std::string& 
   Handle set = create_dataset(group, path, name, file_type, space.get());
   if (width > 0) {
     Handle scalar(H5Screate(H5S_SCALAR), H5Sclose, "cannot create dataspace for " + path);
-    Handle attribute(H5Acreate2(set.get(), row_width_attribute, H5T_STD_I64LE, scalar.get(), H5P_DEFAULT, H5P_DEFAULT),
-                     H5Aclose, "cannot create the row width of " + path);
+    Handle attribute(
+        H5Acreate2(set.get(), row_width_attribute, H5T_STD_I64LE, scalar.get(), H5P_DEFAULT, H5P_DEFAULT),
+        H5Aclose, "cannot create the row width of " + path);
     check(H5Awrite(attribute.get(), H5T_NATIVE_INT64, &width), "cannot write the row width of " + path);
   }
   if (total == 0) return;
@@ -128,8 +131,8 @@ void write_array(hid_t group, const std::string& group_path, const std::string& 
 }
 
 /// A scalar dataset of `file_type` over `space` (scalar or null), written by the root.
-void write_single(hid_t group, const std::string& path, const std::string& name, hid_t file_type, hid_t mem_type,
-                  H5S_class_t space_class, const void* value, const Part& part) {
+void write_single(hid_t group, const std::string& path, const std::string& name, hid_t file_type,
+                  hid_t mem_type, H5S_class_t space_class, const void* value, const Part& part) {
   Handle space(H5Screate(space_class), H5Sclose, "cannot create dataspace for " + path);
   Handle set = create_dataset(group, path, name, file_type, space.get());
   if (space_class == H5S_NULL) return;
@@ -211,7 +214,8 @@ void write_hdf5(const fs::path& path, const CheckpointData& data, const Part& pa
 /// fsync(2) a file or directory by path. Directories on some file systems refuse fsync with EINVAL; that is
 /// not an error (there is nothing more we could do).
 void fsync_path(const fs::path& path, bool directory) {
-  const int fd = ::open(path.c_str(), directory ? (O_RDONLY | O_DIRECTORY | O_CLOEXEC) : (O_RDONLY | O_CLOEXEC));
+  const int fd =
+      ::open(path.c_str(), directory ? (O_RDONLY | O_DIRECTORY | O_CLOEXEC) : (O_RDONLY | O_CLOEXEC));
   if (fd < 0) throw Failure("cannot open " + path.string() + ": " + std::strerror(errno));
   const int rc = ::fsync(fd);
   const int err = errno;
@@ -247,7 +251,9 @@ bool collective_checkpoints() {
 #endif
 }
 
-void write_checkpoint(const fs::path& file, const CheckpointData& data) { write_checkpoint(file, data, one_process()); }
+void write_checkpoint(const fs::path& file, const CheckpointData& data) {
+  write_checkpoint(file, data, one_process());
+}
 
 void write_checkpoint(const fs::path& file, const CheckpointData& data, const Communicator& comm) {
   static std::atomic<unsigned long> counter{0};
@@ -255,7 +261,8 @@ void write_checkpoint(const fs::path& file, const CheckpointData& data, const Co
   part.root = comm.rank() == 0;
   part.collective = comm.size() > 1;
   if (part.collective && !collective_checkpoints())
-    throw InputError("checkpoint " + file.string() + ": this mpm was built without parallel HDF5 "
+    throw InputError("checkpoint " + file.string() +
+                     ": this mpm was built without parallel HDF5 "
                      "(libhdf5-openmpi-dev), which a checkpoint of a run divided between ranks needs");
   std::string failure;
   try {

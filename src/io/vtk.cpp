@@ -23,12 +23,23 @@ std::string xml_escape(std::string_view text) {
   std::string out;
   for (const char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -131,7 +142,8 @@ void write_vtp(const std::filesystem::path& file, const std::vector<double>& poi
   std::string header =
       "<?xml version=\"1.0\"?>\n"
       "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
-      "<PolyData>\n<Piece NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfVerts=\"" + std::to_string(n) +
+      "<PolyData>\n<Piece NumberOfPoints=\"" +
+      std::to_string(n) + "\" NumberOfVerts=\"" + std::to_string(n) +
       "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n<PointData>\n";
   std::string data;
   std::size_t data_bytes = (2 * n + points.size()) * 8 + 8 * (fields.size() + 3);  // blocks with their counts
@@ -169,8 +181,8 @@ void write_pvtp(const std::filesystem::path& file, const std::vector<PointField>
       "<VTKFile type=\"PPolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
       "<PPolyData GhostLevel=\"0\">\n<PPointData>\n";
   for (const PointField& f : fields)
-    text += "<PDataArray type=\"" + std::string(f.integer ? "Int64" : "Float64") + "\" Name=\"" + xml_escape(f.name) +
-            "\" NumberOfComponents=\"" + std::to_string(f.components) + "\"/>\n";
+    text += "<PDataArray type=\"" + std::string(f.integer ? "Int64" : "Float64") + "\" Name=\"" +
+            xml_escape(f.name) + "\" NumberOfComponents=\"" + std::to_string(f.components) + "\"/>\n";
   text += "</PPointData>\n<PPoints>\n<PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>\n</PPoints>\n";
   for (const std::string& piece : pieces) text += "<Piece Source=\"" + xml_escape(piece) + "\"/>\n";
   text += "</PPolyData>\n</VTKFile>\n";
@@ -180,7 +192,8 @@ void write_pvtp(const std::filesystem::path& file, const std::vector<PointField>
 PvdSeries::PvdSeries(std::filesystem::path pvd_file) : file_(std::move(pvd_file)) {}
 
 void PvdSeries::add(double time, const std::string& dataset) {
-  if (!std::isfinite(time)) throw InputError(file_.string() + ": output time of " + dataset + " is not finite");
+  if (!std::isfinite(time))
+    throw InputError(file_.string() + ": output time of " + dataset + " is not finite");
   entries_.emplace_back(time, dataset);
   try {
     write();
@@ -195,8 +208,8 @@ void PvdSeries::write() const {
       "<?xml version=\"1.0\"?>\n"
       "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n<Collection>\n";
   for (const auto& [time, dataset] : entries_)
-    text += "<DataSet timestep=\"" + round_trip(time) + "\" group=\"\" part=\"0\" file=\"" + xml_escape(dataset) +
-            "\"/>\n";
+    text += "<DataSet timestep=\"" + round_trip(time) + "\" group=\"\" part=\"0\" file=\"" +
+            xml_escape(dataset) + "\"/>\n";
   text += "</Collection>\n</VTKFile>\n";
   write_file_atomically(file_, text);
 }
@@ -219,7 +232,8 @@ PvdSeries PvdSeries::resume(std::filesystem::path pvd_file, double t_max) {
     const bool ok = attribute(tag, "timestep", time_text) && attribute(tag, "file", dataset);
     const auto parsed = std::from_chars(time_text.data(), time_text.data() + time_text.size(), time);
     if (!ok || parsed.ec != std::errc() || parsed.ptr != time_text.data() + time_text.size())
-      throw InputError(series.file_.string() + ": cannot read the timestep and file of " + std::string(tag) + ">");
+      throw InputError(series.file_.string() + ": cannot read the timestep and file of " + std::string(tag) +
+                       ">");
     if (time <= t_max)
       series.entries_.emplace_back(time, dataset);
     else

@@ -1,4 +1,5 @@
-// Drucker-Prager's return in the (p, sqrt(J2)) plane: de Souza Neto et al. 2008, Sec. 8.3, with a tension cut-off.
+// Drucker-Prager's return in the (p, sqrt(J2)) plane: de Souza Neto et al. 2008, Sec. 8.3, with a tension
+// cut-off.
 #include "mpm/materials/drucker_prager.hpp"
 
 #include <algorithm>
@@ -16,7 +17,8 @@ ConeCoefficients compute_cone(ConeMatch match, Real phi) {
       return {6 * s / (root3 * (3 - s)), 6 * c / (root3 * (3 - s))};
     case ConeMatch::inner:  // de Souza Neto et al. 2008, Sec. 6.4: through the tensile edges
       return {6 * s / (root3 * (3 + s)), 6 * c / (root3 * (3 + s))};
-    case ConeMatch::plane_strain: {  // de Souza Neto et al. 2008, Sec. 6.4: Mohr-Coulomb's plane-strain collapse
+    case ConeMatch::plane_strain: {  // de Souza Neto et al. 2008, Sec. 6.4: Mohr-Coulomb's plane-strain
+                                     // collapse
       const Real t = std::tan(phi), d = std::sqrt(9 + 12 * t * t);
       return {3 * t / d, 3 / d};
     }
@@ -46,7 +48,8 @@ ConeCoefficients cone_coefficients(ConeMatch match, Real phi) {
 void validate(const DruckerPrager& m, const std::string& where) {
   validate(static_cast<const FrictionalSolid&>(m), where);
   if (!(m.tension >= 0))
-    detail::bad_input(where, "tension_cutoff", "expected a largest mean stress >= 0 [Pa], got " + detail::number(m.tension));
+    detail::bad_input(where, "tension_cutoff",
+                      "expected a largest mean stress >= 0 [Pa], got " + detail::number(m.tension));
 }
 
 ConeStrength<Real> cone_strength(const DruckerPrager& m, Real e) {
@@ -64,9 +67,10 @@ FrictionalReturn return_at_strength(const DruckerPrager& m, const Eigen::Matrix3
 }
 
 StressUpdate update_stress(const DruckerPrager& m, const Eigen::Matrix3d& sigma_n, Real eps_bar_n,
-                               const Eigen::Matrix3d& de, const Eigen::Matrix3d& dW) {
-  return return_with_softening(m, frictional_trial(m, sigma_n, de, dW), eps_bar_n, de(2, 2),
-                               [&m](const Eigen::Matrix3d& trial, Real e) { return return_at_strength(m, trial, e); });
+                           const Eigen::Matrix3d& de, const Eigen::Matrix3d& dW) {
+  return return_with_softening(
+      m, frictional_trial(m, sigma_n, de, dW), eps_bar_n, de(2, 2),
+      [&m](const Eigen::Matrix3d& trial, Real e) { return return_at_strength(m, trial, e); });
 }
 
 }  // namespace mpm

@@ -1,5 +1,5 @@
-// What the frictional plasticity models share: validation, the trial stress and the plastic strain and work of a
-// return.
+// What the frictional plasticity models share: validation, the trial stress and the plastic strain and work
+// of a return.
 #include "mpm/materials/frictional.hpp"
 
 #include <numbers>
@@ -9,7 +9,9 @@
 namespace mpm {
 
 namespace {
-std::string degrees(Real rad) { return detail::number(rad * 180 / std::numbers::pi) + " degrees"; }
+std::string degrees(Real rad) {
+  return detail::number(rad * 180 / std::numbers::pi) + " degrees";
+}
 }  // namespace
 
 void validate(const FrictionalStrength& s, const std::string& where) {
@@ -28,7 +30,8 @@ void validate(const FrictionalStrength& s, const std::string& where) {
     bad_input(where, "residual_strain",
               "a residual cohesion or friction angle needs the plastic strain at which it is reached (> 0)");
   if (!(std::isfinite(s.residual_cohesion) && s.residual_cohesion >= 0))
-    bad_input(where, "residual_cohesion", "expected a cohesion >= 0 [Pa], got " + number(s.residual_cohesion));
+    bad_input(where, "residual_cohesion",
+              "expected a cohesion >= 0 [Pa], got " + number(s.residual_cohesion));
   if (!(s.residual_friction >= 0 && s.residual_friction < right))
     bad_input(where, "residual_friction_angle",
               "expected an angle in [0, 90) degrees, got " + degrees(s.residual_friction));
@@ -46,7 +49,8 @@ void validate(const FrictionalSolid& m, const std::string& where) {
   using detail::number;
   if (!(std::isfinite(m.E) && m.E > 0))
     bad_input(where, "E", "expected a positive Young's modulus [Pa], got " + number(m.E));
-  if (!(m.nu > -1 && m.nu < 0.5)) bad_input(where, "nu", "expected a Poisson ratio in (-1, 0.5), got " + number(m.nu));
+  if (!(m.nu > -1 && m.nu < 0.5))
+    bad_input(where, "nu", "expected a Poisson ratio in (-1, 0.5), got " + number(m.nu));
   if (!(std::isfinite(m.rho0) && m.rho0 > 0))
     bad_input(where, "density", "expected a positive density [kg/m^3], got " + number(m.rho0));
   validate(m.strength, where);
@@ -58,9 +62,10 @@ Real plastic_work_density(const Eigen::Matrix3d& trial, const Eigen::Matrix3d& s
   return p * (p_trial - p) / K + s.cwiseProduct(deviator(trial) - s).sum() / (2 * G);
 }
 
-Eigen::Matrix3d frictional_trial(const FrictionalSolid& m, const Eigen::Matrix3d& sigma_n, const Eigen::Matrix3d& de,
-                                 const Eigen::Matrix3d& dW) {
-  return full(hypoelastic_trial(sym3_of(sigma_n), StrainIncrement<Real>{sym3_of(de), spin_of(dW)}, m.mu(), m.lambda()));
+Eigen::Matrix3d frictional_trial(const FrictionalSolid& m, const Eigen::Matrix3d& sigma_n,
+                                 const Eigen::Matrix3d& de, const Eigen::Matrix3d& dW) {
+  return full(hypoelastic_trial(sym3_of(sigma_n), StrainIncrement<Real>{sym3_of(de), spin_of(dW)}, m.mu(),
+                                m.lambda()));
 }
 
 }  // namespace mpm

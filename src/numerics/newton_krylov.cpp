@@ -201,7 +201,8 @@ class Newton {
         refresh_ = false;
       }
       krylov_step(eta);
-      refresh_ = refresh_ || settings_.krylov == Krylov::direct;  // the next iterate gets its own factorisation
+      refresh_ =
+          refresh_ || settings_.krylov == Krylov::direct;  // the next iterate gets its own factorisation
       if (s_.isZero(0.0)) return fail("the Krylov solve produced no step (J s = 0, or D_h F failed)");
       // Step 5: x_{n+1} = x_n + lambda s
       const double norm_old = norm_;
@@ -247,11 +248,12 @@ class Newton {
             ? conjugate_gradient(apply, rhs_, s_, eta, settings_.max_krylov, precondition)
             : gmres(apply, rhs_, s_, eta, settings_.restart, settings_.max_krylov, precondition);
     stats_.krylov_iterations += linear.iterations;
-    refresh_ = settings_.precondition && settings_.refresh_after > 0 && linear.iterations > settings_.refresh_after;
+    refresh_ =
+        settings_.precondition && settings_.refresh_after > 0 && linear.iterations > settings_.refresh_after;
   }
 
-  // J(x) p exactly, or by Sulsky & Kaul 2004, Eq. (2.4.18); a failed difference writes NaN so the Krylov solve
-  // stops there.
+  // J(x) p exactly, or by Sulsky & Kaul 2004, Eq. (2.4.18); a failed difference writes NaN so the Krylov
+  // solve stops there.
   void apply_jacobian(const Vector& p, Vector& jp) {
     if (settings_.exact_jacobian) {
       if (!problem_.jacobian_vector(x_, p, jp))
@@ -333,11 +335,13 @@ void validate(const NewtonSettings& s, const std::string& where) {
   require_at_least(s.max_backtracks, 0, where, "max_backtracks");
   require_at_least(s.refresh_after, 0, where, "refresh_after");
   if (s.krylov == Krylov::direct && !s.precondition)
-    reject(where, "krylov", "precondition = true with a direct solve (it solves by the problem's factorisation)",
+    reject(where, "krylov",
+           "precondition = true with a direct solve (it solves by the problem's factorisation)",
            "precondition = false");
 }
 
-SolveStats solve(NonlinearProblem& problem, Vector& x, const NewtonSettings& settings, const Vector* residual_at_x) {
+SolveStats solve(NonlinearProblem& problem, Vector& x, const NewtonSettings& settings,
+                 const Vector* residual_at_x) {
   validate(settings, "Newton-Krylov settings:");
   if (x.size() != problem.size())
     throw std::invalid_argument("newton_krylov solve: the initial guess has " + std::to_string(x.size()) +

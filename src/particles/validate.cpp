@@ -29,18 +29,20 @@ std::string format_point(const Vec<Dim>& x) {
 template <int Dim>
 Real start_particles(ParticleSet<Dim>& p, const std::vector<Material>& materials, KernelKind kernel,
                      const GridGeometry<Dim>& g, bool axisymmetric, int fields) {
-  if (p.field.size() != p.size()) throw InputError("particles: one velocity field index per particle expected");
+  if (p.field.size() != p.size())
+    throw InputError("particles: one velocity field index per particle expected");
   Real min_mass = std::numeric_limits<Real>::max();
   for (std::size_t i = 0; i < p.size(); ++i) {
     const auto at = [i] { return "particle " + std::to_string(i); };
     if (!g.contains(p.x[i]))
-      throw InputError(at() + " at " + format_point<Dim>(p.x[i]) + " lies outside the grid " + format_point<Dim>(g.lo) +
-                       " - " + format_point<Dim>(g.hi()));
+      throw InputError(at() + " at " + format_point<Dim>(p.x[i]) + " lies outside the grid " +
+                       format_point<Dim>(g.lo) + " - " + format_point<Dim>(g.hi()));
     if (!(p.m[i] > 0) || !(p.V0[i] > 0)) throw InputError(at() + ": mass and volume must be positive");
     if (p.material[i] >= materials.size())
       throw InputError(at() + ": material index " + std::to_string(p.material[i]) + " has no material");
     if (p.field[i] >= fields)
-      throw InputError(at() + ": velocity field " + std::to_string(p.field[i]) + " of " + std::to_string(fields));
+      throw InputError(at() + ": velocity field " + std::to_string(p.field[i]) + " of " +
+                       std::to_string(fields));
     if (!p.v[i].allFinite()) throw InputError(at() + ": velocity must be finite");
     if (is_rate_form(materials[p.material[i]]) && !(p.F[i] - Mat<Dim>::Identity()).isZero(0))
       throw InputError(at() + ": the rate-form materials start undeformed (F = I)");
@@ -61,11 +63,11 @@ Real start_particles(ParticleSet<Dim>& p, const std::vector<Material>& materials
 template std::string format_point<1>(const Vec<1>&);
 template std::string format_point<2>(const Vec<2>&);
 template std::string format_point<3>(const Vec<3>&);
-template Real start_particles<1>(ParticleSet<1>&, const std::vector<Material>&, KernelKind, const GridGeometry<1>&,
-                                 bool, int);
-template Real start_particles<2>(ParticleSet<2>&, const std::vector<Material>&, KernelKind, const GridGeometry<2>&,
-                                 bool, int);
-template Real start_particles<3>(ParticleSet<3>&, const std::vector<Material>&, KernelKind, const GridGeometry<3>&,
-                                 bool, int);
+template Real start_particles<1>(ParticleSet<1>&, const std::vector<Material>&, KernelKind,
+                                 const GridGeometry<1>&, bool, int);
+template Real start_particles<2>(ParticleSet<2>&, const std::vector<Material>&, KernelKind,
+                                 const GridGeometry<2>&, bool, int);
+template Real start_particles<3>(ParticleSet<3>&, const std::vector<Material>&, KernelKind,
+                                 const GridGeometry<3>&, bool, int);
 
 }  // namespace mpm

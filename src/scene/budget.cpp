@@ -8,8 +8,8 @@
 #include <fstream>
 
 #include "mpm/core/errors.hpp"
-#include "mpm/implicit/simulation.hpp"
 #include "mpm/explicit/simulation.hpp"
+#include "mpm/implicit/simulation.hpp"
 
 namespace mpm {
 
@@ -17,7 +17,9 @@ namespace {
 namespace fs = std::filesystem;
 
 /// Lattice points per axis of fill_box over [lo, hi] (the same floor as fill_box).
-double lattice(double lo, double hi, double spacing) { return std::floor((hi - lo) / spacing + 1e-9); }
+double lattice(double lo, double hi, double spacing) {
+  return std::floor((hi - lo) / spacing + 1e-9);
+}
 
 /// Bounding boxes with at most this many lattice points are counted point by point.
 constexpr double exact_count_limit = 4e6;
@@ -79,12 +81,12 @@ double count_body(const Scene& sc, const SceneBody& b) {
 /// The largest wave speed at rest of the scene's materials [m/s].
 double wave_speed_at_rest(const Scene& sc) {
   double c = 0;
-  for (const SceneMaterial& m : sc.materials)
-    c = std::max(c, mpm::wave_speed_at_rest(m.law));
+  for (const SceneMaterial& m : sc.materials) c = std::max(c, mpm::wave_speed_at_rest(m.law));
   return c;
 }
 
-/// The first step [s]: the scene's dt, or the CFL condition on the fastest wave at rest plus the fastest particle
+/// The first step [s]: the scene's dt, or the CFL condition on the fastest wave at rest plus the fastest
+/// particle
 /// (`speed`), times the implicit engine's step factor.
 double first_dt(const Scene& sc, double speed) {
   const double explicit_dt = sc.dt > 0 ? sc.dt : sc.cfl * sc.h / (wave_speed_at_rest(sc) + speed);
@@ -95,9 +97,9 @@ template <int Dim>
 MemoryModel engine_memory(const Scene& sc) {
   return with_kernel<Dim>(sc.kernel, [&]<class Kernel>() {
     if (sc.implicit)
-        return ImplicitSimulation<Dim, Kernel>::memory_model(sc.implicit_step.newton.restart,
-                                                             sc.implicit_step.frozen_jacobian ||
-                                                                 sc.implicit_step.solver == ImplicitSolver::newton_direct);
+      return ImplicitSimulation<Dim, Kernel>::memory_model(
+          sc.implicit_step.newton.restart,
+          sc.implicit_step.frozen_jacobian || sc.implicit_step.solver == ImplicitSolver::newton_direct);
     bool rate_form = false;
     for (const SceneMaterial& m : sc.materials) rate_form = rate_form || is_rate_form(m.law);
     int grids = sc.fields;  // one per velocity field, and one more each for the gaps of [[contact]]
@@ -105,8 +107,8 @@ MemoryModel engine_memory(const Scene& sc) {
       if (std::isfinite(c.gap)) grids = 2 * sc.fields;
     const bool located_half_lengths =  // USF keeps cpGIMP's (Simulation::keep_located_half_lengths)
         sc.integrator == Integrator::usf && half_lengths_of(sc.kernel) == HalfLengths::deformed;
-    return Simulation<Dim, Kernel>::memory_model(!sc.body_force.empty() || !sc.surface_loads.empty(), rate_form,
-                                                 located_half_lengths, grids);
+    return Simulation<Dim, Kernel>::memory_model(!sc.body_force.empty() || !sc.surface_loads.empty(),
+                                                 rate_form, located_half_lengths, grids);
   });
 }
 
@@ -114,16 +116,17 @@ MemoryModel engine_memory(const Scene& sc) {
   return sc.dim == 1 ? engine_memory<1>(sc) : sc.dim == 2 ? engine_memory<2>(sc) : engine_memory<3>(sc);
 }
 
-/// Whether the particles carry a material state: in implicit runs, and in explicit runs with a rate-form material.
+/// Whether the particles carry a material state: in implicit runs, and in explicit runs with a rate-form
+/// material.
 bool has_material_state(const Scene& sc) {
   return sc.implicit || std::any_of(sc.materials.begin(), sc.materials.end(),
                                     [](const SceneMaterial& m) { return is_rate_form(m.law); });
 }
 
 /// Bytes per particle of one particles_NNNN.vtp: the fields scene_run writes (velocity, displacement, stress,
-/// F, J, volume, mass, material, id; error with [check]; with a material state, plastic strain, temperature rise,
-/// internal energy and the internal variables the laws declare), the points, and two 8-byte integers of vertex
-/// cells.
+/// F, J, volume, mass, material, id; error with [check]; with a material state, plastic strain, temperature
+/// rise, internal energy and the internal variables the laws declare), the points, and two 8-byte integers of
+/// vertex cells.
 double frame_bytes_per_particle(const Scene& sc) {
   std::vector<Material> laws;
   for (const SceneMaterial& m : sc.materials) laws.push_back(m.law);
@@ -132,11 +135,12 @@ double frame_bytes_per_particle(const Scene& sc) {
   return 8.0 * static_cast<double>(components + 3 + 2);
 }
 
-/// Bytes per particle of checkpoint.h5: the particle arrays (x, X, v, F, m, V0, material, field, id; l0 for the
-/// kernels that keep it) and with a material state, its arrays (stress, plastic strain, temperature, energy,
-/// stretch, volume, the laws' internal variables).
+/// Bytes per particle of checkpoint.h5: the particle arrays (x, X, v, F, m, V0, material, field, id; l0 for
+/// the kernels that keep it) and with a material state, its arrays (stress, plastic strain, temperature,
+/// energy, stretch, volume, the laws' internal variables).
 double checkpoint_bytes_per_particle(const Scene& sc) {
-  const bool half_lengths = with_kernel<2>(sc.kernel, []<class Kernel>() { return reads_half_lengths<Kernel>; });
+  const bool half_lengths =
+      with_kernel<2>(sc.kernel, []<class Kernel>() { return reads_half_lengths<Kernel>; });
   const std::size_t values = static_cast<std::size_t>((half_lengths ? 4 : 3) * sc.dim + sc.dim * sc.dim + 4) +
                              (has_material_state(sc) ? 11 + internal_columns : 0);
   return 8.0 * static_cast<double>(values);
@@ -175,22 +179,26 @@ Budget estimate_budget(const Scene& sc, double initial_speed, double start_time)
     b.bodies.push_back({"bodies[" + std::to_string(k) + "] (" + sc.bodies[k].name + ")", n});
     b.particles += n;
   }
-  const int ghost = with_kernel<3>(sc.kernel, []<class Kernel>() { return Kernel::ghost; });  // the same in every Dim
+  const int ghost =
+      with_kernel<3>(sc.kernel, []<class Kernel>() { return Kernel::ghost; });  // the same in every Dim
   b.nodes = 1;
   for (int d = 0; d < sc.dim; ++d) b.nodes *= sc.cells[d] + 1.0 + 2.0 * ghost;
 
-  // From start_time (a restart's) to the end: the steps, and the frames the run adds (t = 0's, k every, the last).
+  // From start_time (a restart's) to the end: the steps, and the frames the run adds (t = 0's, k every, the
+  // last).
   const double span = sc.end_time - start_time;
   b.first_dt = first_dt(sc, initial_speed);
   b.steps = std::max(1.0, std::ceil(span / b.first_dt * (1 - 1e-14)));
-  b.frames = (start_time > 0 ? 1 : 2) +
-             (sc.output_every > 0 ? std::floor(sc.end_time / sc.output_every) - std::floor(start_time / sc.output_every) : 0);
+  b.frames = (start_time > 0 ? 1 : 2) + (sc.output_every > 0 ? std::floor(sc.end_time / sc.output_every) -
+                                                                   std::floor(start_time / sc.output_every)
+                                                             : 0);
 
   // Memory: the engine's arrays, the velocities of the step before for the work of the loads (the implicit
   // runner's copy; the explicit engine's, with their tiles, when there are loads), and the largest transient
   // output: a frame (its fields, the file's bytes and their assembly) or a checkpoint.
   const double frame = frame_bytes_per_particle(sc), checkpoint = checkpoint_bytes_per_particle(sc);
-  const bool loads = !sc.body_force.empty() || !sc.surface_loads.empty() || std::any_of(sc.gravity.begin(), sc.gravity.end(), [](double g) { return g != 0; });
+  const bool loads = !sc.body_force.empty() || !sc.surface_loads.empty() ||
+                     std::any_of(sc.gravity.begin(), sc.gravity.end(), [](double g) { return g != 0; });
   const double before = sc.implicit ? sc.dim * 8.0 : loads ? sc.dim * 8.0 + 4 : 0;
   const double runner = before + std::max(3 * frame, 2 * checkpoint);
   const MemoryModel engine = engine_memory(sc);
@@ -217,9 +225,9 @@ void check_initial_speed(const Scene& sc, const std::string& where, double speed
 }
 
 void check_budget(const Scene& sc, const Budget& b, const BudgetLimits& lim) {
-  const auto largest = std::max_element(b.bodies.begin(), b.bodies.end(), [](const BodyEstimate& x, const BodyEstimate& y) {
-    return x.particles < y.particles;
-  });
+  const auto largest = std::max_element(
+      b.bodies.begin(), b.bodies.end(),
+      [](const BodyEstimate& x, const BodyEstimate& y) { return x.particles < y.particles; });
   if (b.particles > limits::max_particles)
     refuse(sc, largest->name,
            "seeds about " + count_text(largest->particles) + " particles (" + count_text(b.particles) +
@@ -228,7 +236,8 @@ void check_budget(const Scene& sc, const Budget& b, const BudgetLimits& lim) {
     refuse(sc, "grid.cells", count_text(b.nodes) + " grid nodes; a run holds at most 2^31 - 1 (2147483647)");
   if (b.steps > limits::max_steps)
     refuse(sc, "simulation.end_time",
-           "about " + count_text(b.steps) + " steps of " + seconds_text(b.first_dt) + "; a run takes at most " + count_text(limits::max_steps) +
+           "about " + count_text(b.steps) + " steps of " + seconds_text(b.first_dt) +
+               "; a run takes at most " + count_text(limits::max_steps) +
                " steps (split a longer run with --stop-after and --restart)");
   if (b.memory_bytes > lim.max_memory_bytes)
     refuse(sc, largest->name,
@@ -237,15 +246,16 @@ void check_budget(const Scene& sc, const Budget& b, const BudgetLimits& lim) {
                " nodes), more than the " + bytes_text(lim.max_memory_bytes) + " allowed (--max-memory)");
   if (b.output_bytes > lim.free_bytes)
     refuse(sc, "output",
-           "the run writes about " + bytes_text(b.output_bytes) + " (" + count_text(b.frames) + " frames of " +
-               count_text(b.particles) + " particles, " + count_text(b.steps) + " history rows), more than the " +
-               bytes_text(lim.free_bytes) + " free under --out");
+           "the run writes about " + bytes_text(b.output_bytes) + " (" + count_text(b.frames) +
+               " frames of " + count_text(b.particles) + " particles, " + count_text(b.steps) +
+               " history rows), more than the " + bytes_text(lim.free_bytes) + " free under --out");
 }
 
 std::string describe(const Budget& b) {
   return "budget: " + count_text(b.particles) + " particles, " + count_text(b.nodes) + " nodes, " +
-         bytes_text(b.memory_bytes) + " memory, " + count_text(b.steps) + " steps (dt " + seconds_text(b.first_dt) + "), " +
-         count_text(b.frames) + " frames, " + bytes_text(b.output_bytes) + " output";
+         bytes_text(b.memory_bytes) + " memory, " + count_text(b.steps) + " steps (dt " +
+         seconds_text(b.first_dt) + "), " + count_text(b.frames) + " frames, " + bytes_text(b.output_bytes) +
+         " output";
 }
 
 double physical_memory_bytes() {

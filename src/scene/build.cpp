@@ -155,14 +155,16 @@ void seed_shape(const Scene& sc, std::size_t k, ParticleSet<Dim>& p) {
     case SceneBody::Shape::ring: {
       const Vec<Dim> c = to_vec<Dim>(b.center);
       const Real r_in = b.inner_radius, r_out = b.radius;
-      fill_box<Dim>(p, c.array() - r_out, c.array() + r_out, spacing, density, material, {}, [&](const Vec<Dim>& x) {
-        const Real r = (x - c).norm();
-        return r <= r_out && r >= r_in;
-      });
+      fill_box<Dim>(p, c.array() - r_out, c.array() + r_out, spacing, density, material, {},
+                    [&](const Vec<Dim>& x) {
+                      const Real r = (x - c).norm();
+                      return r <= r_out && r >= r_in;
+                    });
       break;
     }
     case SceneBody::Shape::file:
-      read_particle_file<Dim>(b, "bodies[" + std::to_string(k) + "].file in " + sc.file.string(), density, material, p);
+      read_particle_file<Dim>(b, "bodies[" + std::to_string(k) + "].file in " + sc.file.string(), density,
+                              material, p);
       break;
   }
 }
@@ -182,7 +184,8 @@ SurfaceLoads<Dim> surface_loads_of(const Scene& sc) {
                                     [&](const SceneSurfaceLoad& l) { return l.body == k; });
     if (!loaded || first[k + 1] == first[k]) continue;
     const std::vector<Vec<Dim>> X(p.X.begin() + static_cast<std::ptrdiff_t>(first[k]), p.X.end());
-    area[k] = lattice_surface<Dim>(X, X.front(), sc.h / sc.bodies[k].ppc, sc.geometry == Geometry::axisymmetric);
+    area[k] =
+        lattice_surface<Dim>(X, X.front(), sc.h / sc.bodies[k].ppc, sc.geometry == Geometry::axisymmetric);
   }
   std::vector<SurfaceLoad<Dim>> loads;
   for (const SceneSurfaceLoad& l : sc.surface_loads) {
@@ -279,7 +282,8 @@ ParticleSet<Dim> seed_bodies(const Scene& sc) {
     if (!sc.body_field.empty())
       std::fill(p.field.begin() + static_cast<std::ptrdiff_t>(first), p.field.end(),
                 static_cast<std::uint16_t>(sc.body_field[k]));
-    if (sc.kernel == KernelKind::ugimp && sc.gimp_length)  // the smoothing length l as half-lengths l/2, both engines
+    if (sc.kernel == KernelKind::ugimp &&
+        sc.gimp_length)  // the smoothing length l as half-lengths l/2, both engines
       for (std::size_t i = first; i < p.size(); ++i) p.l0[i] = Vec<Dim>::Constant(0.5 * *sc.gimp_length);
     for (std::size_t i = first; i < p.size(); ++i) {
       const Vec<Dim> X = p.X[i];
@@ -297,17 +301,20 @@ ParticleSet<Dim> seed_bodies(const Scene& sc) {
           p.F[i] = gradient_of_displacement<Dim>(b.displacement, X, sc.h);
         }
       }
-      if (!b.velocity.empty()) p.v[i] = vector_value<Vec<Dim>>(b.velocity, std::span<const double>(X.data(), Dim));
+      if (!b.velocity.empty())
+        p.v[i] = vector_value<Vec<Dim>>(b.velocity, std::span<const double>(X.data(), Dim));
     }
     check_initial_speed(sc, name + ".velocity", fastest_speed<Dim>(std::span(p.v).subspan(first)));
     if (b.k0 >= 0) {
       const Vec<Dim> g = to_vec<Dim>(sc.gravity);
       if (!(g.norm() > 0))
-        throw InputError(sc.file.string() + ": " + name + ".k0: a geostatic stress needs gravity (loads.gravity)");
+        throw InputError(sc.file.string() + ": " + name +
+                         ".k0: a geostatic stress needs gravity (loads.gravity)");
       set_geostatic_stress<Dim>(p, first, p.size(), density, b.k0, g, spacing);
     }
   }
-  if (!p.state.empty()) p.state.resize_keeping(p.size());  // bodies seeded after the first one in geostatic stress
+  if (!p.state.empty())
+    p.state.resize_keeping(p.size());  // bodies seeded after the first one in geostatic stress
   return p;
 }
 

@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "mpm/core/errors.hpp"
-#include "mpm/implicit/simulation.hpp"
 #include "mpm/explicit/simulation.hpp"
+#include "mpm/implicit/simulation.hpp"
 #include "mpm/io/checkpoint.hpp"
 #include "mpm/io/vtk.hpp"
 #include "mpm/scene/build.hpp"
@@ -24,7 +24,8 @@ template <class V>
 void unflat(const std::vector<double>& in, std::vector<V>& a, const std::string& name) {
   const std::size_t per = static_cast<std::size_t>(V::SizeAtCompileTime);
   if (in.size() != a.size() * per) throw InputError("checkpoint: array '" + name + "' has the wrong size");
-  for (std::size_t i = 0; i < a.size(); ++i) std::copy(in.begin() + i * per, in.begin() + (i + 1) * per, a[i].data());
+  for (std::size_t i = 0; i < a.size(); ++i)
+    std::copy(in.begin() + i * per, in.begin() + (i + 1) * per, a[i].data());
 }
 template <class Map>
 const auto& entry(const Map& map, const std::string& key, const std::string& where) {
@@ -48,7 +49,8 @@ auto naming_scene(const Scene& sc, Make&& make) {
 /// What history.csv reports of the constraints, in one order for both engines: the grid's faces and regions,
 /// then the rigid bodies. Their names, the forces they applied (the faces' given), and their velocities at t.
 template <int Dim>
-std::vector<std::string> constraint_names(const KinematicConstraints<Dim>& faces, const RigidBodies<Dim>& rigid) {
+std::vector<std::string> constraint_names(const KinematicConstraints<Dim>& faces,
+                                          const RigidBodies<Dim>& rigid) {
   std::vector<std::string> names = faces.names();
   for (const RigidBody<Dim>& b : rigid.bodies()) names.push_back(b.name);
   return names;
@@ -59,16 +61,16 @@ std::vector<Vec<Dim>> constraint_forces(std::vector<Vec<Dim>> faces, const std::
   return faces;
 }
 template <int Dim>
-std::vector<Vec<Dim>> constraint_velocities(const KinematicConstraints<Dim>& faces, const RigidBodies<Dim>& rigid,
-                                            Real t) {
+std::vector<Vec<Dim>> constraint_velocities(const KinematicConstraints<Dim>& faces,
+                                            const RigidBodies<Dim>& rigid, Real t) {
   std::vector<Vec<Dim>> v = faces.velocities(t);
   const std::vector<Vec<Dim>> bodies = rigid.velocities(t);
   v.insert(v.end(), bodies.begin(), bodies.end());
   return v;
 }
 
-/// The output fields of the rate-form state, and one for each internal variable the table's laws declare (zero at the
-/// particles whose law does not declare it).
+/// The output fields of the rate-form state, and one for each internal variable the table's laws declare
+/// (zero at the particles whose law does not declare it).
 template <int Dim>
 void add_state_fields(const std::vector<Material>& materials, const ParticleSet<Dim>& p,
                       std::vector<io::PointField>& fields) {
@@ -95,7 +97,8 @@ void save_state(const ParticleSet<Dim>& p, io::CheckpointData& c) {
   c.reals["energy"] = s.energy;
   c.reals["stretch3"] = s.stretch3;
   c.reals["V"] = p.V;
-  c.row_widths.insert({{"sigma", 6}, {"eps_bar", 1}, {"temperature", 1}, {"energy", 1}, {"stretch3", 1}, {"V", 1}});
+  c.row_widths.insert(
+      {{"sigma", 6}, {"eps_bar", 1}, {"temperature", 1}, {"energy", 1}, {"stretch3", 1}, {"V", 1}});
   if (!s.keeps_internal) return;
   std::vector<double> internal;
   for (const InternalState& row : s.internal) internal.insert(internal.end(), row.begin(), row.end());
@@ -106,17 +109,21 @@ template <int Dim>
 void load_state(const io::CheckpointData& c, const std::string& where, ParticleSet<Dim>& p) {
   MaterialState& s = p.state;
   s.resize(p.size());
-  const auto real = [&](const std::string& k) -> const std::vector<double>& { return entry(c.reals, k, where); };
+  const auto real = [&](const std::string& k) -> const std::vector<double>& {
+    return entry(c.reals, k, where);
+  };
   const std::vector<double>& sigma = real("sigma");
   if (sigma.size() != 6 * s.sigma.size()) throw InputError(where + ": array 'sigma' has the wrong size");
-  for (std::size_t i = 0; i < s.sigma.size(); ++i) std::copy_n(sigma.begin() + 6 * i, 6, s.sigma[i].c.begin());
-  for (auto [key, array] : {std::pair{"eps_bar", &s.eps_bar}, std::pair{"temperature", &s.temperature},
-                            std::pair{"energy", &s.energy}, std::pair{"stretch3", &s.stretch3}, std::pair{"V", &p.V}}) {
+  for (std::size_t i = 0; i < s.sigma.size(); ++i)
+    std::copy_n(sigma.begin() + 6 * i, 6, s.sigma[i].c.begin());
+  for (auto [key, array] :
+       {std::pair{"eps_bar", &s.eps_bar}, std::pair{"temperature", &s.temperature},
+        std::pair{"energy", &s.energy}, std::pair{"stretch3", &s.stretch3}, std::pair{"V", &p.V}}) {
     if (real(key).size() != p.size()) throw InputError(where + ": array '" + key + "' has the wrong size");
     *array = real(key);
   }
-  // The laws' internal variables, where the table's laws declare some (a checkpoint written before any law declared
-  // them holds none: zero).
+  // The laws' internal variables, where the table's laws declare some (a checkpoint written before any law
+  // declared them holds none: zero).
   if (const auto it = c.reals.find("internal"); s.keeps_internal && it != c.reals.end()) {
     if (it->second.size() != internal_columns * p.size())
       throw InputError(where + ": array 'internal' has the wrong size");
@@ -134,12 +141,15 @@ class Explicit {
   static constexpr bool failure_keeps_state = false;
 
   explicit Explicit(const Scene& sc)
-      : spec_(make_spec<Dim>(sc)),
-        sim_(naming_scene(sc, [&] { return Simulation<Dim, Kernel>(spec_, seed_bodies<Dim>(sc), world()); })) {}
+      : spec_(make_spec<Dim>(sc)), sim_(naming_scene(sc, [&] {
+          return Simulation<Dim, Kernel>(spec_, seed_bodies<Dim>(sc), world());
+        })) {}
 
   Simulation<Dim, Kernel>& sim() { return sim_; }
   const Simulation<Dim, Kernel>& sim() const { return sim_; }
-  std::vector<std::string> reaction_names() const { return constraint_names(sim_.constraints(), sim_.rigid_bodies()); }
+  std::vector<std::string> reaction_names() const {
+    return constraint_names(sim_.constraints(), sim_.rigid_bodies());
+  }
   std::vector<Vec<Dim>> reactions() const {
     return constraint_forces(sim_.face_reactions(), sim_.rigid_reactions());
   }
@@ -148,8 +158,8 @@ class Explicit {
   std::vector<Vec<Dim>> reaction_velocities(Real t) const {
     return constraint_velocities(sim_.constraints(), sim_.rigid_bodies(), t);
   }
-  /// Stored energy V0 W(F) of a Neo-Hookean particle (the potential of Wallstedt & Guilkey 2008, Eq. (54)), the
-  /// internal energy of a rate-form one (Sulsky & Kaul 2004, Eq. (2.2.16)).
+  /// Stored energy V0 W(F) of a Neo-Hookean particle (the potential of Wallstedt & Guilkey 2008, Eq. (54)),
+  /// the internal energy of a rate-form one (Sulsky & Kaul 2004, Eq. (2.2.16)).
   Real strain_energy(std::size_t i) const { return sim_.strain_energy(i); }
   /// Sums over the particles of every rank, the same bits for any division (Simulation::particle_sum).
   template <std::size_t N, class Fn>
@@ -167,8 +177,8 @@ class Explicit {
   /// ranks in a step: it needs no velocities from before the step.
   static constexpr bool needs_velocities_before = false;
   Real load_power(const std::vector<Vec<Dim>>&) const { return sim_.load_power(); }
-  /// Cauchy stress of particle i, xx yy zz xy xz yz; in 2-D a Neo-Hookean zz is the plane-strain lambda ln J / J
-  /// (Wallstedt & Guilkey 2008, Eq. (55)).
+  /// Cauchy stress of particle i, xx yy zz xy xz yz; in 2-D a Neo-Hookean zz is the plane-strain lambda ln J
+  /// / J (Wallstedt & Guilkey 2008, Eq. (55)).
   void stress(std::size_t i, double* out) const {
     const SymTensor<3> s = sim_.full_stress(i);
     for (int k = 0; k < 6; ++k) out[k] = s.c[k];
@@ -207,7 +217,8 @@ class Explicit {
   }
   void save(io::CheckpointData& c) const {
     if (sim_.has_material_state()) save_state(sim_.particles(), c);
-    if (!spec_.rigid_bodies.empty()) c.reals["rigid_displacement"] = flat(sim_.rigid_bodies().displacements());
+    if (!spec_.rigid_bodies.empty())
+      c.reals["rigid_displacement"] = flat(sim_.rigid_bodies().displacements());
   }
   /// Without rate-form materials, volume and stress follow from F exactly as the step computes them
   /// (Wallstedt & Guilkey 2008, Eq. (13), Eq. (55)); with them, the checkpoint holds the state and the
@@ -217,7 +228,8 @@ class Explicit {
     const bool state = sim_.has_material_state();
     if (state) load_state(c, where, p);
     for (std::size_t i = 0; i < p.size(); ++i) {
-      if (p.material[i] >= spec_.materials.size()) throw InputError(where + ": a particle's material has no entry");
+      if (p.material[i] >= spec_.materials.size())
+        throw InputError(where + ": a particle's material has no entry");
       const Material& m = spec_.materials[p.material[i]];
       const Real J = p.F[i].determinant();
       if (!state) p.V[i] = p.V0[i] * J;
@@ -246,25 +258,29 @@ class Implicit {
   static constexpr bool failure_keeps_state = true;
 
   explicit Implicit(const Scene& sc)
-      : spec_(make_implicit_spec<Dim>(sc)),
-        sim_(naming_scene(sc, [&] {
+      : spec_(make_implicit_spec<Dim>(sc)), sim_(naming_scene(sc, [&] {
           if (world().size() > 1)
-            throw InputError("simulation.integrator = \"implicit\": the implicit integrator runs in one process (its "
-                             "distributed solver is a later step); start mpm without mpirun or srun");
+            throw InputError(
+                "simulation.integrator = \"implicit\": the implicit integrator runs in one process (its "
+                "distributed solver is a later step); start mpm without mpirun or srun");
           return ImplicitSimulation<Dim, Kernel>(spec_, seed_bodies<Dim>(sc));
         })) {}
 
   ImplicitSimulation<Dim, Kernel>& sim() { return sim_; }
   const ImplicitSimulation<Dim, Kernel>& sim() const { return sim_; }
-  std::vector<std::string> reaction_names() const { return constraint_names(sim_.constraints(), sim_.rigid_bodies()); }
-  std::vector<Vec<Dim>> reactions() const { return constraint_forces(sim_.face_reactions(), sim_.rigid_reactions()); }
+  std::vector<std::string> reaction_names() const {
+    return constraint_names(sim_.constraints(), sim_.rigid_bodies());
+  }
+  std::vector<Vec<Dim>> reactions() const {
+    return constraint_forces(sim_.face_reactions(), sim_.rigid_reactions());
+  }
   /// Coulomb walls are refused for the implicit step (the scene reader): nothing dissipates there.
   Real friction_power() const { return 0; }
   std::vector<Vec<Dim>> reaction_velocities(Real t) const {
     return constraint_velocities(sim_.constraints(), sim_.rigid_bodies(), t);
   }
-  /// Internal energy e_p (Sulsky & Kaul 2004, Eq. (2.2.16)): stored plus dissipated; a Neo-Hookean particle's is
-  /// its stored energy V0 W(F).
+  /// Internal energy e_p (Sulsky & Kaul 2004, Eq. (2.2.16)): stored plus dissipated; a Neo-Hookean particle's
+  /// is its stored energy V0 W(F).
   Real strain_energy(std::size_t i) const { return sim_.state().energy[i]; }
   /// Sums over the particles (one process), in storage order.
   template <std::size_t N, class Fn>
@@ -302,8 +318,8 @@ class Implicit {
     j["implicit"] = {{"theta", spec_.theta},
                      {"formulation", to_string(spec_.formulation)},
                      {"positions", spec_.formulation == Formulation::velocity ? "velocity"
-                                   : moves_with_projected_velocity(spec_) ? "projected-velocity"
-                                                                       : "momentum"},
+                                   : moves_with_projected_velocity(spec_)     ? "projected-velocity"
+                                                                              : "momentum"},
                      {"solver", to_string(spec_.solver)},
                      {"preconditioner", spec_.frozen_jacobian ? "frozen-jacobian" : "none"},
                      {"preconditioner_builds", c.preconditioner_builds},
@@ -344,9 +360,11 @@ class Implicit {
     std::vector<Vec<Dim>> rigid(spec_.rigid_bodies.size());
     unflat(entry(c.reals, "rigid_displacement", where), rigid, "rigid_displacement");
     const auto integer = [&](const std::string& k) { return entry(c.integer_scalars, k, where); };
-    const ImplicitCounters n{integer("newton_iterations"), integer("krylov_iterations"),
-                             integer("residual_evaluations"), integer("backtracks"), integer("retries"), integer("preconditioner_builds")};
-    sim_.restore(entry(c.real_scalars, "time", where), integer("steps"), entry(c.real_scalars, "dt", where), n, rigid);
+    const ImplicitCounters n{
+        integer("newton_iterations"), integer("krylov_iterations"), integer("residual_evaluations"),
+        integer("backtracks"),        integer("retries"),           integer("preconditioner_builds")};
+    sim_.restore(entry(c.real_scalars, "time", where), integer("steps"), entry(c.real_scalars, "dt", where),
+                 n, rigid);
   }
   /// The implicit step runs in one process and locates its particles at every step: nothing to do.
   void take_particles() {}

@@ -1,5 +1,6 @@
-// Refusing keys nested too deep before toml++ parses them (section.hpp): the parser builds one table per segment of
-// a dotted key or table header by recursion, so that a one-line file of about 30,000 segments overflows the stack.
+// Refusing keys nested too deep before toml++ parses them (section.hpp): the parser builds one table per
+// segment of a dotted key or table header by recursion, so that a one-line file of about 30,000 segments
+// overflows the stack.
 #include <string>
 #include <string_view>
 #include <vector>
@@ -10,8 +11,9 @@ namespace mpm::scene_reading {
 
 void refuse_deep_keys(std::string_view text, const std::string& file) {
   std::size_t line = 1, segments = 1;
-  bool in_key = true, header = false;  // reading a key (at a line's start, in a [header], after '{' or ','); in one
-  std::vector<char> open;              // the brackets of the values being read: '[' arrays, '{' inline tables
+  bool in_key = true,
+       header = false;     // reading a key (at a line's start, in a [header], after '{' or ','); in one
+  std::vector<char> open;  // the brackets of the values being read: '[' arrays, '{' inline tables
   const auto fail = [&] {
     throw InputError(file + ":" + std::to_string(line) + ": a key nested deeper than " +
                      std::to_string(max_key_depth) + " levels (table headers and dotted keys)");
@@ -40,11 +42,15 @@ void refuse_deep_keys(std::string_view text, const std::string& file) {
     } else if (c == '=' && in_key && !header) {
       in_key = false;
     } else if (c == '[') {
-      if (in_key && open.empty()) header = true;  // [table] or [[array of tables]]
-      else if (!in_key) open.push_back('[');
+      if (in_key && open.empty())
+        header = true;  // [table] or [[array of tables]]
+      else if (!in_key)
+        open.push_back('[');
     } else if (c == ']') {
-      if (header) in_key = false, header = false;
-      else if (!open.empty()) open.pop_back();
+      if (header)
+        in_key = false, header = false;
+      else if (!open.empty())
+        open.pop_back();
     } else if (c == '{') {
       open.push_back('{'), in_key = true, segments = 1;
     } else if (c == '}') {

@@ -21,9 +21,8 @@ std::string grid_extent(const Scene& sc) {
   return os.str();
 }
 
-
-/// The corners `lo` and `hi` of a box inside the grid, each component a number or an expression of the constants;
-/// `what` names it in the message ("the box").
+/// The corners `lo` and `hi` of a box inside the grid, each component a number or an expression of the
+/// constants; `what` names it in the message ("the box").
 void read_box(const Section& s, const Scene& sc, const std::string& what, std::vector<double>& lo,
               std::vector<double>& hi) {
   const auto n = static_cast<std::size_t>(sc.dim);
@@ -73,7 +72,7 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
   b.ppc = s.integer("ppc", 2);
   if (b.ppc < 1 || b.ppc > limits::max_ppc)
     s.fail("ppc", "expected at least 1 and at most " + std::to_string(limits::max_ppc) +
-                     " particles per cell per axis");
+                      " particles per cell per axis");
   const std::string material = s.text("material", sc.materials.size() == 1 ? sc.materials[0].name : "");
   if (material.empty()) s.fail("material", "missing (the name of a [[materials]] entry)");
   auto found = std::find_if(sc.materials.begin(), sc.materials.end(),
@@ -96,10 +95,14 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
     if (!(b.k0 >= 0)) s.fail("k0", "expected a lateral stress ratio K0 >= 0");
     const Material& law = sc.materials[b.material].law;
     if (!is_rate_form(law) || std::holds_alternative<NewtonianFluid>(law))
-      s.fail("k0", "a geostatic stress needs a rate-form solid (hypoelastic, von-mises, drucker-prager, mohr-coulomb, "
-                   "modified-cam-clay); "
-                   "material " + in_quotes(material) + " is not one");
-    if (!b.displacement.empty()) s.fail("k0", "a body in geostatic stress starts undisplaced; drop displacement");
+      s.fail(
+          "k0",
+          "a geostatic stress needs a rate-form solid (hypoelastic, von-mises, drucker-prager, mohr-coulomb, "
+          "modified-cam-clay); "
+          "material " +
+              in_quotes(material) + " is not one");
+    if (!b.displacement.empty())
+      s.fail("k0", "a body in geostatic stress starts undisplaced; drop displacement");
   }
   sc.bodies.push_back(std::move(b));
 }
@@ -111,10 +114,12 @@ void read_surface_load(const Section& t, const std::string& kind, Scene& sc, con
   SceneSurfaceLoad load;
   if (!t.has("body")) t.fail("body", "missing (the name of the loaded body)");
   const std::string body = t.text("body", "");
-  auto found = std::find_if(sc.bodies.begin(), sc.bodies.end(), [&](const SceneBody& b) { return b.name == body; });
+  auto found =
+      std::find_if(sc.bodies.begin(), sc.bodies.end(), [&](const SceneBody& b) { return b.name == body; });
   if (found == sc.bodies.end()) t.fail("body", "no body named " + in_quotes(body));
   if (found->shape == SceneBody::Shape::file)
-    t.fail("body", "surface loads need a body seeded on a lattice (box, disk, sphere or ring), not a particle file");
+    t.fail("body",
+           "surface loads need a body seeded on a lattice (box, disk, sphere or ring), not a particle file");
   load.body = static_cast<std::size_t>(found - sc.bodies.begin());
   if (t.has("face")) {
     const std::vector<std::string> names(face_names.begin(), face_names.begin() + 2 * sc.dim);
@@ -129,8 +134,9 @@ void read_surface_load(const Section& t, const std::string& kind, Scene& sc, con
     load.traction = t.expressions("traction", n, time_var, sc.constants);
   } else {
     if (sc.geometry == Geometry::plane_stress)
-      t.fail("pressure", "a follower pressure needs the thickness's change, which plane stress does not follow; "
-                         "use plane strain, axisymmetry or 3-D");
+      t.fail("pressure",
+             "a follower pressure needs the thickness's change, which plane stress does not follow; "
+             "use plane strain, axisymmetry or 3-D");
     load.pressure = t.expression("pressure", time_var, sc.constants);
   }
   sc.surface_loads.push_back(std::move(load));
@@ -139,8 +145,10 @@ void read_surface_load(const Section& t, const std::string& kind, Scene& sc, con
 
 void read_loads(const Section& s, Scene& sc, const Locator& loc) {
   const auto n = static_cast<std::size_t>(sc.dim);
-  sc.gravity = s.has("gravity") ? s.constant_numbers("gravity", n, sc.constants) : std::vector<double>(n, 0.0);
-  if (s.has("body_force")) sc.body_force = s.expressions("body_force", n, reference_time_vars[n - 1], sc.constants);
+  sc.gravity =
+      s.has("gravity") ? s.constant_numbers("gravity", n, sc.constants) : std::vector<double>(n, 0.0);
+  if (s.has("body_force"))
+    sc.body_force = s.expressions("body_force", n, reference_time_vars[n - 1], sc.constants);
   for (const std::string kind : {"traction", "pressure"}) {
     const std::vector<const toml::table*> loads = s.tables(kind);
     for (std::size_t k = 0; k < loads.size(); ++k)
@@ -159,8 +167,9 @@ void read_rigid_body(const Section& s, Scene& sc, std::size_t index) {
   r.ppc = s.integer("ppc", 2);
   if (r.ppc < 1 || r.ppc > limits::max_ppc)
     s.fail("ppc", "expected at least 1 and at most " + std::to_string(limits::max_ppc) +
-                     " points per cell per axis");
-  if (!s.has("velocity")) s.fail("velocity", "missing (the prescribed velocity, numbers or expressions of t)");
+                      " points per cell per axis");
+  if (!s.has("velocity"))
+    s.fail("velocity", "missing (the prescribed velocity, numbers or expressions of t)");
   r.velocity = s.expressions("velocity", n, time_var, sc.constants);
   r.imposes.assign(n, !s.has("contact_axes"));
   if (s.has("contact_axes")) {
@@ -168,21 +177,27 @@ void read_rigid_body(const Section& s, Scene& sc, std::size_t index) {
     const toml::array& a = s.array("contact_axes", 0, "an array of axis names (\"x\", \"y\", \"z\")");
     for (const toml::node& e : a) {
       const auto axis = std::find(axes.begin(), axes.begin() + sc.dim, e.value<std::string>().value_or(""));
-      if (axis == axes.begin() + sc.dim) s.fail("contact_axes", "expected axis names of this dimension, got " + describe(e));
+      if (axis == axes.begin() + sc.dim)
+        s.fail("contact_axes", "expected axis names of this dimension, got " + describe(e));
       r.imposes[static_cast<std::size_t>(axis - axes.begin())] = true;
     }
   }
   if (s.has("friction")) {
-    if (s.has("contact_axes")) s.fail("friction", "a Coulomb body's contact follows its surface; drop contact_axes");
+    if (s.has("contact_axes"))
+      s.fail("friction", "a Coulomb body's contact follows its surface; drop contact_axes");
     if (sc.implicit)
-      s.fail("friction", "Coulomb bodies are for the explicit integrators; the implicit one holds every component "
-                         "a rigid body touches");
+      s.fail("friction",
+             "Coulomb bodies are for the explicit integrators; the implicit one holds every component "
+             "a rigid body touches");
     r.friction = s.constant_number("friction", 0.0, sc.constants);
-    if (!(r.friction >= 0)) s.fail("friction", "expected a friction coefficient >= 0, got " + std::to_string(r.friction));
+    if (!(r.friction >= 0))
+      s.fail("friction", "expected a friction coefficient >= 0, got " + std::to_string(r.friction));
   }
   r.holds_inside = s.choice("nodes", "touched", {"touched", "inside"}) == "inside";
   if (r.holds_inside && r.friction >= 0)
-    s.fail("nodes", "a Coulomb body's normals come from the nodes its points touch; drop nodes = \"inside\" or friction");
+    s.fail(
+        "nodes",
+        "a Coulomb body's normals come from the nodes its points touch; drop nodes = \"inside\" or friction");
   sc.rigid_bodies.push_back(std::move(r));
 }
 

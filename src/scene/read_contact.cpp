@@ -28,13 +28,17 @@ std::vector<std::size_t> read_group(const Section& s, const Scene& sc, const tom
   for (const toml::node* n : names) {
     if (!n->is_string()) s.fail("bodies", "expected body names (strings), got " + describe(*n));
     const std::string name = n->value<std::string>().value();
-    const auto found = std::find_if(sc.bodies.begin(), sc.bodies.end(), [&](const SceneBody& b) { return b.name == name; });
+    const auto found =
+        std::find_if(sc.bodies.begin(), sc.bodies.end(), [&](const SceneBody& b) { return b.name == name; });
     if (found == sc.bodies.end()) {
       for (const SceneRigidBody& r : sc.rigid_bodies)
         if (r.name == name)
-          s.fail("bodies", in_quotes(name) + " is a rigid body; give it a friction coefficient in its [[rigid_bodies]] table");
+          s.fail("bodies",
+                 in_quotes(name) +
+                     " is a rigid body; give it a friction coefficient in its [[rigid_bodies]] table");
       std::string known;
-      for (const SceneBody& b : sc.bodies) known += (known.empty() ? "" : ", ") + b.name;  // names: 64 characters
+      for (const SceneBody& b : sc.bodies)
+        known += (known.empty() ? "" : ", ") + b.name;  // names: 64 characters
       s.fail("bodies", "unknown body " + in_quotes(name) + " (the bodies are " + known + ")");
     }
     group.push_back(static_cast<std::size_t>(found - sc.bodies.begin()));
@@ -48,9 +52,11 @@ std::vector<std::size_t> read_group(const Section& s, const Scene& sc, const tom
 
 void read_contact(const Section& s, Scene& sc) {
   if (sc.implicit)
-    s.fail("bodies", "contact between bodies is for the explicit integrators (usf, usl, cd, musl); the implicit step "
-                     "has one velocity field");
-  const toml::array& sides = s.array("bodies", 2, "two bodies, or groups of bodies (arrays of names), that meet");
+    s.fail("bodies",
+           "contact between bodies is for the explicit integrators (usf, usl, cd, musl); the implicit step "
+           "has one velocity field");
+  const toml::array& sides =
+      s.array("bodies", 2, "two bodies, or groups of bodies (arrays of names), that meet");
   SceneContact c;
   for (int k = 0; k < 2; ++k) c.groups[k] = read_group(s, sc, *sides.get(static_cast<std::size_t>(k)));
   for (std::size_t b : c.groups[0])
@@ -62,31 +68,37 @@ void read_contact(const Section& s, Scene& sc) {
       for (const std::vector<std::size_t>& now : c.groups) {
         for (std::size_t b : now)
           if (old != now && std::binary_search(old.begin(), old.end(), b))
-            s.fail("bodies", "body '" + sc.bodies[b].name + "' is in two groups, " + group_names(sc, old) + " and " +
-                                 group_names(sc, now) + " (a group shares one velocity field)");
+            s.fail("bodies", "body '" + sc.bodies[b].name + "' is in two groups, " + group_names(sc, old) +
+                                 " and " + group_names(sc, now) + " (a group shares one velocity field)");
       }
   for (const SceneContact& earlier : sc.contacts)
     if ((earlier.groups[0] == c.groups[0] && earlier.groups[1] == c.groups[1]) ||
         (earlier.groups[0] == c.groups[1] && earlier.groups[1] == c.groups[0]))
       s.fail("bodies", "these two groups meet in an earlier [[contact]] table already");
   if (!s.has("friction"))
-    s.fail("friction", "missing (a friction coefficient >= 0: 0 is frictionless, \"no-slip\" sticks while in contact)");
+    s.fail("friction",
+           "missing (a friction coefficient >= 0: 0 is frictionless, \"no-slip\" sticks while in contact)");
   const toml::node* mu = s.get("friction");
   if (mu->is_string() && mu->value<std::string>().value() == "no-slip") {
     c.friction = std::numeric_limits<double>::infinity();
   } else {
     c.friction = s.constant_number("friction", 0.0, sc.constants);
-    if (!(c.friction >= 0)) s.fail("friction", "expected a friction coefficient >= 0, got " + std::to_string(c.friction));
+    if (!(c.friction >= 0))
+      s.fail("friction", "expected a friction coefficient >= 0, got " + std::to_string(c.friction));
   }
   if (s.has("gap")) {
     c.gap = s.constant_number("gap", 0.0, sc.constants);
     if (!(c.gap > 0)) s.fail("gap", "expected a gap > 0 [cells], got " + std::to_string(c.gap));
     for (const SceneFace& f : sc.faces)
       if (f.kind == SceneFace::Kind::periodic)
-        s.fail("gap", "the gap of mass centres is not measured across periodic faces; drop gap or the periodic faces");
+        s.fail(
+            "gap",
+            "the gap of mass centres is not measured across periodic faces; drop gap or the periodic faces");
   }
   const std::string normal = s.choice("normals", "average", {"average", "larger", "first"});
-  c.normal = normal == "larger" ? ContactNormal::larger : normal == "first" ? ContactNormal::first : ContactNormal::average;
+  c.normal = normal == "larger"  ? ContactNormal::larger
+             : normal == "first" ? ContactNormal::first
+                                 : ContactNormal::average;
   sc.contacts.push_back(std::move(c));
 }
 

@@ -1,6 +1,6 @@
 // Reading the [[materials]] tables of a scene: Neo-Hookean, rate-form (hypoelastic, von Mises), frictional
-// (Drucker-Prager, Mohr-Coulomb) and Newtonian fluid by readers of their own; the laws that declare their keys
-// (modified Cam-Clay; materials/parameters.hpp) from their declarations.
+// (Drucker-Prager, Mohr-Coulomb) and Newtonian fluid by readers of their own; the laws that declare their
+// keys (modified Cam-Clay; materials/parameters.hpp) from their declarations.
 #include <algorithm>
 #include <iterator>
 #include <numbers>
@@ -26,11 +26,12 @@ void check_at_key(const Section& s, const Check& check) {
 }
 
 /// The keys of the frictional models, refused by the others.
-constexpr const char* frictional_keys[] = {"cohesion", "friction_angle", "dilatancy_angle", "residual_cohesion",
-                                           "residual_friction_angle", "residual_strain", "match", "tension_cutoff"};
+constexpr const char* frictional_keys[] = {
+    "cohesion",        "friction_angle", "dilatancy_angle", "residual_cohesion", "residual_friction_angle",
+    "residual_strain", "match",          "tension_cutoff"};
 
-/// Drucker-Prager or Mohr-Coulomb: E and nu, the strength (angles in degrees; the cohesions may be expressions of
-/// the constants) and, for Drucker-Prager, the cone's match and the tension cut-off.
+/// Drucker-Prager or Mohr-Coulomb: E and nu, the strength (angles in degrees; the cohesions may be
+/// expressions of the constants) and, for Drucker-Prager, the cone's match and the tension cut-off.
 Material read_frictional(const Section& s, const Scene& sc, const std::string& model, double rho) {
   for (const char* k : {"lambda", "mu", "yield_strength", "hardening", "limit_strength", "softening",
                         "residual_strength", "specific_heat"})
@@ -48,7 +49,8 @@ Material read_frictional(const Section& s, const Scene& sc, const std::string& m
   f.dilatancy = s.constant_number("dilatancy_angle", 0, sc.constants) * degree;
   f.residual_strain = s.number("residual_strain", 0);
   f.residual_cohesion = s.constant_number("residual_cohesion", f.cohesion, sc.constants);
-  f.residual_friction = s.constant_number("residual_friction_angle", f.friction / degree, sc.constants) * degree;
+  f.residual_friction =
+      s.constant_number("residual_friction_angle", f.friction / degree, sc.constants) * degree;
   if (model == "mohr-coulomb") {
     for (const char* k : {"match", "tension_cutoff"})
       if (s.has(k)) s.fail(k, "applies to model = \"drucker-prager\" only");
@@ -58,7 +60,9 @@ Material read_frictional(const Section& s, const Scene& sc, const std::string& m
   }
   DruckerPrager law{solid};
   const std::string match = s.choice("match", "outer", {"outer", "inner", "plane-strain"});
-  law.match = match == "outer" ? ConeMatch::outer : match == "inner" ? ConeMatch::inner : ConeMatch::plane_strain;
+  law.match = match == "outer"   ? ConeMatch::outer
+              : match == "inner" ? ConeMatch::inner
+                                 : ConeMatch::plane_strain;
   law.tension = s.constant_number("tension_cutoff", std::numeric_limits<double>::infinity(), sc.constants);
   check_at_key(s, [&] { validate(law, "law"); });
   return law;
@@ -94,8 +98,9 @@ ElastoPlastic read_rate_form(const Section& s, const std::string& model, double 
 /// The Newtonian fluid of Sulsky & Kaul 2004, Eq. (2.1.7).
 NewtonianFluid read_fluid(const Section& s, const Scene& sc, double rho) {
   if (sc.geometry != Geometry::plane_strain)
-    s.fail("model", "a Newtonian fluid runs in plane strain; plane stress and axisymmetry need model = "
-                    "\"hypoelastic\" or \"von-mises\"");
+    s.fail("model",
+           "a Newtonian fluid runs in plane strain; plane stress and axisymmetry need model = "
+           "\"hypoelastic\" or \"von-mises\"");
   NewtonianFluid f;
   f.rho0 = rho;
   f.mu = s.required_number("viscosity");
@@ -111,8 +116,9 @@ NewtonianFluid read_fluid(const Section& s, const Scene& sc, double rho) {
 /// The Neo-Hookean law from E and nu, or lambda and mu.
 NeoHookean read_neo_hookean(const Section& s, const Scene& sc, double rho) {
   if (sc.geometry != Geometry::plane_strain)
-    s.fail("model", "a Neo-Hookean material runs in plane strain; plane stress and axisymmetry need model = "
-                    "\"hypoelastic\" or \"von-mises\"");
+    s.fail("model",
+           "a Neo-Hookean material runs in plane strain; plane stress and axisymmetry need model = "
+           "\"hypoelastic\" or \"von-mises\"");
   const bool young = s.has("E") || s.has("nu"), lame = s.has("lambda") || s.has("mu");
   if (young == lame) s.fail(young ? "lambda" : "E", "give either E and nu, or lambda and mu");
   if (young) {
@@ -127,9 +133,9 @@ NeoHookean read_neo_hookean(const Section& s, const Scene& sc, double rho) {
   return NeoHookean{lambda, mu, rho};
 }
 
-/// The law of `model` among the Material alternatives that declare their keys (DeclaresParameters), read from them:
-/// each key as a number or an expression of the constants, then the law's own checks. False when no such law has
-/// that name.
+/// The law of `model` among the Material alternatives that declare their keys (DeclaresParameters), read from
+/// them: each key as a number or an expression of the constants, then the law's own checks. False when no
+/// such law has that name.
 template <class... Law>
 bool read_declared(const Section& s, const Scene& sc, const std::string& model, double rho, Material& out,
                    std::variant<Law...>*) {
@@ -177,9 +183,22 @@ constexpr Material* all_laws = nullptr;
 
 /// The keys of the laws read by the readers above.
 std::vector<std::string> keys_read_above() {
-  std::vector<std::string> keys = {"name", "model", "E", "nu", "lambda", "mu", "density", "specific_heat",
-                                   "yield_strength", "hardening", "limit_strength", "softening", "residual_strength",
-                                   "viscosity", "second_viscosity", "bulk_modulus"};
+  std::vector<std::string> keys = {"name",
+                                   "model",
+                                   "E",
+                                   "nu",
+                                   "lambda",
+                                   "mu",
+                                   "density",
+                                   "specific_heat",
+                                   "yield_strength",
+                                   "hardening",
+                                   "limit_strength",
+                                   "softening",
+                                   "residual_strength",
+                                   "viscosity",
+                                   "second_viscosity",
+                                   "bulk_modulus"};
   keys.insert(keys.end(), std::begin(frictional_keys), std::end(frictional_keys));
   return keys;
 }
@@ -192,8 +211,9 @@ std::vector<std::string> material_keys() {
   return keys;
 }
 
-/// Every time step and budget divides by the wave speed at rest: refuse a law whose moduli overflow it (E = 1.7e308
-/// gives lambda + 2 mu = inf). The key named is the table's largest number, the modulus that overflowed.
+/// Every time step and budget divides by the wave speed at rest: refuse a law whose moduli overflow it (E
+/// = 1.7e308 gives lambda + 2 mu = inf). The key named is the table's largest number, the modulus that
+/// overflowed.
 namespace {
 void check_wave_speed(const Section& s, const Material& law) {
   const double c = wave_speed_at_rest(law);
@@ -205,8 +225,9 @@ void check_wave_speed(const Section& s, const Material& law) {
       size = std::abs(number_value(*n));
       largest = key;
     }
-  s.fail(largest, "gives the material a wave speed at rest that is not a finite number (its moduli overflow); "
-                  "expected moduli below about 1e300 Pa");
+  s.fail(largest,
+         "gives the material a wave speed at rest that is not a finite number (its moduli overflow); "
+         "expected moduli below about 1e300 Pa");
 }
 }  // namespace
 
@@ -217,7 +238,7 @@ void read_material(const Section& s, Scene& sc) {
   for (const SceneMaterial& other : sc.materials)
     if (other.name == m.name) s.fail("name", "material '" + m.name + "' is defined twice");
   const std::vector<std::string> declared_names = declared_models(all_laws);
-  std::vector<std::string> models = {"neo-hookean",    "hypoelastic",   "von-mises",
+  std::vector<std::string> models = {"neo-hookean",     "hypoelastic",    "von-mises",
                                      "newtonian-fluid", "drucker-prager", "mohr-coulomb"};
   models.insert(models.end(), declared_names.begin(), declared_names.end());
   const std::string model = s.choice("model", "neo-hookean", models);
@@ -227,7 +248,8 @@ void read_material(const Section& s, Scene& sc) {
   // In the table of a law that declares its keys, any key but its own; in another, a key only such laws read.
   const std::vector<std::pair<std::string, std::string>> declared = declared_keys(all_laws);
   const std::vector<std::string> above = keys_read_above();
-  const bool is_declared = std::find(declared_names.begin(), declared_names.end(), model) != declared_names.end();
+  const bool is_declared =
+      std::find(declared_names.begin(), declared_names.end(), model) != declared_names.end();
   for (const std::string& key : material_keys()) {
     if (key == "name" || key == "model" || key == "density" || !s.has(key)) continue;
     const auto owner = [&](const std::string& law) {
@@ -235,7 +257,8 @@ void read_material(const Section& s, Scene& sc) {
     };
     if (is_declared && !owner(model)) s.fail(key, "does not apply to model = \"" + model + "\"");
     if (!is_declared && std::find(above.begin(), above.end(), key) == above.end()) {
-      const auto d = std::find_if(declared.begin(), declared.end(), [&](const auto& x) { return x.first == key; });
+      const auto d =
+          std::find_if(declared.begin(), declared.end(), [&](const auto& x) { return x.first == key; });
       s.fail(key, "applies to model = \"" + d->second + "\" only");
     }
   }

@@ -19,7 +19,8 @@ int run_in(const Scene& sc, const RunOptions& o) {
 
 int run_scene(const Scene& scene, const RunOptions& options) {
   set_num_threads(options.threads > 0 ? options.threads : scene.threads);
-  if (options.checkpoint_every < 0) throw InputError("--checkpoint-every: expected a non-negative step count");
+  if (options.checkpoint_every < 0)
+    throw InputError("--checkpoint-every: expected a non-negative step count");
   if (options.out_dir.empty()) throw InputError("--out: expected a folder for the outputs");
   switch (scene.dim) {
     case 1:

@@ -1,27 +1,27 @@
 #pragma once
-// The checkpoint of a scene run: the particle arrays, the clock, the engine's state and the run's accumulators,
-// bit for bit, so that a restart ends bitwise equal to an uninterrupted run.
+// The checkpoint of a scene run: the particle arrays, the clock, the engine's state and the run's
+// accumulators, bit for bit, so that a restart ends bitwise equal to an uninterrupted run.
 #include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "engines.hpp"
 #include "mpm/core/errors.hpp"
 #include "mpm/distributed/communicator.hpp"
 #include "mpm/io/checkpoint.hpp"
 #include "mpm/scene/scene.hpp"
 #include "mpm/verification/error_norms.hpp"
-#include "engines.hpp"
 
 namespace mpm::scene_checkpoint {
 
 /// What a run accumulates besides the particles.
 struct Accumulators {
-  std::int64_t frames = 0;    ///< particle outputs written
-  Real last_frame_time = -1;  ///< time of the last one
-  Real external_work = 0;     ///< work of the loads and moving constraints since t = 0 [J]
+  std::int64_t frames = 0;        ///< particle outputs written
+  Real last_frame_time = -1;      ///< time of the last one
+  Real external_work = 0;         ///< work of the loads and moving constraints since t = 0 [J]
   Real friction_dissipation = 0;  ///< energy friction dissipated on the Coulomb walls since t = 0 [J]
-  ErrorNorms error;           ///< the [check] error norms so far
+  ErrorNorms error;               ///< the [check] error norms so far
 };
 
 /// What has left through outflow faces, into a checkpoint and back. A checkpoint written before outflow faces
@@ -55,20 +55,28 @@ io::CheckpointData save(const Scene& sc, const Engine& engine, const Accumulator
   const ParticleSet<Dim>& p = engine.sim().particles();
   io::CheckpointData c;
   c.texts["scene"] = sc.text;
-  c.integer_scalars = {{"dim", Dim}, {"particles", engine.particle_count()}, {"steps", engine.sim().steps()},
-                       {"frames", a.frames}, {"error_samples", a.error.samples}};
-  c.real_scalars = {{"time", engine.sim().time()}, {"external_work", a.external_work},
+  c.integer_scalars = {{"dim", Dim},
+                       {"particles", engine.particle_count()},
+                       {"steps", engine.sim().steps()},
+                       {"frames", a.frames},
+                       {"error_samples", a.error.samples}};
+  c.real_scalars = {{"time", engine.sim().time()},
+                    {"external_work", a.external_work},
                     {"friction_dissipation", a.friction_dissipation},
-                    {"last_frame_time", a.last_frame_time}, {"error_linf", a.error.linf},
-                    {"error_sum", a.error.sum}, {"error_sum_sq", a.error.sum_sq}};
-  c.reals = {{"x", flat(p.x)}, {"X", flat(p.X)}, {"v", flat(p.v)}, {"F", flat(p.F)}, {"m", p.m}, {"V0", p.V0}};
+                    {"last_frame_time", a.last_frame_time},
+                    {"error_linf", a.error.linf},
+                    {"error_sum", a.error.sum},
+                    {"error_sum_sq", a.error.sum_sq}};
+  c.reals = {{"x", flat(p.x)}, {"X", flat(p.X)}, {"v", flat(p.v)},
+             {"F", flat(p.F)}, {"m", p.m},       {"V0", p.V0}};
   c.integers["material"] = std::vector<std::int64_t>(p.material.begin(), p.material.end());
   c.integers["field"] = std::vector<std::int64_t>(p.field.begin(), p.field.end());
   c.integers["id"] = p.id;
   // Divided between ranks, each rank's particles are its rows of these.
-  c.row_widths = {{"x", Dim}, {"X", Dim}, {"v", Dim}, {"F", Dim * Dim}, {"m", 1}, {"V0", 1},
-                  {"material", 1}, {"field", 1}, {"id", 1}};
-  if (p.half_lengths != HalfLengths::none) {  // GIMP's and CPDI's (every rank writes them, one with no particles too)
+  c.row_widths = {{"x", Dim}, {"X", Dim},      {"v", Dim},   {"F", Dim * Dim}, {"m", 1},
+                  {"V0", 1},  {"material", 1}, {"field", 1}, {"id", 1}};
+  if (p.half_lengths !=
+      HalfLengths::none) {  // GIMP's and CPDI's (every rank writes them, one with no particles too)
     c.reals["l0"] = flat(p.l0);
     c.row_widths["l0"] = Dim;
   }
@@ -102,7 +110,8 @@ void load_share(const io::CheckpointData& c, Engine& engine, Accumulators& a, st
                 const std::string& where) {
   using scene_engines::unflat;
   const auto other_scene = [&] {
-    return InputError(where + ": the checkpoint holds a different scene (dimension or particle count differ)");
+    return InputError(where +
+                      ": the checkpoint holds a different scene (dimension or particle count differ)");
   };
   if (scalar(c.integer_scalars, "dim", where) != Dim) throw other_scene();
   const std::int64_t particles = scalar(c.integer_scalars, "particles", where);
@@ -111,9 +120,12 @@ void load_share(const io::CheckpointData& c, Engine& engine, Accumulators& a, st
   engine.sim().restore_outflow(out);
   // A checkpoint of an mpm older than divided runs marks no rows, and each rank would hold them all.
   if (c.row_widths.empty() && engine.communicator().size() > 1)
-    throw InputError(where + ": a checkpoint written before runs could be divided between ranks; restart it in one "
+    throw InputError(where +
+                     ": a checkpoint written before runs could be divided between ranks; restart it in one "
                      "process");
-  auto array = [&](const std::string& key) -> const std::vector<double>& { return scalar(c.reals, key, where); };
+  auto array = [&](const std::string& key) -> const std::vector<double>& {
+    return scalar(c.reals, key, where);
+  };
   const std::size_t rows = array("x").size() / Dim;
   ParticleSet<Dim>& p = engine.sim().particles();
   p.for_each_field([&](auto& field) { field.resize(rows); });
@@ -121,7 +133,8 @@ void load_share(const io::CheckpointData& c, Engine& engine, Accumulators& a, st
   unflat(array("X"), p.X, "X");
   unflat(array("v"), p.v, "v");
   unflat(array("F"), p.F, "F");
-  if (p.half_lengths != HalfLengths::none) {  // a GIMP or CPDI run's, which the engine kept when it seeded its particles
+  if (p.half_lengths !=
+      HalfLengths::none) {  // a GIMP or CPDI run's, which the engine kept when it seeded its particles
     p.l0.resize(rows);
     unflat(array("l0"), p.l0, "l0");
   }
@@ -136,7 +149,8 @@ void load_share(const io::CheckpointData& c, Engine& engine, Accumulators& a, st
   p.m = array("m");
   p.V0 = array("V0");
   const std::vector<std::int64_t>& material = scalar(c.integers, "material", where);
-  for (const auto& [key, size] : {std::pair{"m", p.m.size()}, std::pair{"V0", p.V0.size()}, std::pair{"material", material.size()}})
+  for (const auto& [key, size] :
+       {std::pair{"m", p.m.size()}, std::pair{"V0", p.V0.size()}, std::pair{"material", material.size()}})
     if (size != rows) throw InputError(where + ": array '" + key + "' has the wrong size");
   for (std::size_t i = 0; i < rows; ++i) p.material[i] = static_cast<std::uint16_t>(material[i]);
   // A checkpoint written before contact fields holds particles of the one field, 0 (resized above).
@@ -157,7 +171,8 @@ void load_share(const io::CheckpointData& c, Engine& engine, Accumulators& a, st
     if (id->second.size() != p.size()) throw InputError(where + ": array 'id' has the wrong size");
     p.id = id->second;
   } else if (out.particles > 0) {
-    throw InputError(where + ": a checkpoint without particle ids, taken after particles left; rerun from t = 0");
+    throw InputError(where +
+                     ": a checkpoint without particle ids, taken after particles left; rerun from t = 0");
   }
   engine.load(c, where);
   a.external_work = scalar(c.real_scalars, "external_work", where);
@@ -173,8 +188,8 @@ void load_share(const io::CheckpointData& c, Engine& engine, Accumulators& a, st
 }  // namespace detail
 
 /// Set the engine's particles and state and the accumulators from `c`, this rank's share of a checkpoint
-/// (io::read_checkpoint), on every rank; InputError prefixed with `where`, the same on every rank, when `c` is
-/// not a checkpoint of this scene.
+/// (io::read_checkpoint), on every rank; InputError prefixed with `where`, the same on every rank, when `c`
+/// is not a checkpoint of this scene.
 template <int Dim, class Engine>
 void restore(const io::CheckpointData& c, Engine& engine, Accumulators& a, const std::string& where) {
   const Communicator& comm = engine.communicator();
@@ -189,8 +204,9 @@ void restore(const io::CheckpointData& c, Engine& engine, Accumulators& a, const
   std::vector<std::int64_t> rows{static_cast<std::int64_t>(engine.sim().particles().size())};
   comm.sum(rows);
   if (rows[0] != c.integer_scalars.at("particles"))
-    throw InputError(where + ": the checkpoint holds " + std::to_string(rows[0]) + " particles' rows, not the " +
-                     std::to_string(c.integer_scalars.at("particles")) + " it says");
+    throw InputError(where + ": the checkpoint holds " + std::to_string(rows[0]) +
+                     " particles' rows, not the " + std::to_string(c.integer_scalars.at("particles")) +
+                     " it says");
   engine.take_particles();
 }
 

@@ -1,6 +1,6 @@
 #pragma once
-// The per-step CSV files of a scene run (history.csv, newton.csv): written row by row at full precision; after a
-// restart, what came before the checkpoint stays and what a stopped run wrote after it goes.
+// The per-step CSV files of a scene run (history.csv, newton.csv): written row by row at full precision;
+// after a restart, what came before the checkpoint stays and what a stopped run wrote after it goes.
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
@@ -13,8 +13,8 @@
 
 namespace mpm {
 
-/// The lines of a CSV whose first column is a step number: the header and the rows up to `step` (none when the
-/// file does not exist).
+/// The lines of a CSV whose first column is a step number: the header and the rows up to `step` (none when
+/// the file does not exist).
 inline std::vector<std::string> rows_until(const std::filesystem::path& file, std::int64_t step) {
   std::vector<std::string> kept;
   std::ifstream is(file);
@@ -27,8 +27,8 @@ inline std::vector<std::string> rows_until(const std::filesystem::path& file, st
 
 class CsvFile {
  public:
-  /// A fresh file holding `header`, or after a restart the lines up to the checkpoint's `step` (the header alone
-  /// when the earlier file is gone).
+  /// A fresh file holding `header`, or after a restart the lines up to the checkpoint's `step` (the header
+  /// alone when the earlier file is gone).
   void open(const std::filesystem::path& file, const std::string& header, bool restart, std::int64_t step) {
     file_ = file;
     const std::vector<std::string> kept = restart ? rows_until(file, step) : std::vector<std::string>{};
@@ -58,7 +58,8 @@ class CsvFile {
 
  private:
   [[noreturn]] void failed() const {
-    throw OutputError("cannot write " + file_.string() + ": " + (errno ? std::strerror(errno) : "write failed"));
+    throw OutputError("cannot write " + file_.string() + ": " +
+                      (errno ? std::strerror(errno) : "write failed"));
   }
 
   std::filesystem::path file_;

@@ -1,7 +1,7 @@
 #pragma once
 // The output folder of a scene run: particles.pvd and its frames, history.csv and newton.csv. Divided between
-// ranks, rank 0 makes the folder and writes every file but the frames' pieces, which each rank writes for its own
-// particles.
+// ranks, rank 0 makes the folder and writes every file but the frames' pieces, which each rank writes for its
+// own particles.
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
@@ -22,11 +22,13 @@ class RunFiles {
  public:
   RunFiles(std::filesystem::path dir, const Communicator& comm) : dir_(std::move(dir)), comm_(comm) {}
 
-  /// Make the folder. A fresh run clears an earlier run's outputs; a restart at time t (step `steps`) keeps the
-  /// frames, history rows and Newton log rows up to its checkpoint and removes the frame files after them. Both
-  /// remove the temporary checkpoints (checkpoint.h5.tmp-PID-N) a run killed while writing one left behind.
-  /// Returns the frames written so far, rank 0's count on every rank (so that all write the next at one step).
-  std::int64_t prepare(bool restart, Real t, std::int64_t steps, const std::string& history_header, bool newton_log) {
+  /// Make the folder. A fresh run clears an earlier run's outputs; a restart at time t (step `steps`) keeps
+  /// the frames, history rows and Newton log rows up to its checkpoint and removes the frame files after
+  /// them. Both remove the temporary checkpoints (checkpoint.h5.tmp-PID-N) a run killed while writing one
+  /// left behind. Returns the frames written so far, rank 0's count on every rank (so that all write the next
+  /// at one step).
+  std::int64_t prepare(bool restart, Real t, std::int64_t steps, const std::string& history_header,
+                       bool newton_log) {
     std::int64_t frames = 0;
     if (comm_.rank() == 0) frames = prepare_on_root(restart, t, steps, history_header, newton_log);
     std::vector<std::int64_t> agreed{frames};
@@ -36,7 +38,8 @@ class RunFiles {
 
   /// Frame `index` at time t: particles_NNNN.vtp, or divided between ranks one piece per rank,
   /// particles_NNNN_R.vtp, gathered by rank 0's particles_NNNN.pvtp; listed in particles.pvd.
-  void frame(std::int64_t index, Real t, const std::vector<double>& points, const std::vector<io::PointField>& fields) {
+  void frame(std::int64_t index, Real t, const std::vector<double>& points,
+             const std::vector<io::PointField>& fields) {
     std::ostringstream name;
     name << "particles_" << std::setw(4) << std::setfill('0') << index;
     if (comm_.size() == 1) {
@@ -71,7 +74,8 @@ class RunFiles {
     if (name.rfind("particles_", 0) != 0 || (ext != ".vtp" && ext != ".pvtp")) return -1;
     std::int64_t index = 0;
     std::size_t at = 10;
-    for (; at < name.size() && name[at] >= '0' && name[at] <= '9'; ++at) index = 10 * index + (name[at] - '0');
+    for (; at < name.size() && name[at] >= '0' && name[at] <= '9'; ++at)
+      index = 10 * index + (name[at] - '0');
     return at > 10 ? index : -1;
   }
 
@@ -94,7 +98,8 @@ class RunFiles {
                         name == "summary.json")))
         fs::remove(e.path(), ec);
     }
-    // After a restart, history.csv and newton.csv keep the rows up to the checkpoint's step and go on from there.
+    // After a restart, history.csv and newton.csv keep the rows up to the checkpoint's step and go on from
+    // there.
     history_.open(dir_ / "history.csv", history_header, restart, steps);
     if (newton_log)
       newton_log_.open(dir_ / "newton.csv", restart, steps);

@@ -3,8 +3,8 @@
 #include <vector>
 
 #include "mpm/io/vtk.hpp"
-#include "mpm/scene/expression.hpp"
 #include "mpm/particles/particles.hpp"
+#include "mpm/scene/expression.hpp"
 
 namespace mpm {
 
@@ -21,11 +21,11 @@ struct ExactFromScene {
 };
 
 /// Points (3 coordinates each) and fields of the engine's particles at time t: velocity, displacement, Cauchy
-/// stress (xx yy zz xy xz yz), F (3 x 3), J, volume, mass, material, id (Int64), the [check] error |u - u_exact| when `exact`
-/// is given, and the engine's own fields.
+/// stress (xx yy zz xy xz yz), F (3 x 3), J, volume, mass, material, id (Int64), the [check] error |u -
+/// u_exact| when `exact` is given, and the engine's own fields.
 template <int Dim, class Engine>
-void frame_fields(const Engine& engine, const std::vector<ExpressionPtr>& exact, Real t, std::vector<double>& points,
-                  std::vector<io::PointField>& fields) {
+void frame_fields(const Engine& engine, const std::vector<ExpressionPtr>& exact, Real t,
+                  std::vector<double>& points, std::vector<io::PointField>& fields) {
   const ParticleSet<Dim>& p = engine.sim().particles();
   const std::size_t n = p.size();
   points.assign(3 * n, 0.0);
@@ -53,10 +53,12 @@ void frame_fields(const Engine& engine, const std::vector<ExpressionPtr>& exact,
     material.values.push_back(p.material[i]);
     id.values.push_back(static_cast<double>(p.id[i]));
     if (!exact.empty())
-      error.values.push_back(((p.x[i] - p.X[i]) - ExactFromScene<Dim>{&exact}.displacement(p.X[i], t)).norm());
+      error.values.push_back(
+          ((p.x[i] - p.X[i]) - ExactFromScene<Dim>{&exact}.displacement(p.X[i], t)).norm());
   }
   fields.clear();
-  for (io::PointField* f : {&velocity, &displacement, &stress, &deformation, &J, &volume, &mass, &material, &id})
+  for (io::PointField* f :
+       {&velocity, &displacement, &stress, &deformation, &J, &volume, &mass, &material, &id})
     fields.push_back(std::move(*f));
   if (!exact.empty()) fields.push_back(std::move(error));
   engine.add_fields(fields);

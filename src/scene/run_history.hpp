@@ -21,8 +21,8 @@ inline bool has_outflow(const Scene& sc) {
   return false;
 }
 
-/// history.csv's header: the clock, energies, momentum, the constraints' reactions, the engine's counters, the
-/// Coulomb walls' spreads, the contact pairs' forces, friction and outflow.
+/// history.csv's header: the clock, energies, momentum, the constraints' reactions, the engine's counters,
+/// the Coulomb walls' spreads, the contact pairs' forces, friction and outflow.
 template <int Dim, class Engine>
 std::string history_header(const Scene& sc, const Engine& engine) {
   static constexpr const char* axis[] = {"x", "y", "z"};

@@ -27,11 +27,13 @@ class NewtonLog {
     log.csv_.close();
   }
 
-  /// The tries at step `step` (1 for the first step): attempt 0 is the first, each later one half the step before.
+  /// The tries at step `step` (1 for the first step): attempt 0 is the first, each later one half the step
+  /// before.
   void write(std::int64_t step, const std::vector<NewtonAttempt>& attempts) {
     for (std::size_t a = 0; a < attempts.size(); ++a)
       for (std::size_t k = 0; k < attempts[a].residual_norms.size(); ++k) {
-        csv_.row() << step << ',' << a << ',' << attempts[a].dt << ',' << k << ',' << attempts[a].residual_norms[k];
+        csv_.row() << step << ',' << a << ',' << attempts[a].dt << ',' << k << ','
+                   << attempts[a].residual_norms[k];
         csv_.end_row();
       }
   }

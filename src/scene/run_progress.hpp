@@ -11,7 +11,8 @@ namespace mpm {
 /// Progress on stderr for runs longer than about two seconds: percent, step, time, steps per second, ETA.
 class Progress {
  public:
-  Progress(bool quiet, Real t0, Real t_end) : quiet_(quiet), t0_(t0), t_end_(t_end), start_(std::chrono::steady_clock::now()), last_(start_) {}
+  Progress(bool quiet, Real t0, Real t_end)
+      : quiet_(quiet), t0_(t0), t_end_(t_end), start_(std::chrono::steady_clock::now()), last_(start_) {}
   void update(std::int64_t step, Real t) {
     if (quiet_) return;
     const auto now = std::chrono::steady_clock::now();

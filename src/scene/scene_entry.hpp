@@ -1,8 +1,8 @@
 #pragma once
 // The run loop's entry points for one engine: run_scene_on (SceneRun, scene_run.hpp) and open_session_on
-// (SceneSession, scene_session.hpp). Declared here and instantiated once per engine, dimension and kernel, in one
-// generated unit per dimension (CMakeLists.txt, cmake/instantiate.cmake), so that run.cpp and session.cpp choose
-// among them without compiling the loop.
+// (SceneSession, scene_session.hpp). Declared here and instantiated once per engine, dimension and kernel, in
+// one generated unit per dimension (CMakeLists.txt, cmake/instantiate.cmake), so that run.cpp and session.cpp
+// choose among them without compiling the loop.
 #include <memory>
 
 #include "mpm/scene/run.hpp"

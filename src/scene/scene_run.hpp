@@ -1,6 +1,7 @@
 #pragma once
 // The time loop of a scene run with its outputs (ParaView files, history, summary, progress, checkpoints), as
-// steps: `mpm run` goes through them in one loop (run_scene), a Session (mpm/scene/session.hpp) one call at a time.
+// steps: `mpm run` goes through them in one loop (run_scene), a Session (mpm/scene/session.hpp) one call at a
+// time.
 #include <sys/resource.h>
 
 #include <chrono>
@@ -26,38 +27,46 @@
 #include "run_checkpoint.hpp"
 #include "run_files.hpp"
 #include "run_frame.hpp"
-#include "run_progress.hpp"
 #include "run_history.hpp"
+#include "run_progress.hpp"
 #include "run_totals.hpp"
 #include "scene_entry.hpp"
 
 namespace mpm {
 
-/// A scene on one engine, from its start or a checkpoint to its end. With an empty RunOptions::out_dir it writes
-/// nothing (a Session that only steps).
+/// A scene on one engine, from its start or a checkpoint to its end. With an empty RunOptions::out_dir it
+/// writes nothing (a Session that only steps).
 template <int Dim, class Engine>
 class SceneRun {
   using Clock = std::chrono::steady_clock;
 
  public:
   SceneRun(const Scene& sc, const RunOptions& o)
-      : sc_(sc), o_(o), engine_(sc), sim_(engine_.sim()), comm_(engine_.communicator()), root_(comm_.rank() == 0) {
+      : sc_(sc),
+        o_(o),
+        engine_(sc),
+        sim_(engine_.sim()),
+        comm_(engine_.communicator()),
+        root_(comm_.rank() == 0) {
     if (comm_.size() > 1 && o.checkpoint_every > 0 && !io::collective_checkpoints())
-      throw InputError("--checkpoint-every: this mpm was built without parallel HDF5 (libhdf5-openmpi-dev), which "
-                       "the checkpoints of a run divided between ranks need; run in one process to checkpoint");
+      throw InputError(
+          "--checkpoint-every: this mpm was built without parallel HDF5 (libhdf5-openmpi-dev), which "
+          "the checkpoints of a run divided between ranks need; run in one process to checkpoint");
     if (!o.restart.empty()) {
       try {
         scene_checkpoint::restore<Dim>(io::read_checkpoint(o.restart, comm_), engine_, acc_,
                                        "--restart " + o.restart.string());
         previous_time_ = sim_.time();
-      } catch (const InputError& e) {  // name the option: "checkpoint FILE: not an HDF5 file" alone is unclear
+      } catch (
+          const InputError& e) {  // name the option: "checkpoint FILE: not an HDF5 file" alone is unclear
         const std::string what = e.what();
         throw InputError(what.rfind("--restart", 0) == 0 ? what : "--restart: " + what);
       }
     }
-    // What is left to run, from the particles' speeds: a restart's output fits what remains of the run, not the
-    // whole of it (its memory was checked before the particles were built).
-    budget_ = estimate_budget(sc_, comm_.max(fastest_speed<Dim>(std::as_const(sim_).particles().v)), sim_.time());
+    // What is left to run, from the particles' speeds: a restart's output fits what remains of the run, not
+    // the whole of it (its memory was checked before the particles were built).
+    budget_ =
+        estimate_budget(sc_, comm_.max(fastest_speed<Dim>(std::as_const(sim_).particles().v)), sim_.time());
     if (!o.restart.empty() && writes())
       check_budget(sc_, budget_, {std::numeric_limits<double>::infinity(), free_space_bytes(o_.out_dir)});
   }
@@ -97,10 +106,11 @@ class SceneRun {
     }
     if (signal) {
       if (root_)
-        std::cerr << "mpm: interrupted by " << signal_name(signal) << " after step " << sim_.steps() << ", t = "
-                  << sim_.time() << " s; "
-                  << (can_checkpoint() ? "continue with --restart " + (o_.out_dir / "checkpoint.h5").string()
-                                       : std::string("this mpm writes no checkpoint of a divided run (no parallel HDF5)"))
+        std::cerr << "mpm: interrupted by " << signal_name(signal) << " after step " << sim_.steps()
+                  << ", t = " << sim_.time() << " s; "
+                  << (can_checkpoint()
+                          ? "continue with --restart " + (o_.out_dir / "checkpoint.h5").string()
+                          : std::string("this mpm writes no checkpoint of a divided run (no parallel HDF5)"))
                   << '\n';
       return exit_interrupted(signal);
     }
@@ -112,17 +122,17 @@ class SceneRun {
   void open() {
     wall_start_ = Clock::now();
     if (!writes()) return;
-    acc_.frames = files_.prepare(!o_.restart.empty(), sim_.time(), sim_.steps(), history_header<Dim>(sc_, engine_),
-                                 sc_.newton_log);
+    acc_.frames = files_.prepare(!o_.restart.empty(), sim_.time(), sim_.steps(),
+                                 history_header<Dim>(sc_, engine_), sc_.newton_log);
     if (sim_.steps() == 0) {
       write_frame();
       write_history_row();
     }
   }
 
-  /// One step and what follows it: the loads' work, outflow, the [check] error, the history row, the Newton log,
-  /// a frame when one is due and a checkpoint every checkpoint_every steps. A SimulationFailure or bad_alloc
-  /// propagates: pass it to failed() or out_of_memory().
+  /// One step and what follows it: the loads' work, outflow, the [check] error, the history row, the Newton
+  /// log, a frame when one is due and a checkpoint every checkpoint_every steps. A SimulationFailure or
+  /// bad_alloc propagates: pass it to failed() or out_of_memory().
   void advance() {
     if constexpr (Engine::needs_velocities_before) v_before_ = std::as_const(sim_).particles().v;
     const auto step_start = Clock::now();
@@ -148,9 +158,11 @@ class SceneRun {
   /// restart from, and the Newton log gets the failed step's attempts. Returns the failure's description.
   std::string failed(const std::string& what) {
     if (writes()) {
-      // The implicit engine fails before it touches the particles: checkpoint the last good state to restart from.
+      // The implicit engine fails before it touches the particles: checkpoint the last good state to restart
+      // from.
       if (Engine::failure_keeps_state) write_checkpoint();
-      if (files_.newton_log().is_open()) files_.newton_log().write(sim_.steps() + 1, engine_.newton_attempts());
+      if (files_.newton_log().is_open())
+        files_.newton_log().write(sim_.steps() + 1, engine_.newton_attempts());
     }
     return what;
   }
@@ -163,8 +175,9 @@ class SceneRun {
            std::to_string(budget_.memory_bytes / 1e6) + " MB)";
   }
 
-  /// The end of the run: after a good one the last frame, then a checkpoint when asked or when it stopped early,
-  /// and summary.json with the status ("ok", "stopped", "interrupted" by `signal`, or "failed" with `failure`).
+  /// The end of the run: after a good one the last frame, then a checkpoint when asked or when it stopped
+  /// early, and summary.json with the status ("ok", "stopped", "interrupted" by `signal`, or "failed" with
+  /// `failure`).
   void close(const std::string& failure, int signal = 0) {
     if (!writes()) return;
     const bool unfinished = !at_end();
@@ -227,7 +240,9 @@ class SceneRun {
     const ExactFromScene<Dim> exact{&sc_.exact_displacement};
     const ParticleSet<Dim>& p = sim_.particles();
     Real largest = 0;
-    const auto delta = [&](std::size_t i) { return ((p.x[i] - p.X[i]) - exact.displacement(p.X[i], sim_.time())).norm(); };
+    const auto delta = [&](std::size_t i) {
+      return ((p.x[i] - p.X[i]) - exact.displacement(p.X[i], sim_.time())).norm();
+    };
     const std::array<Real, 2> sums = engine_.template particle_sum<2>([&](std::size_t i) {
       const Real d = delta(i);
       largest = std::max(largest, d);
@@ -246,7 +261,7 @@ class SceneRun {
     if (!root_) return;
     std::ostream& history = files_.history().row();
     history << sim_.steps() << ',' << sim_.time() << ',' << t.kinetic << ',' << t.strain << ','
-             << t.kinetic + t.strain << ',' << acc_.external_work;
+            << t.kinetic + t.strain << ',' << acc_.external_work;
     for (int d = 0; d < Dim; ++d) history << ',' << t.momentum[d];
     for (const Vec<Dim>& r : reactions)
       for (int d = 0; d < Dim; ++d) history << ',' << r[d];
@@ -310,15 +325,19 @@ class SceneRun {
                      {"frames", acc_.frames},
                      {"ranks", comm_.size()},
                      {"threads", num_threads()},
-                     {"memory", {{"estimated_bytes", budget_.memory_bytes},
-                                 {"peak_bytes", 1024.0 * static_cast<double>(usage.ru_maxrss)}}}};
+                     {"memory",
+                      {{"estimated_bytes", budget_.memory_bytes},
+                       {"peak_bytes", 1024.0 * static_cast<double>(usage.ru_maxrss)}}}};
     if (!failure.empty()) j["failure"] = failure;
     if (signal) j["signal"] = signal_name(signal);
     engine_.summarize(j);
     if (!o_.restart.empty()) j["restarted_from"] = o_.restart.string();
     if (has_check())
-      j["error"] = {{"linf", failure.empty() ? acc_.error.linf : 1.0}, {"l1", acc_.error.l1()}, {"l2", acc_.error.l2()}};
-    if (t) j["energy"] = {{"kinetic", t->kinetic}, {"strain", t->strain}, {"external_work", acc_.external_work}};
+      j["error"] = {{"linf", failure.empty() ? acc_.error.linf : 1.0},
+                    {"l1", acc_.error.l1()},
+                    {"l2", acc_.error.l2()}};
+    if (t)
+      j["energy"] = {{"kinetic", t->kinetic}, {"strain", t->strain}, {"external_work", acc_.external_work}};
     if (t && sc_.local_damping > 0) j["settled"] = settling_.report();
     if (t && has_friction(sc_)) j["energy"]["friction_dissipation"] = acc_.friction_dissipation;
     if (has_outflow(sc_)) {
@@ -340,18 +359,17 @@ class SceneRun {
   Engine engine_;
   decltype(engine_.sim())& sim_;
   const Communicator& comm_;
-  Budget budget_;  // of what is left to run (set by the constructor)
-  const bool root_;  // rank 0 writes history.csv, summary.json and the frames' .pvtp and .pvd
+  Budget budget_;      // of what is left to run (set by the constructor)
+  const bool root_;    // rank 0 writes history.csv, summary.json and the frames' .pvtp and .pvd
   Settling settling_;  // when the kinetic energy of a damped run settled
   RunFiles files_{o_.out_dir, comm_};
   scene_checkpoint::Accumulators acc_;  // what a checkpoint carries beside the particles
   Real previous_time_ = 0;
   std::vector<Vec<Dim>> v_before_;  // particle velocities before the step, for the work of the loads
-  bool in_step_ = false;             // inside sim_.step(): a failure there may leave the particles half-updated
+  bool in_step_ = false;        // inside sim_.step(): a failure there may leave the particles half-updated
   double compute_seconds_ = 0;  // inside the time steps, outputs excluded (this run only, not since t = 0)
   Clock::time_point wall_start_ = Clock::now();
 };
-
 
 template <int Dim, class Engine>
 int run_scene_on(const Scene& sc, const RunOptions& o) {

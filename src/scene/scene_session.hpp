@@ -1,7 +1,7 @@
 #pragma once
-// A Session (mpm/scene/session.hpp) over one engine's SceneRun: the Python module's runs, stepped one call at a time,
-// with read-only views of the particles and the grid. Instantiated once per engine, dimension and kernel
-// (scene_entry.hpp).
+// A Session (mpm/scene/session.hpp) over one engine's SceneRun: the Python module's runs, stepped one call at
+// a time, with read-only views of the particles and the grid. Instantiated once per engine, dimension and
+// kernel (scene_entry.hpp).
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -17,8 +17,10 @@
 namespace mpm {
 
 namespace scene_views {
-/// A view of `rows` records of `stride` bytes, `components` Reals each from `first` (a scalar field: one axis).
-inline FieldArray view(std::string name, const void* first, std::size_t rows, std::ptrdiff_t stride, int components) {
+/// A view of `rows` records of `stride` bytes, `components` Reals each from `first` (a scalar field: one
+/// axis).
+inline FieldArray view(std::string name, const void* first, std::size_t rows, std::ptrdiff_t stride,
+                       int components) {
   FieldArray f{std::move(name), 'f', sizeof(Real), {rows}, {stride}, first, nullptr};
   if (components > 1) {
     f.shape.push_back(static_cast<std::size_t>(components));
@@ -30,14 +32,15 @@ inline FieldArray view(std::string name, const void* first, std::size_t rows, st
 inline FieldArray copy(std::string name, std::vector<double> values, int components) {
   auto owned = std::make_shared<std::vector<double>>(std::move(values));
   const std::size_t rows = owned->size() / static_cast<std::size_t>(components);
-  FieldArray f = view(std::move(name), owned->data(), rows, components * static_cast<std::ptrdiff_t>(sizeof(double)),
-                      components);
+  FieldArray f = view(std::move(name), owned->data(), rows,
+                      components * static_cast<std::ptrdiff_t>(sizeof(double)), components);
   f.owned = std::move(owned);
   return f;
 }
 template <class T>
 FieldArray integers(std::string name, const std::vector<T>& a) {
-  return {std::move(name), std::is_signed_v<T> ? 'i' : 'u', sizeof(T), {a.size()}, {sizeof(T)}, a.data(), nullptr};
+  return {std::move(name), std::is_signed_v<T> ? 'i' : 'u', sizeof(T), {a.size()}, {sizeof(T)}, a.data(),
+          nullptr};
 }
 }  // namespace scene_views
 
@@ -62,7 +65,8 @@ class SceneSession final : public Session {
 
   void step() override {
     if (failure_.size()) throw SimulationFailure("the run failed earlier: " + failure_);
-    if (run_.at_end()) throw InputError("step: the scene ended at end_time = " + std::to_string(scene_.end_time) + " s");
+    if (run_.at_end())
+      throw InputError("step: the scene ended at end_time = " + std::to_string(scene_.end_time) + " s");
     refuse_if_closed("step");
     try {
       run_.advance();
@@ -97,8 +101,8 @@ class SceneSession final : public Session {
   std::vector<double> reactions() const override { return scene_engines::flat(run_.engine().reactions()); }
 
   std::vector<std::string> particle_field_names() const override {
-    std::vector<std::string> names{"x", "X", "velocity", "displacement", "stress", "F", "J", "volume", "mass",
-                                   "material", "id"};
+    std::vector<std::string> names{"x", "X",      "velocity", "displacement", "stress", "F",
+                                   "J", "volume", "mass",     "material",     "id"};
     if (!scene().exact_displacement.empty()) names.push_back("error");
     for (const io::PointField& f : engine_fields()) names.push_back(f.name);
     return names;
@@ -121,13 +125,19 @@ class SceneSession final : public Session {
     if (name == "material") return scene_views::integers(name, p.material);
     if (name == "id") return scene_views::integers(name, p.id);
     if (name == "F")  // F(a, c) of the column-major Dim x Dim matrices: rows a, then columns c
-      return {name, 'f', sizeof(Real), {n, Dim, Dim},
-              {static_cast<std::ptrdiff_t>(sizeof(Mat<Dim>)), sizeof(Real), Dim * sizeof(Real)}, p.F.data(), nullptr};
+      return {name,
+              'f',
+              sizeof(Real),
+              {n, Dim, Dim},
+              {static_cast<std::ptrdiff_t>(sizeof(Mat<Dim>)), sizeof(Real), Dim * sizeof(Real)},
+              p.F.data(),
+              nullptr};
     if (name == "displacement")
       return per_particle(Dim, [&](std::size_t i, double* u) {
         for (int d = 0; d < Dim; ++d) u[d] = p.x[i][d] - p.X[i][d];
       });
-    if (name == "stress") return per_particle(6, [&](std::size_t i, double* s) { run_.engine().stress(i, s); });
+    if (name == "stress")
+      return per_particle(6, [&](std::size_t i, double* s) { run_.engine().stress(i, s); });
     if (name == "J") return per_particle(1, [&](std::size_t i, double* J) { *J = p.F[i].determinant(); });
     if (name == "error" && !scene().exact_displacement.empty()) {  // Wallstedt & Guilkey 2008, Eq. (64)
       const ExactFromScene<Dim> exact{&scene().exact_displacement};
@@ -156,7 +166,8 @@ class SceneSession final : public Session {
 
   std::vector<std::size_t> grid_shape() const override {
     std::vector<std::size_t> shape;
-    for (int d = 0; d < Dim; ++d) shape.push_back(static_cast<std::size_t>(sim().grid().geometry.nodes_along(d)));
+    for (int d = 0; d < Dim; ++d)
+      shape.push_back(static_cast<std::size_t>(sim().grid().geometry.nodes_along(d)));
     return shape;
   }
 
@@ -177,8 +188,9 @@ class SceneSession final : public Session {
   /// After close() the outputs are finished: the state may be read, not advanced or written.
   void refuse_if_closed(const std::string& call) const {
     if (closed_)
-      throw InputError(call + ": the simulation is closed (its outputs are finished); open a new one, with restart "
-                              "from a checkpoint to go on");
+      throw InputError(call +
+                       ": the simulation is closed (its outputs are finished); open a new one, with restart "
+                       "from a checkpoint to go on");
   }
   const auto& sim() const { return run_.engine().sim(); }
   const Scene& scene() const { return scene_; }

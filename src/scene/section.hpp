@@ -1,7 +1,7 @@
 #pragma once
-// The pieces of the scene reader shared by its files: where a value came from (Locator), a TOML table read with
-// strict keys and typed values (Section), the variables expressions may use, and the readers of the tables
-// (src/scene_reader.cpp: the file and [simulation], [grid], [implicit]; src/scene_read_materials.cpp;
+// The pieces of the scene reader shared by its files: where a value came from (Locator), a TOML table read
+// with strict keys and typed values (Section), the variables expressions may use, and the readers of the
+// tables (src/scene_reader.cpp: the file and [simulation], [grid], [implicit]; src/scene_read_materials.cpp;
 // src/scene_read_bodies.cpp: bodies, rigid bodies, loads).
 #include <toml++/toml.h>
 
@@ -20,8 +20,8 @@
 
 namespace mpm::scene_reading {
 
-/// Where a value came from, for error messages: "FILE:LINE: key.path", or "FILE: key.path (from --set ...)" for
-/// a value given on the command line.
+/// Where a value came from, for error messages: "FILE:LINE: key.path", or "FILE: key.path (from --set ...)"
+/// for a value given on the command line.
 struct Locator {
   std::string file;
   std::vector<std::pair<std::string, std::string>> overrides;  ///< key path set by --set, and the assignment
@@ -30,8 +30,9 @@ struct Locator {
     if (node && node->source().begin.line > 0)
       return file + ":" + std::to_string(node->source().begin.line) + ": " + shortened(key);
     auto under = [](const std::string& a, const std::string& b) {  // a is b or lies inside it
-      return a.size() > b.size() ? a.compare(0, b.size(), b) == 0 && (a[b.size()] == '.' || a[b.size()] == '[')
-                                 : a == b;
+      return a.size() > b.size()
+                 ? a.compare(0, b.size(), b) == 0 && (a[b.size()] == '.' || a[b.size()] == '[')
+                 : a == b;
     };
     for (const auto& [set_key, assignment] : overrides)
       if (under(key, set_key) || under(set_key, key))
@@ -78,8 +79,9 @@ class Section {
     for (auto&& [k, v] : t_) {
       const std::string key(k.str());
       if (std::find(allowed_.begin(), allowed_.end(), key) == allowed_.end())
-        loc_.fail(&v, key_of(key), std::string(v.is_table() ? "unknown table" : "unknown key") + " (expected one of " +
-                                       join(allowed_) + ")");
+        loc_.fail(&v, key_of(key),
+                  std::string(v.is_table() ? "unknown table" : "unknown key") + " (expected one of " +
+                      join(allowed_) + ")");
     }
   }
 
@@ -88,7 +90,8 @@ class Section {
   bool has(const std::string& k) const { return t_.contains(k); }
   [[noreturn]] void fail(const std::string& k, const std::string& what) const {
     const toml::node* n = get(k);
-    loc_.fail(n ? n : (path_.empty() ? nullptr : &t_), key_of(k), what);  // the document's line 1 would mislead
+    loc_.fail(n ? n : (path_.empty() ? nullptr : &t_), key_of(k),
+              what);  // the document's line 1 would mislead
   }
 
   double number(const std::string& k, double fallback) const {
@@ -128,7 +131,8 @@ class Section {
     if (v.size() > 64) fail(k, "expected a name of at most 64 characters, got " + in_quotes(v));
     return v;
   }
-  std::string choice(const std::string& k, const std::string& fallback, const std::vector<std::string>& options) const {
+  std::string choice(const std::string& k, const std::string& fallback,
+                     const std::vector<std::string>& options) const {
     const std::string v = text(k, fallback);
     if (std::find(options.begin(), options.end(), v) == options.end())
       fail(k, "expected one of " + join(options) + ", got " + in_quotes(v));
@@ -145,13 +149,15 @@ class Section {
     std::vector<double> out;
     for (const toml::node& e : a) {
       if (!e.is_number() || !std::isfinite(number_value(e)))
-        fail(k, "expected an array of " + std::to_string(n) + " finite numbers, got " + describe(e) + " in it");
+        fail(k,
+             "expected an array of " + std::to_string(n) + " finite numbers, got " + describe(e) + " in it");
       out.push_back(number_value(e));
     }
     return out;
   }
   /// An array of n components, each a number or an expression string over `vars`.
-  std::vector<ExpressionPtr> expressions(const std::string& k, std::size_t n, const std::vector<std::string>& vars,
+  std::vector<ExpressionPtr> expressions(const std::string& k, std::size_t n,
+                                         const std::vector<std::string>& vars,
                                          const std::map<std::string, double>& constants) const {
     const std::string what = "an array of " + std::to_string(n) + " numbers or expression strings of " +
                              (vars.empty() ? std::string("nothing") : join(vars));
@@ -161,7 +167,8 @@ class Section {
       const toml::node& e = *a.get(c);
       const std::optional<std::string> src = expression_source(e);
       if (!src) fail(k, "expected " + what + ", got " + describe(e) + " in it");
-      out.push_back(std::make_shared<Expression>(*src, vars, constants, loc_.where(&e, key_of(k) + "[" + std::to_string(c) + "]")));
+      out.push_back(std::make_shared<Expression>(*src, vars, constants,
+                                                 loc_.where(&e, key_of(k) + "[" + std::to_string(c) + "]")));
     }
     return out;
   }
@@ -171,8 +178,8 @@ class Section {
     const toml::node* n = get(k);
     const std::optional<std::string> src = n ? expression_source(*n) : std::nullopt;
     if (!src)
-      fail(k, "expected a number or an expression string of " + (vars.empty() ? std::string("nothing") : join(vars)) +
-                  (n ? ", got " + describe(*n) : ""));
+      fail(k, "expected a number or an expression string of " +
+                  (vars.empty() ? std::string("nothing") : join(vars)) + (n ? ", got " + describe(*n) : ""));
     return std::make_shared<Expression>(*src, vars, constants, loc_.where(n, key_of(k)));
   }
   /// An array of n numbers, each written as a number or an expression string of the constants alone (e.g.
@@ -187,11 +194,13 @@ class Section {
     return out;
   }
   /// One number written as a number or an expression string of the constants alone; `fallback` when absent.
-  double constant_number(const std::string& k, double fallback, const std::map<std::string, double>& constants) const {
+  double constant_number(const std::string& k, double fallback,
+                         const std::map<std::string, double>& constants) const {
     const toml::node* n = get(k);
     if (!n) return fallback;
     if (n->is_number()) return number(k, fallback);
-    if (!n->is_string()) fail(k, "expected a number or an expression string of the constants, got " + describe(*n));
+    if (!n->is_string())
+      fail(k, "expected a number or an expression string of the constants, got " + describe(*n));
     const double v = Expression(n->value<std::string>().value(), {}, constants, loc_.where(n, key_of(k)))({});
     if (!std::isfinite(v)) fail(k, "expected a finite value, got " + std::to_string(v));
     return v;
@@ -231,7 +240,8 @@ class Section {
 
 inline const std::vector<std::string> position_vars[] = {{"x"}, {"x", "y"}, {"x", "y", "z"}};
 inline const std::vector<std::string> reference_vars[] = {{"X"}, {"X", "Y"}, {"X", "Y", "Z"}};
-inline const std::vector<std::string> reference_time_vars[] = {{"X", "t"}, {"X", "Y", "t"}, {"X", "Y", "Z", "t"}};
+inline const std::vector<std::string> reference_time_vars[] = {
+    {"X", "t"}, {"X", "Y", "t"}, {"X", "Y", "Z", "t"}};
 inline const std::vector<std::string> time_var{"t"};
 
 /// Read one [[materials]] table into sc.materials.

@@ -26,7 +26,8 @@ std::unique_ptr<Session> open_session(const Scene& scene, const RunOptions& opti
     throw InputError("threads: expected a non-negative count of at most " + std::to_string(max_threads) +
                      " (0: the scene's setting), got " + std::to_string(options.threads));
   if (options.checkpoint_every < 0) throw InputError("checkpoint_every: expected a non-negative step count");
-  // The limits `mpm run` checks before anything large is allocated (apps/mpm/run.cpp), with the same messages.
+  // The limits `mpm run` checks before anything large is allocated (apps/mpm/run.cpp), with the same
+  // messages.
   check_budget(scene, estimate_budget(scene),
                {physical_memory_bytes(), options.out_dir.empty() ? std::numeric_limits<double>::infinity()
                                                                  : free_space_bytes(options.out_dir)});

@@ -13,11 +13,11 @@ namespace mpm {
 
 namespace {
 /// The grid basis phi_i a nodal field is reconstructed with: GIMP weights are particle-averaged linear hats
-/// (Steffen et al. 2008, Eq. (31)), and CPDI's and CPDI2's average them over the domain's corners (Sadeghirad et al.
-/// 2011, 2013), so their grid basis is the hat itself.
+/// (Steffen et al. 2008, Eq. (31)), and CPDI's and CPDI2's average them over the domain's corners (Sadeghirad
+/// et al. 2011, 2013), so their grid basis is the hat itself.
 template <class Kernel>
-using GridBasis = std::conditional_t<std::is_same_v<Kernel, GimpKernel> || std::is_same_v<Kernel, WideGimpKernel> ||
-                                         is_cpdi<Kernel>,
+using GridBasis = std::conditional_t<std::is_same_v<Kernel, GimpKernel> ||
+                                         std::is_same_v<Kernel, WideGimpKernel> || is_cpdi<Kernel>,
                                      LinearKernel, Kernel>;
 
 /// Half-width of a grid basis function in cells.
@@ -33,7 +33,8 @@ DensityProjection project(const DensityCase& c) {
   using Basis = GridBasis<Kernel>;
   DensityProjection out;
   out.h = 1.0 / c.cells;
-  const int margin = c.boundary_aligned ? 0 : c.cells / 5;  // 0.2 / h cells on either side of the bar, or none
+  const int margin =
+      c.boundary_aligned ? 0 : c.cells / 5;  // 0.2 / h cells on either side of the bar, or none
   GridGeometry<1> g{Vec<1>(-margin * out.h), out.h, IVec<1>{c.cells + 2 * margin}, Kernel::ghost};
   const BoundarySpec<1> free_faces;
   g.clamped = clamped_faces(c.kernel, free_faces);
@@ -92,7 +93,8 @@ DensityProjection project_density_1d(const DensityCase& c) {
   if (c.cells < 5 || c.cells % 5 != 0) throw InputError("--cells: expected a positive multiple of 5");
   if (c.ppc < 1) throw InputError("--ppc: expected at least 1 particle per cell");
   if (c.samples < 10) throw InputError("--samples: expected at least 10");
-  if (c.gimp_length && c.kernel != KernelKind::ugimp) throw InputError("--gimp-length: applies to --kernel ugimp only");
+  if (c.gimp_length && c.kernel != KernelKind::ugimp)
+    throw InputError("--gimp-length: applies to --kernel ugimp only");
   if (c.gimp_length && !(*c.gimp_length > 0 && *c.gimp_length <= 1.0 / c.cells))
     throw InputError("--gimp-length: expected a smoothing length in (0, h], h = 1 / cells");
   return with_kernel<1>(c.kernel, [&]<class Kernel>() { return project<Kernel>(c); });

@@ -23,7 +23,8 @@ Enum pick(const std::string& name, const std::string& key, const std::array<std:
   for (std::size_t k = 0; k < N; ++k)
     if (name == names[k]) return static_cast<Enum>(k);
   std::string expected;
-  for (std::size_t k = 0; k < N; ++k) expected += (k ? (k + 1 == N ? " or " : ", ") : "") + std::string(names[k]);
+  for (std::size_t k = 0; k < N; ++k)
+    expected += (k ? (k + 1 == N ? " or " : ", ") : "") + std::string(names[k]);
   throw InputError(key + ": expected " + expected + ", got '" + name + "'");
 }
 template <class Enum, std::size_t N>
@@ -40,8 +41,8 @@ VerifyCase StudyRequest::resolve() {
   options.cfl_speed = pick<CflSpeed>(cfl_speed, "--cfl-speed", cfl_speed_names);
   options.error = pick<ErrorMeasure>(error, "--error", error_names);
   options.start = pick<HalfStepStart>(start, "--start", start_names);
-  options.constrained_acceleration =
-      pick<ConstrainedAcceleration>(constrained_acceleration, "--constrained-acceleration", acceleration_names);
+  options.constrained_acceleration = pick<ConstrainedAcceleration>(
+      constrained_acceleration, "--constrained-acceleration", acceleration_names);
   validate(options);
   return c;
 }
@@ -81,7 +82,8 @@ std::vector<StudySeries> parse_series(const std::string& text, Transfer transfer
     const std::size_t colon = item.find(':'), second = item.find(':', colon + 1);
     if (colon == std::string::npos)
       throw InputError(key + ": expected kernel:integrator pairs such as cpgimp:cd, got '" + item + "'");
-    const std::string integrator = item.substr(colon + 1, second == std::string::npos ? std::string::npos : second - colon - 1);
+    const std::string integrator =
+        item.substr(colon + 1, second == std::string::npos ? std::string::npos : second - colon - 1);
     VerifyOptions check;
     set_integrator(check, integrator, key);
     const Transfer t =
@@ -92,8 +94,9 @@ std::vector<StudySeries> parse_series(const std::string& text, Transfer transfer
   return out;
 }
 
-nlohmann::json convergence_rows(VerifyCase which, const VerifyOptions& base, const std::vector<StudySeries>& series,
-                                bool vary_cells, const std::vector<double>& values) {
+nlohmann::json convergence_rows(VerifyCase which, const VerifyOptions& base,
+                                const std::vector<StudySeries>& series, bool vary_cells,
+                                const std::vector<double>& values) {
   const auto at = [&](VerifyOptions o, const StudySeries& s, double v) {
     o.kernel = s.kernel;
     o.transfer = s.transfer;

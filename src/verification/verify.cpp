@@ -2,8 +2,8 @@
 #include <cmath>
 
 #include "mpm/core/errors.hpp"
-#include "mpm/implicit/simulation.hpp"
 #include "mpm/explicit/simulation.hpp"
+#include "mpm/implicit/simulation.hpp"
 #include "mpm/verification/axis_aligned.hpp"
 #include "mpm/verification/bar_1d.hpp"
 #include "mpm/verification/expanding_ring.hpp"
@@ -14,7 +14,8 @@
 namespace mpm {
 
 namespace {
-constexpr std::array<std::string_view, 4> case_names{"axis-aligned", "bar-1d", "expanding-ring", "shear-wave"};
+constexpr std::array<std::string_view, 4> case_names{"axis-aligned", "bar-1d", "expanding-ring",
+                                                     "shear-wave"};
 
 template <int Dim, class Exact>
 ParticleTable table_of(const ParticleSet<Dim>& p, const Exact& exact, Real t) {
@@ -65,8 +66,10 @@ ImplicitSpec<Dim> implicit_spec_of(const SimulationSpec<Dim>& s, Real theta) {
 /// Step a simulation to the end time, recording the error after every step: at the particles, or at the nodes
 /// for the acceleration of the step (not on a first step whose acceleration is halved by design).
 template <class Sim, class Exact>
-void run_to_end(Sim& sim, const Exact& exact, const VerifyOptions& o, ParticleTable* final_state, VerifyResult& r) {
-  const bool halved_start = !o.implicit && (o.integrator == Integrator::cd || o.integrator == Integrator::musl) &&
+void run_to_end(Sim& sim, const Exact& exact, const VerifyOptions& o, ParticleTable* final_state,
+                VerifyResult& r) {
+  const bool halved_start = !o.implicit &&
+                            (o.integrator == Integrator::cd || o.integrator == Integrator::musl) &&
                             o.start == HalfStepStart::halve;
   try {
     while (sim.time() < r.end_time * (1 - 1e-14)) {
@@ -76,7 +79,8 @@ void run_to_end(Sim& sim, const Exact& exact, const VerifyOptions& o, ParticleTa
       if (o.error == ErrorMeasure::particles) {
         r.error.record(sim.particles(), sim.time(), exact);
       } else if constexpr (requires { sim.min_node_mass(); }) {
-        if (sim.steps() > 1 || !halved_start) record_nodal_acceleration(r.error, sim.grid(), sim.min_node_mass(), t0, exact);
+        if (sim.steps() > 1 || !halved_start)
+          record_nodal_acceleration(r.error, sim.grid(), sim.min_node_mass(), t0, exact);
       }
     }
   } catch (const SimulationFailure& e) {
@@ -185,8 +189,9 @@ void validate(const VerifyOptions& o) {
       throw InputError("--start exact: needs a fixed time step to place v^{-1/2} (--cfl-speed reference)");
   }
   if (o.constrained_acceleration == ConstrainedAcceleration::velocity_difference && o.implicit)
-    throw InputError("--constrained-acceleration: the implicit integrator solves for the end-of-step velocities and "
-                     "has no constrained acceleration to choose");
+    throw InputError(
+        "--constrained-acceleration: the implicit integrator solves for the end-of-step velocities and "
+        "has no constrained acceleration to choose");
   if (!(o.amplitude >= 0)) throw InputError("--amplitude: expected a non-negative amplitude");
   if (!(o.end_time >= 0)) throw InputError("--end-time: expected a non-negative time (0: one period)");
   if (!(o.theta >= 0 && o.theta <= 1)) throw InputError("--theta: expected a number in [0, 1]");
@@ -199,7 +204,8 @@ VerifyResult verify(VerifyCase c, const VerifyOptions& o, ParticleTable* final_s
                      (c == VerifyCase::axis_aligned ? std::string("2-D or 3-D")
                                                     : std::to_string(dimension(c, o)) + "-D only"));
   if (c != VerifyCase::axis_aligned && c != VerifyCase::shear_wave && o.poisson)
-    throw InputError("--nu: the " + std::string(to_string(c)) + " solution is written for nu = 0; only the "
+    throw InputError("--nu: the " + std::string(to_string(c)) +
+                     " solution is written for nu = 0; only the "
                      "axis-aligned and shear-wave cases take --nu");
   switch (c) {
     case VerifyCase::bar_1d:
@@ -212,7 +218,8 @@ VerifyResult verify(VerifyCase c, const VerifyOptions& o, ParticleTable* final_s
       break;
   }
   const NeoHookean steel_like = NeoHookean::from_young_poisson(1e7, poisson_ratio(c, o), 1000);
-  if (c == VerifyCase::shear_wave) return run_case(DiagonalShearWave{o.amplitude, steel_like}, o, final_state);
+  if (c == VerifyCase::shear_wave)
+    return run_case(DiagonalShearWave{o.amplitude, steel_like}, o, final_state);
   if (o.dim == 3) return run_case(AxisAligned<3>{o.amplitude, steel_like}, o, final_state);
   return run_case(AxisAligned<2>{o.amplitude, steel_like}, o, final_state);
 }

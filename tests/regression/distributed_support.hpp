@@ -1,6 +1,6 @@
 #pragma once
-// Helpers of the tests that run `mpm` under mpirun (test_distributed_*.cpp): the launch command, and the frames of
-// a run read back by particle id, whichever rank wrote them.
+// Helpers of the tests that run `mpm` under mpirun (test_distributed_*.cpp): the launch command, and the
+// frames of a run read back by particle id, whichever rank wrote them.
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
@@ -16,17 +16,18 @@ namespace fs = std::filesystem;
 
 inline const fs::path source_dir = fs::path(__FILE__).parent_path().parent_path().parent_path();
 
-/// `mpirun -np ranks mpm`, as root too; under AddressSanitizer with leak checks off, as OpenMPI's own allocations
-/// at start-up are reported as leaks.
+/// `mpirun -np ranks mpm`, as root too; under AddressSanitizer with leak checks off, as OpenMPI's own
+/// allocations at start-up are reported as leaks.
 inline std::string mpirun(int ranks) {
   const std::string sanitizer = MPM_SANITIZED ? "ASAN_OPTIONS=halt_on_error=1:detect_leaks=0 " : "";
-  return sanitizer + "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + std::string(MPM_MPIEXEC) + " -np " +
-         std::to_string(ranks) + " --oversubscribe " + MPM_BINARY;
+  return sanitizer + "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + std::string(MPM_MPIEXEC) +
+         " -np " + std::to_string(ranks) + " --oversubscribe " + MPM_BINARY;
 }
 
 /// `mpirun -np ranks mpm run SCENE --quiet ARGS`, its output in log; the exit status.
 inline int run_on(int ranks, const std::string& scene, const std::string& args, const fs::path& log) {
-  const std::string cmd = mpirun(ranks) + " run " + scene + " --quiet " + args + " >" + log.string() + " 2>&1";
+  const std::string cmd =
+      mpirun(ranks) + " run " + scene + " --quiet " + args + " >" + log.string() + " 2>&1";
   const int raw = std::system(cmd.c_str());
   return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
 }
@@ -47,7 +48,8 @@ inline std::vector<fs::path> pieces(const fs::path& dir, const std::string& fram
   if (frame.ends_with(".vtp")) return {dir / frame};
   const std::string text = slurp(dir / frame);
   std::vector<fs::path> out;
-  for (std::size_t at = text.find("Source=\""); at != std::string::npos; at = text.find("Source=\"", at + 1)) {
+  for (std::size_t at = text.find("Source=\""); at != std::string::npos;
+       at = text.find("Source=\"", at + 1)) {
     at += 8;
     out.push_back(dir / text.substr(at, text.find('"', at) - at));
   }
@@ -55,7 +57,8 @@ inline std::vector<fs::path> pieces(const fs::path& dir, const std::string& fram
 }
 
 /// Array `name` (components per point) of a frame, all pieces, rows sorted by particle id.
-inline std::vector<double> by_id(const fs::path& dir, const std::string& frame, const std::string& name, int components) {
+inline std::vector<double> by_id(const fs::path& dir, const std::string& frame, const std::string& name,
+                                 int components) {
   std::vector<double> ids, values;
   for (const fs::path& piece : pieces(dir, frame)) {
     const std::vector<double> i = vtp_array(piece, "id"), v = vtp_array(piece, name);

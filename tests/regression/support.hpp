@@ -1,6 +1,6 @@
 #pragma once
-// Helpers of the command-line tests: running `mpm run`, files, CSV columns, scratch folders, and a scene large
-// enough to act on while it runs.
+// Helpers of the command-line tests: running `mpm run`, files, CSV columns, scratch folders, and a scene
+// large enough to act on while it runs.
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -25,7 +25,8 @@ inline std::string slurp(const std::filesystem::path& f) {
 }
 
 /// `mpm run FILE --quiet ARGS`, its output in `log`; the exit status (-1 when it did not exit).
-inline int run_mpm(const std::filesystem::path& file, const std::string& args, const std::filesystem::path& log) {
+inline int run_mpm(const std::filesystem::path& file, const std::string& args,
+                   const std::filesystem::path& log) {
   const std::string cmd =
       std::string(MPM_BINARY) + " run " + file.string() + " --quiet " + args + " >" + log.string() + " 2>&1";
   const int raw = std::system(cmd.c_str());
@@ -88,8 +89,8 @@ inline std::filesystem::path scratch(const std::string& prefix, const std::strin
 }
 
 /// A 2-D elastic block on a fixed floor, 129,600 particles (300 x 300 cells, the block 0.6 x 0.6 m at 2 per
-/// cell): large enough that a step and a checkpoint (~19 MB) take milliseconds, for tests that act while a run
-/// is going. The scene file's text, ending at `end_time` [s].
+/// cell): large enough that a step and a checkpoint (~19 MB) take milliseconds, for tests that act while a
+/// run is going. The scene file's text, ending at `end_time` [s].
 inline std::string block_scene(const std::string& end_time) {
   return "[simulation]\nend_time = " + end_time + R"(
 cfl = 0.5

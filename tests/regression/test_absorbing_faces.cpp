@@ -1,6 +1,7 @@
 // Absorbing faces (Lysmer & Kuhlemeyer 1969 dashpots, grid.faces { absorbing = "MATERIAL" }):
-// examples/geomechanics/absorbing-column.toml sends a P-wave pulse down a 1-D soil column into one; the energy left
-// in the column once the pulse has passed is what the face reflected. A free face, for contrast, sends it all back.
+// examples/geomechanics/absorbing-column.toml sends a P-wave pulse down a 1-D soil column into one; the
+// energy left in the column once the pulse has passed is what the face reflected. A free face, for contrast,
+// sends it all back.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -15,8 +16,8 @@ namespace {
 namespace fs = std::filesystem;
 using namespace mpm::testing;
 
-const fs::path column =
-    fs::path(__FILE__).parent_path().parent_path().parent_path() / "examples/geomechanics/absorbing-column.toml";
+const fs::path column = fs::path(__FILE__).parent_path().parent_path().parent_path() /
+                        "examples/geomechanics/absorbing-column.toml";
 
 /// The total energy in the column when the pulse has entered it (t = 0.1 s) and at the end (0.75 s, the pulse
 /// having reached the x-max face at 0.545 s and left it by 0.6 s; a reflection would still be in the column).
@@ -51,10 +52,11 @@ TEST(AbsorbingFaces, AFreeFaceReflectsThePulse) {
 }
 
 TEST(AbsorbingFaces, TheImplicitStepLetsThePulseOutToo) {
-  // The dashpots in the implicit residual (-Z A v^L on the face's free unknowns, dt Z A on the tangent's diagonal).
-  // At the explicit step size the implicit step itself dissipates: 0.879 of the x-min face's work is in the
-  // column at t = 0.1 s, and with a free x-max face 0.577 of that is left at the end. With the absorbing face
-  // 0.30% is left (measured; 0.57% at 4 times the step). Asserted: below 1%, and a free face keeps over half.
+  // The dashpots in the implicit residual (-Z A v^L on the face's free unknowns, dt Z A on the tangent's
+  // diagonal). At the explicit step size the implicit step itself dissipates: 0.879 of the x-min face's work
+  // is in the column at t = 0.1 s, and with a free x-max face 0.577 of that is left at the end. With the
+  // absorbing face 0.30% is left (measured; 0.57% at 4 times the step). Asserted: below 1%, and a free face
+  // keeps over half.
   const std::string implicit = "--set simulation.integrator='\"implicit\"' ";
   const Energies absorbed = pulse("implicit", implicit);
   EXPECT_LT(absorbed.left / absorbed.incident, 0.01);

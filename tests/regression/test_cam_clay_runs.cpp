@@ -1,10 +1,11 @@
-// Modified Cam-Clay in whole runs (examples/geomechanics/oedometer.toml): a clay column in geostatic stress pressed
-// one-dimensionally by a rigid platen, in the explicit and the implicit engine. Whatever the stress path, each
-// particle's state obeys the exactly integrated volumetric laws (docs/geomechanics.md#modified-cam-clay):
+// Modified Cam-Clay in whole runs (examples/geomechanics/oedometer.toml): a clay column in geostatic stress
+// pressed one-dimensionally by a rigid platen, in the explicit and the implicit engine. Whatever the stress
+// path, each particle's state obeys the exactly integrated volumetric laws
+// (docs/geomechanics.md#modified-cam-clay):
 //   -ln J = kappa* ln(p' / p'_0) + (lambda* - kappa*) ln(p_c / p_c0),
-// with J the particle's volume ratio and p'_0 its geostatic mean stress; a particle that has yielded (p_c > p_c0)
-// lies on its yield surface. Both are read from the frames: the preconsolidation pressure the law declares reaches
-// them as a field of its own.
+// with J the particle's volume ratio and p'_0 its geostatic mean stress; a particle that has yielded (p_c >
+// p_c0) lies on its yield surface. Both are read from the frames: the preconsolidation pressure the law
+// declares reaches them as a field of its own.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -32,8 +33,9 @@ struct Point {
 
 /// Each particle of a frame by id: p' and q of its stress (xx yy zz xy yz xz), p_c and J.
 std::map<long, Point> read_frame(const fs::path& file) {
-  const std::vector<double> stress = vtp_array(file, "stress"), pc = vtp_array(file, "preconsolidation_pressure"),
-                            J = vtp_array(file, "J"), id = vtp_array(file, "id");
+  const std::vector<double> stress = vtp_array(file, "stress"),
+                            pc = vtp_array(file, "preconsolidation_pressure"), J = vtp_array(file, "J"),
+                            id = vtp_array(file, "id");
   std::map<long, Point> out;
   for (std::size_t k = 0; k < id.size(); ++k) {
     const double* s = &stress[6 * k];
@@ -47,10 +49,10 @@ std::map<long, Point> read_frame(const fs::path& file) {
 }
 
 struct Outcome {
-  double identity;  // the largest |ln J + kappa* ln(p'/p'_0) + (lambda* - kappa*) ln(p_c/p_c0)|
-  double outside;   // the largest f / p_c^2 of a particle (f <= 0: on or inside its yield surface)
+  double identity;         // the largest |ln J + kappa* ln(p'/p'_0) + (lambda* - kappa*) ln(p_c/p_c0)|
+  double outside;          // the largest f / p_c^2 of a particle (f <= 0: on or inside its yield surface)
   std::size_t on_surface;  // particles with |f| / p_c^2 <= 1e-7
-  double settlement;  // the largest -ln J
+  double settlement;       // the largest -ln J
   std::size_t particles, yielded;
 };
 
@@ -78,18 +80,20 @@ Outcome compress(const std::string& name, const std::string& args) {
     if (std::abs(f) <= 1e-7) ++o.on_surface;
     if (s.pc > pc0) ++o.yielded;
   }
-  std::printf("%s: %zu particles, %zu yielded, %zu on the surface, largest -ln J %.4f, identity %.3g, "
-              "largest f %.3g\n",
-              name.c_str(), o.particles, o.yielded, o.on_surface, o.settlement, o.identity, o.outside);
+  std::printf(
+      "%s: %zu particles, %zu yielded, %zu on the surface, largest -ln J %.4f, identity %.3g, "
+      "largest f %.3g\n",
+      name.c_str(), o.particles, o.yielded, o.on_surface, o.settlement, o.identity, o.outside);
   fs::remove_all(dir);
   return o;
 }
 
-// The frames hold 9 significant digits (%.9g): no particle lies outside its yield surface by more than 1e-7 of p_c^2,
-// and most lie on it (740 of the 800 in both engines: the column is pressed onto its normal compression line). The
-// identity differs from zero by what the engine's J is not: ln J accumulates ln det(I + dL) while the law sums
-// tr(dL), a difference of about |dL|^2 / 2 a step, 0.23^2 / (2 x 2,800) = 9e-6 for the most compressed particle over
-// the explicit run's 2,800 steps. Measured: 1.0e-5 (explicit) and 1.4e-5 (implicit); asserted 5e-5.
+// The frames hold 9 significant digits (%.9g): no particle lies outside its yield surface by more than 1e-7
+// of p_c^2, and most lie on it (740 of the 800 in both engines: the column is pressed onto its normal
+// compression line). The identity differs from zero by what the engine's J is not: ln J accumulates ln det(I
+// + dL) while the law sums tr(dL), a difference of about |dL|^2 / 2 a step, 0.23^2 / (2 x 2,800) = 9e-6 for
+// the most compressed particle over the explicit run's 2,800 steps. Measured: 1.0e-5 (explicit) and 1.4e-5
+// (implicit); asserted 5e-5.
 void expect_cam_clay(const Outcome& o) {
   EXPECT_EQ(o.particles, 800u);
   EXPECT_GE(o.on_surface, o.particles / 2);
@@ -99,29 +103,35 @@ void expect_cam_clay(const Outcome& o) {
   EXPECT_LE(o.identity, 5e-5);
 }
 
-TEST(CamClayRuns, ExplicitOedometerKeepsTheVolumetricLaws) { expect_cam_clay(compress("explicit", "")); }
+TEST(CamClayRuns, ExplicitOedometerKeepsTheVolumetricLaws) {
+  expect_cam_clay(compress("explicit", ""));
+}
 
 TEST(CamClayRuns, ImplicitOedometerKeepsTheVolumetricLaws) {
   expect_cam_clay(compress("implicit", "--set 'simulation.integrator=\"implicit\"'"));
 }
 
-// The preconsolidation pressure is kept in checkpoints: a run stopped part way and restarted ends with the bits of
-// one that was not, in both engines.
+// The preconsolidation pressure is kept in checkpoints: a run stopped part way and restarted ends with the
+// bits of one that was not, in both engines.
 TEST(CamClayRuns, RestartsKeepTheBits) {
   // The first 0.5 s, stopped after the first particles yield (at about 0.38 s) and restarted.
   const std::string shorter = " --set simulation.end_time=0.5";
   for (const std::string engine : {"explicit", "implicit"}) {
-    const std::string set = shorter + (engine == "implicit" ? " --set 'simulation.integrator=\"implicit\"'" : "");
+    const std::string set =
+        shorter + (engine == "implicit" ? " --set 'simulation.integrator=\"implicit\"'" : "");
     const fs::path dir = scratch("cam_clay_restart", engine);
     const fs::path whole = dir / "whole", parts = dir / "parts";
     ASSERT_EQ(run_mpm(scene, "--out " + whole.string() + set, dir / "log.txt"), 0) << slurp(dir / "log.txt");
-    ASSERT_EQ(run_mpm(scene, "--out " + parts.string() + " --stop-after " + (engine == "implicit" ? "850" : "900") + set,
-                      dir / "log.txt"),
-              0)
+    ASSERT_EQ(
+        run_mpm(scene,
+                "--out " + parts.string() + " --stop-after " + (engine == "implicit" ? "850" : "900") + set,
+                dir / "log.txt"),
+        0)
         << slurp(dir / "log.txt");
-    ASSERT_EQ(run_mpm(scene, "--out " + parts.string() + " --restart " + (parts / "checkpoint.h5").string() + set,
-                      dir / "log.txt"),
-              0)
+    ASSERT_EQ(
+        run_mpm(scene, "--out " + parts.string() + " --restart " + (parts / "checkpoint.h5").string() + set,
+                dir / "log.txt"),
+        0)
         << slurp(dir / "log.txt");
     const std::string a = slurp(whole / "particles_0002.vtp"), b = slurp(parts / "particles_0002.vtp");
     EXPECT_FALSE(a.empty());

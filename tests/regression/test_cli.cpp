@@ -28,8 +28,8 @@ std::string slurp(const std::filesystem::path& f) {
 Outcome run_mpm(const std::string& args, const std::string& env = "") {
   const auto dir = std::filesystem::temp_directory_path() / ("mpm_cli_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  const std::string cmd =
-      env + std::string(MPM_BINARY) + " " + args + " >" + (dir / "out").string() + " 2>" + (dir / "err").string();
+  const std::string cmd = env + std::string(MPM_BINARY) + " " + args + " >" + (dir / "out").string() + " 2>" +
+                          (dir / "err").string();
   const int raw = std::system(cmd.c_str());
   Outcome o{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(dir / "out"), slurp(dir / "err")};
   std::filesystem::remove_all(dir);
@@ -68,24 +68,29 @@ INSTANTIATE_TEST_SUITE_P(
         BadArgument{"verify axis-aligned --cfl 1.5", "--cfl: expected a number in (0, 1]"},
         BadArgument{"verify axis-aligned --cfl 2.5 --cfl-speed reference",
                     "--cfl: expected a number in (0, 2] with --cfl-speed reference"},
-        BadArgument{"verify axis-aligned --cfl-speed fastest", "--cfl-speed: expected particles or reference"},
+        BadArgument{"verify axis-aligned --cfl-speed fastest",
+                    "--cfl-speed: expected particles or reference"},
         BadArgument{"verify axis-aligned --error energy", "--error: expected particles or nodal"},
-        BadArgument{"verify axis-aligned --error nodal --integrator implicit", "--error nodal: the nodal acceleration"},
+        BadArgument{"verify axis-aligned --error nodal --integrator implicit",
+                    "--error nodal: the nodal acceleration"},
         BadArgument{"verify axis-aligned --start exact", "--start exact: needs a fixed time step"},
         BadArgument{"verify axis-aligned --start exact --cfl-speed reference --integrator usl",
                     "--start exact: only centered difference (cd) and UVF-MPM (musl)"},
         BadArgument{"verify axis-aligned --cells many", "--cells"},
         BadArgument{"verify axis-aligned --constrained-acceleration sticky",
                     "--constrained-acceleration: expected zero or velocity-difference, got 'sticky'"},
-        BadArgument{"verify axis-aligned --integrator implicit --constrained-acceleration velocity-difference",
-                    "--constrained-acceleration: the implicit integrator solves for the end-of-step velocities"},
-        BadArgument{"verify ring",
-                    "case: unknown case 'ring' (expected axis-aligned, bar-1d, expanding-ring or shear-wave)"},
+        BadArgument{
+            "verify axis-aligned --integrator implicit --constrained-acceleration velocity-difference",
+            "--constrained-acceleration: the implicit integrator solves for the end-of-step velocities"},
+        BadArgument{
+            "verify ring",
+            "case: unknown case 'ring' (expected axis-aligned, bar-1d, expanding-ring or shear-wave)"},
         BadArgument{"verify axis-aligned --amplitude 0.5", "--amplitude"},
         BadArgument{"verify bar-1d --amplitude 0.2", "--amplitude: expected A < 0.159"},
         BadArgument{"verify axis-aligned --nu 0.5", "--nu: expected a Poisson's ratio in [0, 0.5)"},
         BadArgument{"verify axis-aligned --nu -0.1", "--nu: expected a Poisson's ratio in [0, 0.5)"},
-        BadArgument{"verify expanding-ring --nu 0.2", "--nu: the expanding-ring solution is written for nu = 0"}));
+        BadArgument{"verify expanding-ring --nu 0.2",
+                    "--nu: the expanding-ring solution is written for nu = 0"}));
 
 INSTANTIATE_TEST_SUITE_P(
     Converge, CliBadInput,
@@ -118,9 +123,10 @@ std::uint32_t big_endian(const std::string& bytes, std::size_t at) {
 TEST(Cli, ConvergePlotsAndTablesEverySeries) {
   const auto dir = std::filesystem::temp_directory_path() / ("mpm_plot_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  const Outcome o = run_mpm("converge bar-1d --amplitude 0.01 --vary cells --values 8,16 --series "
-                            "cpgimp:cd,linear:usl:apic --csv " + (dir / "t.csv").string() + " --plot " +
-                            (dir / "p.png").string());
+  const Outcome o = run_mpm(
+      "converge bar-1d --amplitude 0.01 --vary cells --values 8,16 --series "
+      "cpgimp:cd,linear:usl:apic --csv " +
+      (dir / "t.csv").string() + " --plot " + (dir / "p.png").string());
   ASSERT_EQ(o.status, 0) << o.err;
   const std::string csv = slurp(dir / "t.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5) << csv;  // header + 2 series x 2 points
@@ -152,8 +158,8 @@ TEST(Cli, DensityProjectionReportsItsSupport) {
   EXPECT_NE(o.err.find("--gimp-length: expected a smoothing length in (0, h]"), std::string::npos) << o.err;
 }
 
-// Started by an MPI launcher among several processes, mpm (one process) refuses with exit 2, said once by rank 0,
-// instead of letting every copy write the same output; one process under a launcher runs.
+// Started by an MPI launcher among several processes, mpm (one process) refuses with exit 2, said once by
+// rank 0, instead of letting every copy write the same output; one process under a launcher runs.
 TEST(Cli, StartedAmongSeveralMpiProcessesRefusesOnce) {
   for (const char* launcher : {"OMPI_COMM_WORLD_SIZE=3 OMPI_COMM_WORLD_RANK=", "PMI_SIZE=3 PMI_RANK="}) {
     const Outcome first = run_mpm("verify axis-aligned --cells 4", std::string(launcher) + "0 ");
@@ -165,7 +171,8 @@ TEST(Cli, StartedAmongSeveralMpiProcessesRefusesOnce) {
     EXPECT_EQ(second.status, 2);
     EXPECT_TRUE(second.err.empty() && second.out.empty()) << second.err;
   }
-  const Outcome alone = run_mpm("verify axis-aligned --cells 4", "OMPI_COMM_WORLD_SIZE=1 OMPI_COMM_WORLD_RANK=0 ");
+  const Outcome alone =
+      run_mpm("verify axis-aligned --cells 4", "OMPI_COMM_WORLD_SIZE=1 OMPI_COMM_WORLD_RANK=0 ");
   EXPECT_EQ(alone.status, 0) << alone.err;
   EXPECT_NE(alone.out.find("axis-aligned"), std::string::npos);
 }
@@ -173,10 +180,10 @@ TEST(Cli, StartedAmongSeveralMpiProcessesRefusesOnce) {
 TEST(Cli, BenchRejectsBadKernelAndDimension) {
   Outcome o = run_mpm("bench --kernel cubic --steps 1");
   EXPECT_EQ(o.status, 2);
-  EXPECT_NE(o.err.find(
-                "--kernel: unknown name 'cubic' (expected one of linear, ugimp, cpgimp, bspline2, bspline3, "
-                "bspline2-clamped, bspline3-clamped, cpdi, ugimp-wide, cpgimp-wide, cpdi2)"),
-            std::string::npos)
+  EXPECT_NE(
+      o.err.find("--kernel: unknown name 'cubic' (expected one of linear, ugimp, cpgimp, bspline2, bspline3, "
+                 "bspline2-clamped, bspline3-clamped, cpdi, ugimp-wide, cpgimp-wide, cpdi2)"),
+      std::string::npos)
       << o.err;
   o = run_mpm("bench --dim 4 --steps 1");
   EXPECT_EQ(o.status, 2);

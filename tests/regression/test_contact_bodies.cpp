@@ -1,8 +1,10 @@
 // Multi-field contact between deformable bodies ([[contact]], contact/multi_field.hpp):
-// - examples/contact/block-on-plate.toml: the inclined block on a stiff elastic plate slides with the acceleration
-//   g (sin(theta) - mu cos(theta)) for mu < tan(theta) and stays put above it, the plate pressing with the block's
-//   weight across the plane and friction mu times that along it;
-// - examples/contact/colliding-disks.toml: with a field each the disks bounce apart, total momentum stays zero to
+// - examples/contact/block-on-plate.toml: the inclined block on a stiff elastic plate slides with the
+// acceleration
+//   g (sin(theta) - mu cos(theta)) for mu < tan(theta) and stays put above it, the plate pressing with the
+//   block's weight across the plane and friction mu times that along it;
+// - examples/contact/colliding-disks.toml: with a field each the disks bounce apart, total momentum stays
+// zero to
 //   round-off, the particles of one stay more than a particle spacing from those of the other, and the energy
 //   the coarse grid adds in the impact shrinks with refinement;
 // - the same bits on 1 to 4 ranks and after a restart; bad [[contact]] tables refused with one line.
@@ -26,7 +28,8 @@ using History = std::map<std::string, std::vector<double>>;
 
 const std::string plate = (source_dir / "examples/contact/block-on-plate.toml").string();
 const std::string disks = (source_dir / "examples/contact/colliding-disks.toml").string();
-constexpr double g = 9.81, theta = 30 * 3.14159265358979323846 / 180, block_mass = 1000 * 0.4 * 0.2;  // [kg/m]
+constexpr double g = 9.81, theta = 30 * 3.14159265358979323846 / 180,
+                 block_mass = 1000 * 0.4 * 0.2;  // [kg/m]
 
 /// Run `scene` with `args` and return its history (the output is removed).
 History run(const std::string& scene, const std::string& name, const std::string& args) {
@@ -38,9 +41,9 @@ History run(const std::string& scene, const std::string& name, const std::string
   return h;
 }
 
-/// Means over the steps after the load's ramp (t >= 0.15 s): the block's acceleration along the plane from the
-/// change of the total momentum (the plate's, held by the fixed face, stays below 0.1% of it), and the contact
-/// force on the block by the plate: across the plane, along it, and its normal and tangential sums.
+/// Means over the steps after the load's ramp (t >= 0.15 s): the block's acceleration along the plane from
+/// the change of the total momentum (the plate's, held by the fixed face, stays below 0.1% of it), and the
+/// contact force on the block by the plate: across the plane, along it, and its normal and tangential sums.
 struct Slide {
   double acceleration, force_x, force_y, normal, tangential;
 };
@@ -56,14 +59,15 @@ Slide slide(const History& h) {
     s.normal += h.at("contact0_normal")[k] / n;
     s.tangential += h.at("contact0_tangential")[k] / n;
   }
-  s.acceleration = (h.at("momentum_x").back() - h.at("momentum_x")[first]) / block_mass / (t.back() - t[first]);
+  s.acceleration =
+      (h.at("momentum_x").back() - h.at("momentum_x")[first]) / block_mass / (t.back() - t[first]);
   return s;
 }
 
 TEST(ContactBodies, BlockOnAPlateSlidesWithTheCoulombAcceleration) {
-  // Measured against g (sin(theta) - mu cos(theta)): mu = 0: -0.0%, 0.2: +0.7%, 0.4: +0.1%; asserted within 2%.
-  // The plate's mean normal force is the block's weight across the plane, m g cos(theta) = 679.7 N (measured
-  // -1.3% to -0.05%), and its friction mu times the normal force (every contact node slides).
+  // Measured against g (sin(theta) - mu cos(theta)): mu = 0: -0.0%, 0.2: +0.7%, 0.4: +0.1%; asserted within
+  // 2%. The plate's mean normal force is the block's weight across the plane, m g cos(theta) = 679.7 N
+  // (measured -1.3% to -0.05%), and its friction mu times the normal force (every contact node slides).
   const double weight = block_mass * g * std::cos(theta);
   for (double mu : {0.0, 0.2, 0.4}) {
     const History h = run(plate, "mu" + std::to_string(mu), "--set constants.mu=" + std::to_string(mu));
@@ -71,12 +75,12 @@ TEST(ContactBodies, BlockOnAPlateSlidesWithTheCoulombAcceleration) {
     const double expected = g * (std::sin(theta) - mu * std::cos(theta));
     EXPECT_NEAR(s.acceleration, expected, 0.02 * g * std::sin(theta)) << "mu = " << mu;
     EXPECT_NEAR(s.normal, weight, 0.02 * weight) << "mu = " << mu;
-    // The normal is the plate's, vertical, at all but a few corner nodes: measured |force_y - normal| <= 1.2e-6
-    // and |force_x + tangential| <= 3e-6 of the weight.
+    // The normal is the plate's, vertical, at all but a few corner nodes: measured |force_y - normal|
+    // <= 1.2e-6 and |force_x + tangential| <= 3e-6 of the weight.
     EXPECT_NEAR(s.force_y, s.normal, 1e-4 * weight) << "mu = " << mu;
     EXPECT_NEAR(s.force_x, -s.tangential, 1e-4 * weight) << "mu = " << mu;
-    // Coulomb: friction at most mu times the normal force, and all of it while the block slides but at the few
-    // nodes that stick in some steps (measured 1 - tangential / (mu normal) <= 8e-5).
+    // Coulomb: friction at most mu times the normal force, and all of it while the block slides but at the
+    // few nodes that stick in some steps (measured 1 - tangential / (mu normal) <= 8e-5).
     EXPECT_LE(s.tangential, mu * s.normal + 1e-9 * weight) << "mu = " << mu;
     EXPECT_GE(s.tangential, mu * s.normal * (1 - 1e-3)) << "mu = " << mu;
     if (mu == 0) {
@@ -109,21 +113,23 @@ double closest_approach(const fs::path& out) {
 
 TEST(ContactBodies, CollidingDisksBounceApartConservingMomentum) {
   const fs::path dir = scratch("contact_bodies", "disks");
-  ASSERT_EQ(run_mpm(disks, "--out " + (dir / "contact").string(), dir / "log.txt"), 0) << slurp(dir / "log.txt");
+  ASSERT_EQ(run_mpm(disks, "--out " + (dir / "contact").string(), dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
   const History h = csv_columns(dir / "contact/history.csv");
   // Momentum: zero at the start, and every correction moves momentum from one field to the other: measured
   // |P| <= 4e-15 kg m/s against m |v| = 17.8 kg m/s per disk.
   for (const char* axis : {"momentum_x", "momentum_y"})
     for (double p : h.at(axis)) EXPECT_LT(std::abs(p), 1e-13) << axis;
-  // The impulse the upper-right disk gives the lower-left one, sum of force x dt: -p0 would stop it (the disks
-  // stuck together), -2 p0 reverses it elastically. Measured restitution (-impulse / p0 - 1) = 0.989.
+  // The impulse the upper-right disk gives the lower-left one, sum of force x dt: -p0 would stop it (the
+  // disks stuck together), -2 p0 reverses it elastically. Measured restitution (-impulse / p0 - 1) = 0.989.
   const std::vector<double>& t = h.at("time");
   double impulse_x = 0, impulse_y = 0;
   for (std::size_t k = 1; k < t.size(); ++k) {
     impulse_x += h.at("contact0_x")[k] * (t[k] - t[k - 1]);
     impulse_y += h.at("contact0_y")[k] * (t[k] - t[k - 1]);
   }
-  // m v of a disk along x [kg m/s], m from the kinetic energy at the start, 2 (m / 2) |v|^2 with |v|^2 = 0.02.
+  // m v of a disk along x [kg m/s], m from the kinetic energy at the start, 2 (m / 2) |v|^2 with |v|^2 =
+  // 0.02.
   const double p0 = h.at("kinetic_energy").front() / 0.02 * 0.1;
   EXPECT_NEAR(impulse_x, impulse_y, 1e-9 * p0);  // along the diagonal
   EXPECT_GT(-impulse_x / p0 - 1, 0.5);
@@ -140,12 +146,14 @@ TEST(ContactBodies, CollidingDisksBounceApartConservingMomentum) {
 }
 
 TEST(ContactBodies, AGapLetsTheDisksComeCloser) {
-  // With the gap of mass centres (Nairn 2013) contact waits until the fields' mass centres at a node are within
-  // `gap` cells along the normal. Measured closest approach of the disks' particles: 0.0439 m without a gap;
-  // gap 1.5: 0.0378 m, 1.2: 0.0272 m, 1.0: 0.0169 m, 0.8 (Nairn's value at 2 particles per cell): 0.0073 m, where
-  // the particles, 0.025 m apart in a body, overlap. Asserted: 1.5 lets them closer without overlap.
+  // With the gap of mass centres (Nairn 2013) contact waits until the fields' mass centres at a node are
+  // within `gap` cells along the normal. Measured closest approach of the disks' particles: 0.0439 m without
+  // a gap; gap 1.5: 0.0378 m, 1.2: 0.0272 m, 1.0: 0.0169 m, 0.8 (Nairn's value at 2 particles per cell):
+  // 0.0073 m, where the particles, 0.025 m apart in a body, overlap. Asserted: 1.5 lets them closer without
+  // overlap.
   const fs::path dir = scratch("contact_bodies", "gap");
-  ASSERT_EQ(run_mpm(disks, "--out " + (dir / "approach").string(), dir / "log.txt"), 0) << slurp(dir / "log.txt");
+  ASSERT_EQ(run_mpm(disks, "--out " + (dir / "approach").string(), dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
   ASSERT_EQ(run_mpm(disks, "--set contact.0.gap=1.5 --out " + (dir / "gap").string(), dir / "log.txt"), 0)
       << slurp(dir / "log.txt");
   const double approach = closest_approach(dir / "approach"), gap = closest_approach(dir / "gap");
@@ -158,9 +166,9 @@ TEST(ContactBodies, AGapLetsTheDisksComeCloser) {
 }
 
 TEST(ContactBodies, CollidingDisksEnergyErrorShrinksWithRefinement) {
-  // Total energy at the end against the start: the contact corrections add energy in the impact, an error of the
-  // time step as much as of the grid. Measured at CFL 0.1 with 20, 40, 80 cells: +4.5%, +0.94%, +0.55% (at the
-  // example's CFL 0.4: +12.8%, +3.1%, +3.3%; the single-field run: +0.25% to -0.45%).
+  // Total energy at the end against the start: the contact corrections add energy in the impact, an error of
+  // the time step as much as of the grid. Measured at CFL 0.1 with 20, 40, 80 cells: +4.5%, +0.94%, +0.55%
+  // (at the example's CFL 0.4: +12.8%, +3.1%, +3.3%; the single-field run: +0.25% to -0.45%).
   std::vector<double> error;
   for (int cells : {20, 40, 80}) {
     const History h = run(disks, "cells" + std::to_string(cells),
@@ -176,7 +184,8 @@ TEST(ContactBodies, CollidingDisksEnergyErrorShrinksWithRefinement) {
 TEST(ContactBodies, SameBitsOnOneToFourRanksAndAfterARestart) {
   const std::string end = "--set simulation.end_time=1.5 ";
   if (!std::string(MPM_MPIEXEC).empty())
-    for (const std::string gap : {"", "--set contact.0.gap=1.5 "}) {  // the mass centres are summed over boxes too
+    for (const std::string gap :
+         {"", "--set contact.0.gap=1.5 "}) {  // the mass centres are summed over boxes too
       std::vector<std::string> histories;
       for (int ranks = 1; ranks <= 4; ++ranks) {
         const fs::path dir = scratch("contact_bodies", "ranks" + std::to_string(ranks));
@@ -190,11 +199,14 @@ TEST(ContactBodies, SameBitsOnOneToFourRanksAndAfterARestart) {
     }
   // Stopped during the impact and restarted from its checkpoint (which keeps each particle's field).
   const fs::path dir = scratch("contact_bodies", "restart");
-  ASSERT_EQ(run_mpm(disks, end + "--out " + (dir / "one").string(), dir / "log.txt"), 0) << slurp(dir / "log.txt");
+  ASSERT_EQ(run_mpm(disks, end + "--out " + (dir / "one").string(), dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
   ASSERT_EQ(run_mpm(disks, end + "--stop-after 75 --out " + (dir / "two").string(), dir / "log.txt"), 0);
-  ASSERT_EQ(run_mpm(disks, end + "--restart " + (dir / "two/checkpoint.h5").string() + " --out " + (dir / "two").string(),
-                    dir / "log.txt"),
-            0)
+  ASSERT_EQ(
+      run_mpm(disks,
+              end + "--restart " + (dir / "two/checkpoint.h5").string() + " --out " + (dir / "two").string(),
+              dir / "log.txt"),
+      0)
       << slurp(dir / "log.txt");
   const History h = csv_columns(dir / "one/history.csv");
   EXPECT_GT(*std::max_element(h.at("contact0_normal").begin(), h.at("contact0_normal").end()), 0.0);
@@ -205,26 +217,31 @@ TEST(ContactBodies, SameBitsOnOneToFourRanksAndAfterARestart) {
 TEST(ContactBodies, BadContactTablesAreRefusedWithOneLine) {
   const fs::path dir = scratch("contact_bodies", "bad");
   // A third body to group: the disks' scene with a small box.
-  std::ofstream(dir / "three.toml") << slurp(disks)
-                                    << "\n[[bodies]]\nname = \"box\"\nmaterial = \"elastic\"\nlo = [0.45, 0.05]\n"
-                                       "hi = [0.55, 0.15]\n";
-  std::ofstream(dir / "groups.toml") << slurp(dir / "three.toml")
-                                     << "\n[[contact]]\nbodies = [[\"lower-left\", \"box\"], \"upper-right\"]\n"
-                                        "friction = 0.1\n";
-  std::ofstream(dir / "twice.toml") << slurp(dir / "three.toml")
-                                    << "\n[[contact]]\nbodies = [\"upper-right\", \"lower-left\"]\nfriction = 0.1\n";
+  std::ofstream(dir / "three.toml")
+      << slurp(disks)
+      << "\n[[bodies]]\nname = \"box\"\nmaterial = \"elastic\"\nlo = [0.45, 0.05]\n"
+         "hi = [0.55, 0.15]\n";
+  std::ofstream(dir / "groups.toml")
+      << slurp(dir / "three.toml")
+      << "\n[[contact]]\nbodies = [[\"lower-left\", \"box\"], \"upper-right\"]\n"
+         "friction = 0.1\n";
+  std::ofstream(dir / "twice.toml")
+      << slurp(dir / "three.toml")
+      << "\n[[contact]]\nbodies = [\"upper-right\", \"lower-left\"]\nfriction = 0.1\n";
   struct Case {
     std::string scene, set, key, expected;
   };
   const std::string three = (dir / "three.toml").string();
   for (const Case& c : std::vector<Case>{
-           {disks, "--set contact.0.friction=-0.5", "contact[0].friction", "expected a friction coefficient >= 0"},
+           {disks, "--set contact.0.friction=-0.5", "contact[0].friction",
+            "expected a friction coefficient >= 0"},
            {disks, "--set 'contact.0.bodies=[\"lower-left\", \"lower-right\"]'", "contact[0].bodies",
             "unknown body 'lower-right'"},
            {disks, "--set 'contact.0.bodies=[\"lower-left\", \"lower-left\"]'", "contact[0].bodies",
             "body 'lower-left' is on both sides"},
            {disks, "--set 'contact.0.bodies=[\"lower-left\"]'", "contact[0].bodies", "expected two bodies"},
-           {disks, "--set contact.0.normals=mean", "contact[0].normals", "expected one of average, larger, first"},
+           {disks, "--set contact.0.normals=mean", "contact[0].normals",
+            "expected one of average, larger, first"},
            {disks, "--set contact.0.gap=0", "contact[0].gap", "expected a gap > 0"},
            {disks, "--set simulation.integrator=implicit", "contact[0].bodies",
             "contact between bodies is for the explicit"},
@@ -237,7 +254,8 @@ TEST(ContactBodies, BadContactTablesAreRefusedWithOneLine) {
     EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1) << log;
   }
   // Grouped with the box, the lower-left disk shares its field: the scene runs.
-  EXPECT_EQ(run_mpm(three, "--set simulation.end_time=0.05 --out " + (dir / "out").string(), dir / "log.txt"), 0)
+  EXPECT_EQ(run_mpm(three, "--set simulation.end_time=0.05 --out " + (dir / "out").string(), dir / "log.txt"),
+            0)
       << slurp(dir / "log.txt");
   fs::remove_all(dir);
 }

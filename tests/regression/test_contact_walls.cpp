@@ -1,14 +1,14 @@
-// Coulomb walls (a grid face with `friction`, contact/coulomb.hpp) on examples/contact/inclined-block.toml: an
-// elastic block on a plane inclined by 30 degrees slides with the acceleration g (sin(theta) - mu cos(theta)) for
-// mu < tan(theta) = 0.577 and stays put above it; while it slides the wall's tangential force is mu times its normal
-// force; the energy balance closes with the dissipated energy; the same bits on 1 to 4 ranks and after a restart;
-// bad friction refused.
+// Coulomb walls (a grid face with `friction`, contact/coulomb.hpp) on examples/contact/inclined-block.toml:
+// an elastic block on a plane inclined by 30 degrees slides with the acceleration g (sin(theta) - mu
+// cos(theta)) for mu < tan(theta) = 0.577 and stays put above it; while it slides the wall's tangential force
+// is mu times its normal force; the energy balance closes with the dissipated energy; the same bits on 1 to 4
+// ranks and after a restart; bad friction refused.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -26,16 +26,17 @@ constexpr double g = 9.81, theta = 30 * 3.14159265358979323846 / 180, mass = 100
 /// The history of the inclined block with friction mu (and more --set arguments).
 std::map<std::string, std::vector<double>> slide(double mu, const std::string& more = "") {
   const fs::path dir = scratch("contact_walls", "mu" + std::to_string(mu));
-  const int status = run_mpm(block, "--out " + (dir / "out").string() + " --set constants.mu=" + std::to_string(mu) + " " + more,
-                             dir / "log.txt");
+  const int status = run_mpm(
+      block, "--out " + (dir / "out").string() + " --set constants.mu=" + std::to_string(mu) + " " + more,
+      dir / "log.txt");
   EXPECT_EQ(status, 0) << slurp(dir / "log.txt");
   std::map<std::string, std::vector<double>> h = csv_columns(dir / "out/history.csv");
   fs::remove_all(dir);
   return h;
 }
 
-/// The mean acceleration along the plane after the load's ramp (t >= 0.15 s): the change of momentum over mass
-/// and time.
+/// The mean acceleration along the plane after the load's ramp (t >= 0.15 s): the change of momentum over
+/// mass and time.
 double acceleration(const std::map<std::string, std::vector<double>>& h) {
   const std::vector<double>& t = h.at("time");
   const std::vector<double>& p = h.at("momentum_x");
@@ -58,7 +59,8 @@ TEST(ContactWalls, InclinedBlockSlidesWithTheCoulombAcceleration) {
     // Energy: kinetic + strain + dissipated = work of the loads (measured within 1.0%; the work and the
     // dissipation are each accounted to first order in the step).
     const double work = h.at("external_work").back();
-    EXPECT_NEAR(h.at("total_energy").back() + h.at("friction_dissipation").back(), work, 0.02 * work) << "mu = " << mu;
+    EXPECT_NEAR(h.at("total_energy").back() + h.at("friction_dissipation").back(), work, 0.02 * work)
+        << "mu = " << mu;
     if (mu == 0) {
       EXPECT_EQ(h.at("friction_dissipation").back(), 0.0);
     }
@@ -66,26 +68,29 @@ TEST(ContactWalls, InclinedBlockSlidesWithTheCoulombAcceleration) {
 }
 
 TEST(ContactWalls, InclinedBlockStaysPutAboveTanTheta) {
-  // mu = 0.7 > tan(30 degrees): after the ramp the block does not move (measured |v| = 4e-4 m/s at 0.4 s, where
-  // without friction it would move at 1.7 m/s).
+  // mu = 0.7 > tan(30 degrees): after the ramp the block does not move (measured |v| = 4e-4 m/s at 0.4 s,
+  // where without friction it would move at 1.7 m/s).
   const auto h = slide(0.7);
   EXPECT_LT(std::abs(h.at("momentum_x").back() / mass), 2e-3);
   EXPECT_LT(std::abs(acceleration(h)), 0.01);
 }
 
 TEST(ContactWalls, TiltedGravityFromConstants) {
-  // gravity as expressions of the constants, unramped: the block released onto the plane bounces on it, but with
-  // mu = 0.2 it slides all the time, and its mean acceleration over the run is still the Coulomb one (measured +0.3%).
-  const auto h = slide(0.2, "--set 'loads.gravity=[\"g * sin(theta * pi / 180)\", \"-g * cos(theta * pi / 180)\"]' "
-                            "--set 'loads.body_force=[0.0, 0.0]'");
+  // gravity as expressions of the constants, unramped: the block released onto the plane bounces on it, but
+  // with mu = 0.2 it slides all the time, and its mean acceleration over the run is still the Coulomb one
+  // (measured +0.3%).
+  const auto h =
+      slide(0.2,
+            "--set 'loads.gravity=[\"g * sin(theta * pi / 180)\", \"-g * cos(theta * pi / 180)\"]' "
+            "--set 'loads.body_force=[0.0, 0.0]'");
   const double expected = g * (std::sin(theta) - 0.2 * std::cos(theta));
   EXPECT_NEAR(h.at("momentum_x").back() / mass / h.at("time").back(), expected, 0.02 * expected);
 }
 
 TEST(ContactWalls, ACoulombRigidBodyActsAsTheWall) {
-  // The plane made of a rigid body with friction (its normal from its points' shape-function gradients) instead of
-  // the grid face: the block 0.1 m higher on a 0.1 m slab over the whole grid's width. The slab's normal is
-  // vertical, so the block slides as on the face: measured the same acceleration to 1e-15.
+  // The plane made of a rigid body with friction (its normal from its points' shape-function gradients)
+  // instead of the grid face: the block 0.1 m higher on a 0.1 m slab over the whole grid's width. The slab's
+  // normal is vertical, so the block slides as on the face: measured the same acceleration to 1e-15.
   const fs::path dir = scratch("contact_walls", "rigid");
   std::string text = slurp(block);
   const auto replace = [&](const std::string& from, const std::string& to) {
@@ -98,9 +103,12 @@ TEST(ContactWalls, ACoulombRigidBodyActsAsTheWall) {
   replace("faces = { y-min = { friction = \"mu\" } }", "faces = { y-min = \"fixed\" }");
   replace("lo = [0.1, 0.0]", "lo = [0.1, 0.1]");
   replace("hi = [0.5, 0.2]", "hi = [0.5, 0.3]");
-  text += "\n[[rigid_bodies]]\nname = \"plane\"\nlo = [0.0, 0.0]\nhi = [2.0, 0.1]\nvelocity = [0.0, 0.0]\nfriction = \"mu\"\n";
+  text +=
+      "\n[[rigid_bodies]]\nname = \"plane\"\nlo = [0.0, 0.0]\nhi = [2.0, 0.1]\nvelocity = [0.0, "
+      "0.0]\nfriction = \"mu\"\n";
   std::ofstream(dir / "rigid.toml") << text;
-  ASSERT_EQ(run_mpm(dir / "rigid.toml", "--out " + (dir / "out").string(), dir / "log.txt"), 0) << slurp(dir / "log.txt");
+  ASSERT_EQ(run_mpm(dir / "rigid.toml", "--out " + (dir / "out").string(), dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
   const auto h = csv_columns(dir / "out/history.csv");
   const double face = acceleration(slide(0.2));
   EXPECT_NEAR(acceleration(h), face, 1e-12 * face);
@@ -109,11 +117,14 @@ TEST(ContactWalls, ACoulombRigidBodyActsAsTheWall) {
   EXPECT_NEAR(tangential, -0.2 * normal, 1e-9 * normal);
   const double work = h.at("external_work").back();
   EXPECT_NEAR(h.at("total_energy").back() + h.at("friction_dissipation").back(), work, 0.02 * work);
-  // A Coulomb body's contact follows its surface: contact_axes with it is refused, as is the implicit integrator.
+  // A Coulomb body's contact follows its surface: contact_axes with it is refused, as is the implicit
+  // integrator.
   for (const std::string& set : {std::string("--set 'rigid_bodies.0.contact_axes=[\"y\"]'"),
                                  std::string("--set simulation.integrator=implicit")}) {
-    EXPECT_EQ(run_mpm(dir / "rigid.toml", "--out " + (dir / "bad").string() + " " + set, dir / "log.txt"), 2) << set;
-    EXPECT_NE(slurp(dir / "log.txt").find("rigid_bodies[0].friction: "), std::string::npos) << slurp(dir / "log.txt");
+    EXPECT_EQ(run_mpm(dir / "rigid.toml", "--out " + (dir / "bad").string() + " " + set, dir / "log.txt"), 2)
+        << set;
+    EXPECT_NE(slurp(dir / "log.txt").find("rigid_bodies[0].friction: "), std::string::npos)
+        << slurp(dir / "log.txt");
   }
   fs::remove_all(dir);
 }
@@ -123,25 +134,31 @@ TEST(ContactWalls, SameBitsOnOneToFourRanks) {
   std::vector<std::string> histories;
   for (int ranks = 1; ranks <= 4; ++ranks) {
     const fs::path dir = scratch("contact_walls", "ranks" + std::to_string(ranks));
-    ASSERT_EQ(run_on(ranks, block, "--set simulation.end_time=0.15 --out " + (dir / "out").string(), dir / "log.txt"), 0)
+    ASSERT_EQ(run_on(ranks, block, "--set simulation.end_time=0.15 --out " + (dir / "out").string(),
+                     dir / "log.txt"),
+              0)
         << slurp(dir / "log.txt");
     histories.push_back(slurp(dir / "out/history.csv"));
     fs::remove_all(dir);
   }
   EXPECT_NE(histories[0].find("friction_dissipation"), std::string::npos);
-  for (int ranks = 2; ranks <= 4; ++ranks) EXPECT_EQ(histories[static_cast<std::size_t>(ranks - 1)], histories[0]) << ranks;
+  for (int ranks = 2; ranks <= 4; ++ranks)
+    EXPECT_EQ(histories[static_cast<std::size_t>(ranks - 1)], histories[0]) << ranks;
 }
 
 TEST(ContactWalls, RestartKeepsTheDissipation) {
-  // Stopped after 300 steps and restarted from its checkpoint, the run ends with the uninterrupted history, byte
-  // for byte, friction_dissipation included.
+  // Stopped after 300 steps and restarted from its checkpoint, the run ends with the uninterrupted history,
+  // byte for byte, friction_dissipation included.
   const fs::path dir = scratch("contact_walls", "restart");
   const std::string end = "--set simulation.end_time=0.15 ";
-  ASSERT_EQ(run_mpm(block, end + "--out " + (dir / "one").string(), dir / "log.txt"), 0) << slurp(dir / "log.txt");
+  ASSERT_EQ(run_mpm(block, end + "--out " + (dir / "one").string(), dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
   ASSERT_EQ(run_mpm(block, end + "--stop-after 300 --out " + (dir / "two").string(), dir / "log.txt"), 0);
-  ASSERT_EQ(run_mpm(block, end + "--restart " + (dir / "two/checkpoint.h5").string() + " --out " + (dir / "two").string(),
-                    dir / "log.txt"),
-            0)
+  ASSERT_EQ(
+      run_mpm(block,
+              end + "--restart " + (dir / "two/checkpoint.h5").string() + " --out " + (dir / "two").string(),
+              dir / "log.txt"),
+      0)
       << slurp(dir / "log.txt");
   const std::string history = slurp(dir / "one/history.csv");
   EXPECT_GT(csv_columns(dir / "one/history.csv").at("friction_dissipation").back(), 0.0);

@@ -1,10 +1,10 @@
-// Checkpoints of runs divided between ranks: `mpirun -np N mpm run --stop-after K` writes one checkpoint.h5 that
-// holds, by particle id, the same bits as one process's checkpoint after K steps; restarted on M ranks (M = 1 to
-// 4, M != N) the run ends with the same history.csv, byte for byte, the same summary figures, the same last frame
-// and the same final checkpoint (by id, to the bit) as the uninterrupted one-process run. Cases: the colliding
-// disks (Neo-Hookean, particles crossing between ranks), the explicit upsetting (von Mises state, a rigid
-// platen's displacement), the outflow block (particles leave before the checkpoint) and a run that a signal to one
-// of its ranks interrupts. Skipped without MPI.
+// Checkpoints of runs divided between ranks: `mpirun -np N mpm run --stop-after K` writes one checkpoint.h5
+// that holds, by particle id, the same bits as one process's checkpoint after K steps; restarted on M ranks
+// (M = 1 to 4, M != N) the run ends with the same history.csv, byte for byte, the same summary figures, the
+// same last frame and the same final checkpoint (by id, to the bit) as the uninterrupted one-process run.
+// Cases: the colliding disks (Neo-Hookean, particles crossing between ranks), the explicit upsetting (von
+// Mises state, a rigid platen's displacement), the outflow block (particles leave before the checkpoint) and
+// a run that a signal to one of its ranks interrupts. Skipped without MPI.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -48,8 +48,10 @@ mpm::io::CheckpointData sorted_by_id(mpm::io::CheckpointData c) {
   return c;
 }
 
-/// Whether two checkpoints hold the same entries, reals to the bit (the texts but the scene's path-free text).
-void expect_same_checkpoints(const mpm::io::CheckpointData& a, const mpm::io::CheckpointData& b, const std::string& at) {
+/// Whether two checkpoints hold the same entries, reals to the bit (the texts but the scene's path-free
+/// text).
+void expect_same_checkpoints(const mpm::io::CheckpointData& a, const mpm::io::CheckpointData& b,
+                             const std::string& at) {
   EXPECT_EQ(a.row_widths, b.row_widths) << at;
   EXPECT_EQ(a.integers, b.integers) << at;
   EXPECT_EQ(a.integer_scalars, b.integer_scalars) << at;
@@ -59,13 +61,14 @@ void expect_same_checkpoints(const mpm::io::CheckpointData& a, const mpm::io::Ch
     EXPECT_TRUE(b.reals.count(name) && same_bits(values, b.reals.at(name))) << at << ": " << name;
   ASSERT_EQ(a.real_scalars.size(), b.real_scalars.size()) << at;
   for (const auto& [name, value] : a.real_scalars)
-    EXPECT_TRUE(b.real_scalars.count(name) && same_bits({value}, {b.real_scalars.at(name)})) << at << ": " << name;
+    EXPECT_TRUE(b.real_scalars.count(name) && same_bits({value}, {b.real_scalars.at(name)}))
+        << at << ": " << name;
 }
 
-/// One process runs the scene through; `writer` ranks stop after `stop_after` steps with a checkpoint, which each
-/// of `restarts` ranks continues (a copy each). Every continuation must end as the one-process run did.
-void expect_restarts_same(const std::string& name, const std::string& scene, const std::string& args, int stop_after,
-                          int writer, const std::vector<int>& restarts) {
+/// One process runs the scene through; `writer` ranks stop after `stop_after` steps with a checkpoint, which
+/// each of `restarts` ranks continues (a copy each). Every continuation must end as the one-process run did.
+void expect_restarts_same(const std::string& name, const std::string& scene, const std::string& args,
+                          int stop_after, int writer, const std::vector<int>& restarts) {
   const fs::path dir = scratch("distributed_restart", name);
   const auto run = [&](int ranks, const fs::path& out, const std::string& more) {
     const int status = run_on(ranks, scene, args + " --out " + out.string() + " " + more, dir / "log.txt");
@@ -74,7 +77,8 @@ void expect_restarts_same(const std::string& name, const std::string& scene, con
   };
   // --checkpoint-every past the end: the finished run writes its final state.
   const std::string final_checkpoint = "--checkpoint-every 100000";
-  if (!run(1, dir / "one", final_checkpoint) || !run(1, dir / "one_stopped", "--stop-after " + std::to_string(stop_after)) ||
+  if (!run(1, dir / "one", final_checkpoint) ||
+      !run(1, dir / "one_stopped", "--stop-after " + std::to_string(stop_after)) ||
       !run(writer, dir / "stopped", "--stop-after " + std::to_string(stop_after)))
     return;
   // The divided run's one file holds one process's particles, by id, to the bit.
@@ -86,8 +90,8 @@ void expect_restarts_same(const std::string& name, const std::string& scene, con
   const nlohmann::json summary = nlohmann::json::parse(slurp(dir / "one/summary.json"));
   const std::vector<std::string> one_frames = frames(dir / "one");
   for (int ranks : restarts) {
-    const std::string at = name + ": written on " + std::to_string(writer) + " ranks, restarted on " +
-                           std::to_string(ranks);
+    const std::string at =
+        name + ": written on " + std::to_string(writer) + " ranks, restarted on " + std::to_string(ranks);
     const fs::path out = dir / ("restart" + std::to_string(ranks));
     fs::copy(dir / "stopped", out, fs::copy_options::recursive);
     if (!run(ranks, out, "--restart " + (out / "checkpoint.h5").string() + " " + final_checkpoint)) continue;
@@ -99,9 +103,11 @@ void expect_restarts_same(const std::string& name, const std::string& scene, con
     ASSERT_EQ(f.size(), one_frames.size()) << at;
     for (const auto& [field, components] :
          std::vector<std::pair<std::string, int>>{{"", 3}, {"velocity", 3}, {"stress", 6}, {"id", 1}})
-      EXPECT_TRUE(same_bits(by_id(out, f.back(), field, components), by_id(dir / "one", one_frames.back(), field, components)))
+      EXPECT_TRUE(same_bits(by_id(out, f.back(), field, components),
+                            by_id(dir / "one", one_frames.back(), field, components)))
           << at << ", last frame: " << (field.empty() ? "positions" : field);
-    expect_same_checkpoints(sorted_by_id(mpm::io::read_checkpoint(out / "checkpoint.h5")), one_end, at + ", at the end");
+    expect_same_checkpoints(sorted_by_id(mpm::io::read_checkpoint(out / "checkpoint.h5")), one_end,
+                            at + ", at the end");
   }
   fs::remove_all(dir);
 }
@@ -109,8 +115,8 @@ void expect_restarts_same(const std::string& name, const std::string& scene, con
 TEST(DistributedRestart, CollidingDisksFromTwoRanksOnOneThreeAndFour) {
   if (std::string(MPM_MPIEXEC).empty()) GTEST_SKIP() << "built without MPI";
   if (!mpm::io::collective_checkpoints()) GTEST_SKIP() << "built without parallel HDF5";
-  expect_restarts_same("disks", (source_dir / "examples/colliding-disks/scene.toml").string(), "--set output.every=0.5",
-                       40, 2, {1, 3, 4});
+  expect_restarts_same("disks", (source_dir / "examples/colliding-disks/scene.toml").string(),
+                       "--set output.every=0.5", 40, 2, {1, 3, 4});
 }
 
 TEST(DistributedRestart, RigidPlatenAndPlasticStateFromThreeRanksOnOneAndTwo) {
@@ -138,7 +144,8 @@ TEST(DistributedRestart, ApicOutflowWithAnEmptiedRankFromFourRanksOnOne) {
   if (!mpm::io::collective_checkpoints()) GTEST_SKIP() << "built without parallel HDF5";
   const fs::path dir = scratch("distributed_restart", "apic_outflow_scene");
   std::ofstream(dir / "outflow.toml") << outflow_scene();
-  expect_restarts_same("apic_outflow", (dir / "outflow.toml").string(), "--set simulation.transfer=apic", 60, 4, {1});
+  expect_restarts_same("apic_outflow", (dir / "outflow.toml").string(), "--set simulation.transfer=apic", 60,
+                       4, {1});
   fs::remove_all(dir);
 }
 
@@ -150,7 +157,8 @@ TEST(DistributedRestart, SignalOnOneRankCheckpointsEveryRankAndTheRestartEndsBit
   const fs::path dir = scratch("distributed_restart", "signal");
   const fs::path scene = dir / "block.toml", out = dir / "out";
   std::ofstream(scene) << block_scene("4e-3");
-  const std::string rank_command = std::string(MPM_BINARY) + " run " + scene.string() + " --quiet --out " + out.string();
+  const std::string rank_command =
+      std::string(MPM_BINARY) + " run " + scene.string() + " --quiet --out " + out.string();
   const std::string launch = mpirun(2) + " run " + scene.string() + " --quiet --out " + out.string() + " >" +
                              (dir / "log.txt").string() + " 2>&1";
   const pid_t shell = fork();
@@ -159,7 +167,10 @@ TEST(DistributedRestart, SignalOnOneRankCheckpointsEveryRankAndTheRestartEndsBit
     _exit(127);
   }
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-  const auto rows = [&] { const std::string h = slurp(out / "history.csv"); return std::count(h.begin(), h.end(), '\n'); };
+  const auto rows = [&] {
+    const std::string h = slurp(out / "history.csv");
+    return std::count(h.begin(), h.end(), '\n');
+  };
   while (std::chrono::steady_clock::now() < give_up && rows() < 4)
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   // One rank, found by its exact command line (mpirun's and the shell's differ).
@@ -167,21 +178,25 @@ TEST(DistributedRestart, SignalOnOneRankCheckpointsEveryRankAndTheRestartEndsBit
   ASSERT_EQ(killed, 0) << "no rank found running " << rank_command;
   int status = 0;
   waitpid(shell, &status, 0);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 128 + SIGTERM) << status << ": " << slurp(dir / "log.txt");
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 128 + SIGTERM)
+      << status << ": " << slurp(dir / "log.txt");
   const nlohmann::json s = nlohmann::json::parse(slurp(out / "summary.json"));
   EXPECT_EQ(s["status"], "interrupted");
   EXPECT_EQ(s["signal"], "SIGTERM");
-  EXPECT_EQ(mpm::io::read_checkpoint(out / "checkpoint.h5").integer_scalars.at("steps"), s["steps"].get<std::int64_t>());
+  EXPECT_EQ(mpm::io::read_checkpoint(out / "checkpoint.h5").integer_scalars.at("steps"),
+            s["steps"].get<std::int64_t>());
   EXPECT_LT(s["time"].get<double>(), 4e-3);
   const std::string finish = " --checkpoint-every 100000 --out ";
-  ASSERT_EQ(run_on(3, scene.string(), finish + out.string() + " --restart " + (out / "checkpoint.h5").string(),
-                   dir / "log.txt"),
+  ASSERT_EQ(run_on(3, scene.string(),
+                   finish + out.string() + " --restart " + (out / "checkpoint.h5").string(), dir / "log.txt"),
             0)
       << slurp(dir / "log.txt");
-  ASSERT_EQ(run_on(1, scene.string(), finish + (dir / "one").string(), dir / "log.txt"), 0) << slurp(dir / "log.txt");
+  ASSERT_EQ(run_on(1, scene.string(), finish + (dir / "one").string(), dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
   EXPECT_EQ(slurp(out / "history.csv"), slurp(dir / "one/history.csv"));
   expect_same_checkpoints(sorted_by_id(mpm::io::read_checkpoint(out / "checkpoint.h5")),
-                          sorted_by_id(mpm::io::read_checkpoint(dir / "one/checkpoint.h5")), "interrupted on 2, ended on 3");
+                          sorted_by_id(mpm::io::read_checkpoint(dir / "one/checkpoint.h5")),
+                          "interrupted on 2, ended on 3");
   fs::remove_all(dir);
 }
 
@@ -191,15 +206,21 @@ TEST(DistributedRestart, BadCheckpointSaidOnceOnThreeRanks) {
   const fs::path dir = scratch("distributed_restart", "bad");
   std::ofstream(dir / "not.h5") << "not a checkpoint";
   const std::string disks = (source_dir / "examples/colliding-disks/scene.toml").string();
-  EXPECT_EQ(run_on(3, disks, "--out " + (dir / "a").string() + " --restart " + (dir / "not.h5").string(), dir / "log.txt"), 2);
-  std::string log = slurp(dir / "log.txt");
-  EXPECT_NE(log.find("--restart: checkpoint " + (dir / "not.h5").string() + ": not an HDF5 file"), std::string::npos) << log;
-  EXPECT_EQ(mpm_lines(log), 1) << log;
-  ASSERT_EQ(run_on(1, disks, "--out " + (dir / "a").string() + " --stop-after 2", dir / "log.txt"), 0) << slurp(dir / "log.txt");
-  const std::string block = (source_dir / "examples/3d-block/scene.toml").string();
-  EXPECT_EQ(run_on(3, block, "--out " + (dir / "b").string() + " --restart " + (dir / "a/checkpoint.h5").string(),
+  EXPECT_EQ(run_on(3, disks, "--out " + (dir / "a").string() + " --restart " + (dir / "not.h5").string(),
                    dir / "log.txt"),
             2);
+  std::string log = slurp(dir / "log.txt");
+  EXPECT_NE(log.find("--restart: checkpoint " + (dir / "not.h5").string() + ": not an HDF5 file"),
+            std::string::npos)
+      << log;
+  EXPECT_EQ(mpm_lines(log), 1) << log;
+  ASSERT_EQ(run_on(1, disks, "--out " + (dir / "a").string() + " --stop-after 2", dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
+  const std::string block = (source_dir / "examples/3d-block/scene.toml").string();
+  EXPECT_EQ(
+      run_on(3, block, "--out " + (dir / "b").string() + " --restart " + (dir / "a/checkpoint.h5").string(),
+             dir / "log.txt"),
+      2);
   log = slurp(dir / "log.txt");
   EXPECT_NE(log.find("the checkpoint holds a different scene"), std::string::npos) << log;
   EXPECT_EQ(mpm_lines(log), 1) << log;

@@ -1,9 +1,10 @@
-// `mpirun -np N mpm run SCENE` on 1 to 4 ranks (oversubscribed) writes the same history.csv, byte for byte, the
-// same summary figures and the same particle fields (by id, to the bit) as one process, with the frames as one
-// .pvtp of N pieces listed in particles.pvd. Cases: the colliding-disks example (particles cross between ranks;
-// energies and momenta), the 2-D axis-aligned scene (symmetry-plane reactions, body-force work, [check] error
-// norms), the upsetting example made explicit (a rigid platen's reaction, von Mises state), a block leaving
-// through an outflow face and a bar pulled by a traction. Skipped when the build has no MPI.
+// `mpirun -np N mpm run SCENE` on 1 to 4 ranks (oversubscribed) writes the same history.csv, byte for byte,
+// the same summary figures and the same particle fields (by id, to the bit) as one process, with the frames
+// as one .pvtp of N pieces listed in particles.pvd. Cases: the colliding-disks example (particles cross
+// between ranks; energies and momenta), the 2-D axis-aligned scene (symmetry-plane reactions, body-force
+// work, [check] error norms), the upsetting example made explicit (a rigid platen's reaction, von Mises
+// state), a block leaving through an outflow face and a bar pulled by a traction. Skipped when the build has
+// no MPI.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -54,7 +55,8 @@ nlohmann::json expect_same_on_one_to_four_ranks(const std::string& name, const s
       EXPECT_EQ(pieces(dir, f[k]).size(), static_cast<std::size_t>(ranks)) << at;
       for (const auto& [field, components] : std::vector<std::pair<std::string, int>>{
                {"", 3}, {"velocity", 3}, {"stress", 6}, {"F", 9}, {"volume", 1}, {"mass", 1}, {"id", 1}})
-        EXPECT_TRUE(same_bits(by_id(dir, f[k], field, components), by_id(dirs[0], one_frames[k], field, components)))
+        EXPECT_TRUE(
+            same_bits(by_id(dir, f[k], field, components), by_id(dirs[0], one_frames[k], field, components)))
             << at << ", frame " << k << ": " << (field.empty() ? "positions" : field);
     }
   }
@@ -76,8 +78,8 @@ TEST(DistributedRun, AxisAlignedSameBitsOnOneToFourRanks) {
 
 TEST(DistributedRun, RigidPlatenReactionSameBitsOnOneToFourRanks) {
   if (std::string(MPM_MPIEXEC).empty()) GTEST_SKIP() << "built without MPI";
-  // The upsetting example made explicit and plane strain: the platen's reaction in history.csv, summed over the
-  // nodes each rank owns, is the same bits on every division.
+  // The upsetting example made explicit and plane strain: the platen's reaction in history.csv, summed over
+  // the nodes each rank owns, is the same bits on every division.
   expect_same_on_one_to_four_ranks("platen", (source_dir / "examples/implicit/upsetting.toml").string(),
                                    "--set simulation.integrator=musl --set simulation.geometry=plane-strain "
                                    "--set simulation.end_time=2e-5 --set output.every=1e-5");
@@ -85,12 +87,13 @@ TEST(DistributedRun, RigidPlatenReactionSameBitsOnOneToFourRanks) {
 
 TEST(DistributedRun, OutflowSameBitsOnOneToFourRanks) {
   if (std::string(MPM_MPIEXEC).empty()) GTEST_SKIP() << "built without MPI";
-  // A block thrown down under gravity through the outflow face y = 0 (support.hpp, as OutflowRun.*): what has left,
-  // counted on whichever rank held each particle, is the same bits on every division.
+  // A block thrown down under gravity through the outflow face y = 0 (support.hpp, as OutflowRun.*): what has
+  // left, counted on whichever rank held each particle, is the same bits on every division.
   const fs::path dir = scratch("distributed", "outflow_scene");
   std::ofstream(dir / "outflow.toml") << mpm::testing::outflow_scene();
   const nlohmann::json one = expect_same_on_one_to_four_ranks("outflow", (dir / "outflow.toml").string(), "");
-  EXPECT_EQ(one["outflow"]["particles"].get<int>(), 112);  // measured: 112 of the 128 particles leave by t = 0.2 s
+  EXPECT_EQ(one["outflow"]["particles"].get<int>(),
+            112);  // measured: 112 of the 128 particles leave by t = 0.2 s
   fs::remove_all(dir);
 }
 
@@ -126,8 +129,10 @@ body = "bar"
 face = "x-max"
 traction = [2000.0, 0.0]
 )toml";
-  const nlohmann::json one = expect_same_on_one_to_four_ranks("traction", (dir / "traction.toml").string(), "");
-  EXPECT_GT(one["energy"]["external_work"].get<double>(), 0.0);  // the traction pulls the bar the way it moves
+  const nlohmann::json one =
+      expect_same_on_one_to_four_ranks("traction", (dir / "traction.toml").string(), "");
+  EXPECT_GT(one["energy"]["external_work"].get<double>(),
+            0.0);  // the traction pulls the bar the way it moves
   fs::remove_all(dir);
 }
 

@@ -1,6 +1,6 @@
-// The K0 procedure ([[bodies]] k0, particles/geostatic.hpp): examples/geomechanics/k0-layer.toml, a Mohr-Coulomb
-// layer 5 m deep under gravity from t = 0, starts in its geostatic stress and stays still; the same layer started
-// unstressed falls under its weight and rings.
+// The K0 procedure ([[bodies]] k0, particles/geostatic.hpp): examples/geomechanics/k0-layer.toml, a
+// Mohr-Coulomb layer 5 m deep under gravity from t = 0, starts in its geostatic stress and stays still; the
+// same layer started unstressed falls under its weight and rings.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -43,9 +43,9 @@ double unstressed_kinetic_energy(const std::string& args) {
   return ke;
 }
 
-// The geostatic stress balances the particles' weight at every node to round-off with cpGIMP on a regular lattice,
-// in both engines: measured 1.5e-28 J against 1.2e3 J unstressed (explicit), exactly 0 (implicit). The bound,
-// 1e-20 of the unstressed run, leaves room for round-off well above what was measured.
+// The geostatic stress balances the particles' weight at every node to round-off with cpGIMP on a regular
+// lattice, in both engines: measured 1.5e-28 J against 1.2e3 J unstressed (explicit), exactly 0 (implicit).
+// The bound, 1e-20 of the unstressed run, leaves room for round-off well above what was measured.
 TEST(Geostatic, AK0LayerStartsInEquilibriumExplicit) {
   const double unstressed = unstressed_kinetic_energy("");
   EXPECT_GT(unstressed, 1e3);

@@ -1,6 +1,7 @@
-// `mpm run` with the implicit integrator: impossible settings are input errors naming the key, a Newton failure
-// that step halving cannot rescue stops with exit status 1 and a checkpoint of the last good state, restarts
-// are bitwise, and the frozen-Jacobian preconditioner shortens the Krylov solves without changing the answer.
+// `mpm run` with the implicit integrator: impossible settings are input errors naming the key, a Newton
+// failure that step halving cannot rescue stops with exit status 1 and a checkpoint of the last good state,
+// restarts are bitwise, and the frozen-Jacobian preconditioner shortens the Krylov solves without changing
+// the answer.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -21,7 +22,8 @@ const std::string bar = (source_dir / "examples/implicit/elastic-bar.toml").stri
 const std::string plastic_bar = (source_dir / "examples/implicit/plastic-bar.toml").string();
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("mpm_implicit_" + name + "_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("mpm_implicit_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
@@ -40,7 +42,9 @@ int run(const std::string& args, const fs::path& log) {
   return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
 }
 
-nlohmann::json summary(const fs::path& dir) { return nlohmann::json::parse(slurp(dir / "summary.json")); }
+nlohmann::json summary(const fs::path& dir) {
+  return nlohmann::json::parse(slurp(dir / "summary.json"));
+}
 
 struct BadSetting {
   const char* name;
@@ -67,28 +71,38 @@ TEST_P(ImplicitInput, IsAnInputErrorNamingTheKey) {
 INSTANTIATE_TEST_SUITE_P(
     Scenes, ImplicitInput,
     ::testing::Values(
-        BadSetting{"ThetaAboveOne", "--set implicit.theta=1.5", "implicit.theta", "expected a number in [0, 1]"},
-        BadSetting{"ThetaBelowZero", "--set implicit.theta=-0.1", "implicit.theta", "expected a number in [0, 1]"},
-        BadSetting{"ZeroNewtonTolerance", "--set implicit.newton_tolerance=0", "implicit.newton_tolerance", "expected a finite number > 0"},
-        BadSetting{"NegativeLinearTolerance", "--set implicit.linear_tolerance=-1", "implicit.linear_tolerance", "expected"},
-        BadSetting{"ZeroDerivativeStep", "--set implicit.derivative_step=0", "implicit.derivative_step", "expected a finite number > 0"},
-        BadSetting{"RestartBelowOne", "--set implicit.restart=0", "implicit.restart", "expected an integer >= 1"},
-        BadSetting{"NegativeRefreshAfter", "--set implicit.refresh_after=-1", "implicit.refresh_after", "expected an integer >= 0"},
+        BadSetting{"ThetaAboveOne", "--set implicit.theta=1.5", "implicit.theta",
+                   "expected a number in [0, 1]"},
+        BadSetting{"ThetaBelowZero", "--set implicit.theta=-0.1", "implicit.theta",
+                   "expected a number in [0, 1]"},
+        BadSetting{"ZeroNewtonTolerance", "--set implicit.newton_tolerance=0", "implicit.newton_tolerance",
+                   "expected a finite number > 0"},
+        BadSetting{"NegativeLinearTolerance", "--set implicit.linear_tolerance=-1",
+                   "implicit.linear_tolerance", "expected"},
+        BadSetting{"ZeroDerivativeStep", "--set implicit.derivative_step=0", "implicit.derivative_step",
+                   "expected a finite number > 0"},
+        BadSetting{"RestartBelowOne", "--set implicit.restart=0", "implicit.restart",
+                   "expected an integer >= 1"},
+        BadSetting{"NegativeRefreshAfter", "--set implicit.refresh_after=-1", "implicit.refresh_after",
+                   "expected an integer >= 0"},
         BadSetting{"ExplicitAboveCfl", "--set implicit.theta=0 --set implicit.step_factor=10",
                    "implicit.step_factor", "theta = 0 is explicit"},
-        BadSetting{"RigidBodyOutsideTheGrid", "--set rigid_bodies.0.lo=[-0.1,0.1]",
-                   "rigid_bodies[0].lo", "the rigid body must lie inside the grid"},
+        BadSetting{"RigidBodyOutsideTheGrid", "--set rigid_bodies.0.lo=[-0.1,0.1]", "rigid_bodies[0].lo",
+                   "the rigid body must lie inside the grid"},
         BadSetting{"SofteningToZero",
                    "--set materials.0.model=von-mises --set materials.0.yield_strength=6 "
-                   "--set materials.0.limit_strength=8 --set materials.0.hardening=100 --set materials.0.softening=50",
+                   "--set materials.0.limit_strength=8 --set materials.0.hardening=100 --set "
+                   "materials.0.softening=50",
                    "materials[0].softening", "the strength H reaches zero"},
-        BadSetting{"UnknownSolver", "--set implicit.solver=bicgstab", "implicit.solver", "expected one of newton-gmres, newton-cg, cg"},
+        BadSetting{"UnknownSolver", "--set implicit.solver=bicgstab", "implicit.solver",
+                   "expected one of newton-gmres, newton-cg, cg"},
         BadSetting{"PeriodicRadialAxis",
-                   "--set simulation.geometry=axisymmetric --set 'grid.faces={x-min=\"periodic\",x-max=\"periodic\"}'",
+                   "--set simulation.geometry=axisymmetric --set "
+                   "'grid.faces={x-min=\"periodic\",x-max=\"periodic\"}'",
                    "x-min", "the radial axis of an axisymmetric grid cannot be periodic"},
         BadSetting{"OutflowOnTheAxis",
-                   "--set simulation.geometry=axisymmetric --set 'grid.faces={x-min=\"outflow\"}'",
-                   "x-min", "the axis r = 0 of an axisymmetric grid cannot be an outflow face"},
+                   "--set simulation.geometry=axisymmetric --set 'grid.faces={x-min=\"outflow\"}'", "x-min",
+                   "the axis r = 0 of an axisymmetric grid cannot be an outflow face"},
         BadSetting{"ConsistentMassWithMomentum", "--set implicit.mass=consistent", "implicit.mass",
                    "the consistent mass matrix needs the velocity formulation"},
         BadSetting{"ConsistentMassWithFrozenJacobian",
@@ -111,13 +125,16 @@ INSTANTIATE_TEST_SUITE_P(
                    "output.newton_log", "this run is explicit"},
         BadSetting{"UnknownResidual", "--set implicit.residual=relative", "implicit.residual",
                    "expected one of scaled, unscaled"},
-        BadSetting{"CgWithMomentum", "--set implicit.solver=newton-cg", "implicit.solver", "CG needs the symmetric velocity formulation"},
-        BadSetting{"NeoHookeanNeedsPlaneStrain", "--set simulation.integrator=usl --set materials.0.model=neo-hookean",
+        BadSetting{"CgWithMomentum", "--set implicit.solver=newton-cg", "implicit.solver",
+                   "CG needs the symmetric velocity formulation"},
+        BadSetting{"NeoHookeanNeedsPlaneStrain",
+                   "--set simulation.integrator=usl --set materials.0.model=neo-hookean",
                    "materials[0].model", "a Neo-Hookean material runs in plane strain"}),
     [](const auto& test) { return std::string(test.param.name); });
 
-// One Newton iteration allowed, no halving: the first step fails. The run stops with exit status 1, the summary
-// says why, and a checkpoint of the last good state (t = 0) lets a run with workable settings continue.
+// One Newton iteration allowed, no halving: the first step fails. The run stops with exit status 1, the
+// summary says why, and a checkpoint of the last good state (t = 0) lets a run with workable settings
+// continue.
 TEST(ImplicitFailure, StopsWithStatusOneAndACheckpointToRestartFrom) {
   const fs::path dir = scratch("failure");
   const std::string out = (dir / "out").string();
@@ -132,7 +149,8 @@ TEST(ImplicitFailure, StopsWithStatusOneAndACheckpointToRestartFrom) {
   EXPECT_EQ(s["status"], "failed");
   EXPECT_NE(s["failure"].get<std::string>().find("after 0 halvings"), std::string::npos);
   ASSERT_TRUE(fs::exists(fs::path(out) / "checkpoint.h5"));
-  EXPECT_EQ(run(plastic_bar + " --quiet --out " + out + " --restart " + out + "/checkpoint.h5", dir / "log2"), 0)
+  EXPECT_EQ(run(plastic_bar + " --quiet --out " + out + " --restart " + out + "/checkpoint.h5", dir / "log2"),
+            0)
       << slurp(dir / "log2");
   EXPECT_EQ(summary(out)["status"], "ok");
   fs::remove_all(dir);
@@ -143,8 +161,10 @@ TEST(ImplicitRestart, IsBitwise) {
   const fs::path dir = scratch("restart");
   const std::string one = (dir / "one").string(), two = (dir / "two").string();
   ASSERT_EQ(run(plastic_bar + " --quiet --out " + one, dir / "log"), 0) << slurp(dir / "log");
-  ASSERT_EQ(run(plastic_bar + " --quiet --out " + two + " --stop-after 20", dir / "log"), 0) << slurp(dir / "log");
-  ASSERT_EQ(run(plastic_bar + " --quiet --out " + two + " --restart " + two + "/checkpoint.h5", dir / "log"), 0)
+  ASSERT_EQ(run(plastic_bar + " --quiet --out " + two + " --stop-after 20", dir / "log"), 0)
+      << slurp(dir / "log");
+  ASSERT_EQ(run(plastic_bar + " --quiet --out " + two + " --restart " + two + "/checkpoint.h5", dir / "log"),
+            0)
       << slurp(dir / "log");
   EXPECT_EQ(slurp(fs::path(one) / "history.csv"), slurp(fs::path(two) / "history.csv"));
   EXPECT_EQ(slurp(fs::path(one) / "particles_0012.vtp"), slurp(fs::path(two) / "particles_0012.vtp"));
@@ -159,7 +179,9 @@ TEST(FrozenJacobian, ShortensTheKrylovSolves) {
   const fs::path dir = scratch("frozen");
   const std::string plain = (dir / "plain").string(), pre = (dir / "pre").string();
   ASSERT_EQ(run(plastic_bar + " --quiet --out " + plain, dir / "log"), 0) << slurp(dir / "log");
-  ASSERT_EQ(run(plastic_bar + " --quiet --out " + pre + " --set implicit.preconditioner=frozen-jacobian", dir / "log"), 0)
+  ASSERT_EQ(run(plastic_bar + " --quiet --out " + pre + " --set implicit.preconditioner=frozen-jacobian",
+                dir / "log"),
+            0)
       << slurp(dir / "log");
   const nlohmann::json a = summary(plain)["implicit"], b = summary(pre)["implicit"];
   std::printf("krylov: plain %lld, frozen Jacobian %lld (%lld builds); residual evaluations %lld vs %lld\n",
@@ -179,12 +201,16 @@ TEST(FrozenJacobian, ShortensTheKrylovSolves) {
 // strain); the test allows 25% more than one per Newton step.
 TEST(FrozenJacobian, IsTheExactJacobianForLinearElasticity) {
   const fs::path dir = scratch("exact");
-  for (const char* variant : {"", " --set implicit.formulation=velocity", " --set simulation.geometry=plane-strain"}) {
+  for (const char* variant :
+       {"", " --set implicit.formulation=velocity", " --set simulation.geometry=plane-strain"}) {
     const std::string out = (dir / "run").string();
-    ASSERT_EQ(run(bar + " --quiet --out " + out + " --set implicit.preconditioner=frozen-jacobian" + variant, dir / "log"), 0)
+    ASSERT_EQ(run(bar + " --quiet --out " + out + " --set implicit.preconditioner=frozen-jacobian" + variant,
+                  dir / "log"),
+              0)
         << slurp(dir / "log");
     const nlohmann::json c = summary(out)["implicit"];
-    const auto newton = c["newton_iterations"].get<long long>(), krylov = c["krylov_iterations"].get<long long>();
+    const auto newton = c["newton_iterations"].get<long long>(),
+               krylov = c["krylov_iterations"].get<long long>();
     SCOPED_TRACE(variant);
     EXPECT_GE(krylov, newton);
     EXPECT_LE(krylov, newton + newton / 4);
@@ -192,8 +218,8 @@ TEST(FrozenJacobian, IsTheExactJacobianForLinearElasticity) {
   fs::remove_all(dir);
 }
 
-// The same bar in 3-D (all six strain components in the material tangent). Measured: 24 GMRES iterations for 24
-// Newton steps with the preconditioner, 178 without.
+// The same bar in 3-D (all six strain components in the material tangent). Measured: 24 GMRES iterations for
+// 24 Newton steps with the preconditioner, 178 without.
 TEST(FrozenJacobian, IsTheExactJacobianForLinearElasticityIn3D) {
   const fs::path dir = scratch("exact3d");
   const fs::path scene = dir / "bar3d.toml";
@@ -237,7 +263,8 @@ contact_axes = ["x"]
   const std::string out = (dir / "run").string();
   ASSERT_EQ(run(scene.string() + " --quiet --out " + out, dir / "log"), 0) << slurp(dir / "log");
   const nlohmann::json c = summary(out)["implicit"];
-  const auto newton = c["newton_iterations"].get<long long>(), krylov = c["krylov_iterations"].get<long long>();
+  const auto newton = c["newton_iterations"].get<long long>(),
+             krylov = c["krylov_iterations"].get<long long>();
   EXPECT_GE(newton, 20);
   EXPECT_GE(krylov, newton);
   EXPECT_LE(krylov, newton + newton / 4);
@@ -247,8 +274,8 @@ contact_axes = ["x"]
 }  // namespace
 
 namespace {
-// history.csv's last two columns count the Newton and Krylov iterations since t = 0, row by row: they start at 0,
-// never fall, and end at summary.json's counts.
+// history.csv's last two columns count the Newton and Krylov iterations since t = 0, row by row: they start
+// at 0, never fall, and end at summary.json's counts.
 TEST(ImplicitHistory, CountsNewtonAndKrylovIterations) {
   const fs::path dir = scratch("history_counts");
   const std::string out = (dir / "out").string();
@@ -260,7 +287,8 @@ TEST(ImplicitHistory, CountsNewtonAndKrylovIterations) {
   long long newton = -1, krylov = -1, rows = 0;
   while (std::getline(history, line)) {
     const std::size_t last = line.rfind(','), before = line.rfind(',', last - 1);
-    const long long n = std::stoll(line.substr(before + 1, last - before - 1)), k = std::stoll(line.substr(last + 1));
+    const long long n = std::stoll(line.substr(before + 1, last - before - 1)),
+                    k = std::stoll(line.substr(last + 1));
     if (rows++ == 0) {
       EXPECT_TRUE(n == 0 && k == 0);
     }

@@ -1,6 +1,6 @@
 // `mpm run` with [output] newton_log = "on": newton.csv holds ||F|| at every Newton iterate of every try at a
-// step (Sulsky & Kaul 2004, Figs 5 and 9 draw these), consistent with the counts of history.csv, the tries of a
-// step whose solve fails included, and a restart continues it bitwise.
+// step (Sulsky & Kaul 2004, Figs 5 and 9 draw these), consistent with the counts of history.csv, the tries of
+// a step whose solve fails included, and a restart continues it bitwise.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -41,12 +41,14 @@ std::map<int, StepRows> by_step(const fs::path& file) {
   return out;
 }
 
-// Every step of the elastic-plastic bar at 100x: the Newton iterations a step's tries logged (rows less one per
-// try) are history.csv's newton_iterations increments; the last try ends at or below newton_tolerance = 1e-6 and
-// every iterate before it is above (Newton stops at the first below); its dt is the step history.csv took.
+// Every step of the elastic-plastic bar at 100x: the Newton iterations a step's tries logged (rows less one
+// per try) are history.csv's newton_iterations increments; the last try ends at or below newton_tolerance =
+// 1e-6 and every iterate before it is above (Newton stops at the first below); its dt is the step history.csv
+// took.
 TEST(NewtonLog, RowsAreTheIteratesHistoryCounts) {
   const fs::path dir = mpm::testing::scratch("mpm_newton_log", "rows");
-  ASSERT_EQ(run_mpm(plastic_bar, logged + " --out " + (dir / "out").string(), dir / "log"), 0) << slurp(dir / "log");
+  ASSERT_EQ(run_mpm(plastic_bar, logged + " --out " + (dir / "out").string(), dir / "log"), 0)
+      << slurp(dir / "log");
   const auto rows = by_step(dir / "out/newton.csv");
   auto h = csv_columns(dir / "out/history.csv");
   const std::size_t steps = h["step"].size() - 1;
@@ -59,7 +61,8 @@ TEST(NewtonLog, RowsAreTheIteratesHistoryCounts) {
     EXPECT_EQ(iterations, h["newton_iterations"][s] - h["newton_iterations"][s - 1]) << "step " << s;
     const std::vector<double>& last = r.norms.rbegin()->second;
     EXPECT_LE(last.back(), 1e-6) << "step " << s;
-    for (std::size_t k = 0; k + 1 < last.size(); ++k) EXPECT_GT(last[k], 1e-6) << "step " << s << " iterate " << k;
+    for (std::size_t k = 0; k + 1 < last.size(); ++k)
+      EXPECT_GT(last[k], 1e-6) << "step " << s << " iterate " << k;
     EXPECT_NEAR(r.dt.rbegin()->second, h["time"][s] - h["time"][s - 1], 1e-12 * h["time"][s]) << "step " << s;
     newton_steps += last.size() > 1;
   }
@@ -72,8 +75,10 @@ TEST(NewtonLog, RowsAreTheIteratesHistoryCounts) {
 TEST(NewtonLog, LogsTheTriesOfAStepThatFails) {
   const fs::path dir = mpm::testing::scratch("mpm_newton_log", "fails");
   EXPECT_EQ(run_mpm(plastic_bar,
-                    logged + " --set implicit.max_newton=1 --set implicit.max_retries=2 "
-                             "--set implicit.newton_tolerance=1e-14 --out " + (dir / "out").string(),
+                    logged +
+                        " --set implicit.max_newton=1 --set implicit.max_retries=2 "
+                        "--set implicit.newton_tolerance=1e-14 --out " +
+                        (dir / "out").string(),
                     dir / "log"),
             1)
       << slurp(dir / "log");
@@ -95,8 +100,10 @@ TEST(NewtonLog, RestartContinuesItBitwise) {
   const fs::path dir = mpm::testing::scratch("mpm_newton_log", "restart");
   const std::string one = (dir / "one").string(), two = (dir / "two").string();
   ASSERT_EQ(run_mpm(plastic_bar, logged + " --out " + one, dir / "log"), 0) << slurp(dir / "log");
-  ASSERT_EQ(run_mpm(plastic_bar, logged + " --out " + two + " --stop-after 10", dir / "log"), 0) << slurp(dir / "log");
-  ASSERT_EQ(run_mpm(plastic_bar, logged + " --out " + two + " --restart " + two + "/checkpoint.h5", dir / "log"), 0)
+  ASSERT_EQ(run_mpm(plastic_bar, logged + " --out " + two + " --stop-after 10", dir / "log"), 0)
+      << slurp(dir / "log");
+  ASSERT_EQ(
+      run_mpm(plastic_bar, logged + " --out " + two + " --restart " + two + "/checkpoint.h5", dir / "log"), 0)
       << slurp(dir / "log");
   EXPECT_EQ(slurp(dir / "one/newton.csv"), slurp(dir / "two/newton.csv"));
   EXPECT_GT(slurp(dir / "one/newton.csv").size(), 1000u);
@@ -105,8 +112,9 @@ TEST(NewtonLog, RestartContinuesItBitwise) {
 
 // The bar at the explicit step with the linear systems solved to 1e-12 (Fig. 5's run) needs a second Newton
 // iteration first at t = 26.1. With one Newton iteration allowed and no halving the run stops there, its rows
-// logged past the checkpoint of the last good step. Restarted from that checkpoint with the default settings, the
-// file is cut back to the checkpoint and continued, and ends bitwise equal to the file of one run with them.
+// logged past the checkpoint of the last good step. Restarted from that checkpoint with the default settings,
+// the file is cut back to the checkpoint and continued, and ends bitwise equal to the file of one run with
+// them.
 TEST(NewtonLog, RestartAfterAFailedStepCutsItBackToTheCheckpoint) {
   const fs::path dir = mpm::testing::scratch("mpm_newton_log", "failed");
   const std::string one = (dir / "one").string(), two = (dir / "two").string();
@@ -114,14 +122,17 @@ TEST(NewtonLog, RestartAfterAFailedStepCutsItBackToTheCheckpoint) {
       " --set output.newton_log=on --set simulation.end_time=27 --set implicit.linear_tolerance=1e-12 "
       "--set implicit.newton_tolerance=1e-4";
   ASSERT_EQ(run_mpm(plastic_bar, fig5 + " --out " + one, dir / "log"), 0) << slurp(dir / "log");
-  ASSERT_EQ(run_mpm(plastic_bar, fig5 + " --set implicit.max_newton=1 --set implicit.max_retries=0 --out " + two,
-                    dir / "log"),
-            1)
+  ASSERT_EQ(
+      run_mpm(plastic_bar, fig5 + " --set implicit.max_newton=1 --set implicit.max_retries=0 --out " + two,
+              dir / "log"),
+      1)
       << slurp(dir / "log");
   const auto failed = by_step(dir / "two/newton.csv");
   ASSERT_FALSE(failed.empty());
-  EXPECT_EQ(failed.rbegin()->second.norms.at(0).size(), 2u);  // the failed step: the initial guess and one iterate
-  ASSERT_EQ(run_mpm(plastic_bar, fig5 + " --out " + two + " --restart " + two + "/checkpoint.h5", dir / "log"), 0)
+  EXPECT_EQ(failed.rbegin()->second.norms.at(0).size(),
+            2u);  // the failed step: the initial guess and one iterate
+  ASSERT_EQ(
+      run_mpm(plastic_bar, fig5 + " --out " + two + " --restart " + two + "/checkpoint.h5", dir / "log"), 0)
       << slurp(dir / "log");
   EXPECT_EQ(slurp(dir / "one/newton.csv"), slurp(dir / "two/newton.csv"));
   fs::remove_all(dir);

@@ -1,5 +1,6 @@
-// `mpm run` with an outflow face: history.csv and summary.json count what has left, the momentum balance closes
-// with it under gravity, and a run checkpointed after particles left restarts bitwise, with either engine.
+// `mpm run` with an outflow face: history.csv and summary.json count what has left, the momentum balance
+// closes with it under gravity, and a run checkpointed after particles left restarts bitwise, with either
+// engine.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -33,21 +34,23 @@ struct Engine {
 class OutflowRun : public ::testing::TestWithParam<Engine> {};
 
 // The momentum in the grid plus what has left grows by g times the mass still in the grid over each step (no
-// other force acts), to 1e-12 of the impulse of gravity. The explicit step conserves momentum to round-off; the
-// implicit one up to the sum of its residual's components, so its Newton tolerance is tightened to 1e-11
+// other force acts), to 1e-12 of the impulse of gravity. The explicit step conserves momentum to round-off;
+// the implicit one up to the sum of its residual's components, so its Newton tolerance is tightened to 1e-11
 // (measured worst 6.5e-13 of the impulse; 2.7e-8 at the default 1e-5, 5.5e-10 at 1e-9).
 TEST_P(OutflowRun, HistoryCountsWhatLeftAndTheMomentumBalanceCloses) {
   const fs::path dir = mpm::testing::scratch("outflow", GetParam().name);
   std::ofstream(dir / "scene.toml") << scene;
   const std::string set = GetParam().settings;
-  ASSERT_EQ(run(dir / "scene.toml", set + " --out " + (dir / "one").string(), dir / "log"), 0) << slurp(dir / "log");
+  ASSERT_EQ(run(dir / "scene.toml", set + " --out " + (dir / "one").string(), dir / "log"), 0)
+      << slurp(dir / "log");
   auto h = csv_columns(dir / "one/history.csv");
   ASSERT_TRUE(h.count("outflow_mass") && h.count("outflow_energy") && h.count("outflow_momentum_y"));
   const std::vector<double>& t = h["time"];
   double expected = h["momentum_y"][0];
   for (std::size_t k = 1; k < t.size(); ++k) {
     expected += g * (mass - h["outflow_mass"][k - 1]) * (t[k] - t[k - 1]);
-    EXPECT_NEAR(h["momentum_y"][k] + h["outflow_momentum_y"][k], expected, 1e-12 * std::abs(mass * g * t[k]) + 1e-12)
+    EXPECT_NEAR(h["momentum_y"][k] + h["outflow_momentum_y"][k], expected,
+                1e-12 * std::abs(mass * g * t[k]) + 1e-12)
         << "step " << k;
   }
   EXPECT_GT(h["outflow_mass"].back(), 0.5 * mass);
@@ -81,11 +84,13 @@ TEST_P(OutflowRun, HistoryCountsWhatLeftAndTheMomentumBalanceCloses) {
 
   // Stopped after a quarter of the particles have left, and restarted: the same bytes as one run.
   const std::string two = (dir / "two").string();
-  ASSERT_EQ(run(dir / "scene.toml", set + " --out " + two + " --stop-after 60", dir / "log"), 0) << slurp(dir / "log");
+  ASSERT_EQ(run(dir / "scene.toml", set + " --out " + two + " --stop-after 60", dir / "log"), 0)
+      << slurp(dir / "log");
   const nlohmann::json stopped = nlohmann::json::parse(slurp(dir / "two/summary.json"));
   EXPECT_GT(stopped["outflow"]["particles"].get<int>(), 0);
   EXPECT_LT(stopped["outflow"]["particles"].get<int>(), s["outflow"]["particles"].get<int>());
-  ASSERT_EQ(run(dir / "scene.toml", set + " --out " + two + " --restart " + two + "/checkpoint.h5", dir / "log"), 0)
+  ASSERT_EQ(
+      run(dir / "scene.toml", set + " --out " + two + " --restart " + two + "/checkpoint.h5", dir / "log"), 0)
       << slurp(dir / "log");
   EXPECT_EQ(slurp(dir / "one/history.csv"), slurp(dir / "two/history.csv"));
   EXPECT_EQ(slurp(dir / "one/particles_0004.vtp"), slurp(dir / "two/particles_0004.vtp"));
@@ -96,7 +101,8 @@ TEST_P(OutflowRun, HistoryCountsWhatLeftAndTheMomentumBalanceCloses) {
 INSTANTIATE_TEST_SUITE_P(
     Engines, OutflowRun,
     ::testing::Values(Engine{"explicit", ""},
-                      Engine{"implicit", "--set simulation.integrator=implicit --set implicit.newton_tolerance=1e-11"}),
+                      Engine{"implicit",
+                             "--set simulation.integrator=implicit --set implicit.newton_tolerance=1e-11"}),
     [](const auto& test) { return std::string(test.param.name); });
 
 // A checkpoint written before outflow faces existed holds no outflow entries: it restarts as one with nothing
@@ -105,18 +111,21 @@ TEST(OutflowCheckpoint, AnOlderCheckpointWithoutOutflowEntriesRestarts) {
   const fs::path dir = mpm::testing::scratch("outflow", "older_checkpoint");
   std::ofstream(dir / "scene.toml") << scene;
   const std::string floor = "--set 'grid.faces={y-min=\"symmetry\"}' ";
-  ASSERT_EQ(run(dir / "scene.toml", floor + "--out " + (dir / "one").string(), dir / "log"), 0) << slurp(dir / "log");
+  ASSERT_EQ(run(dir / "scene.toml", floor + "--out " + (dir / "one").string(), dir / "log"), 0)
+      << slurp(dir / "log");
   const fs::path two = dir / "two";
   ASSERT_EQ(run(dir / "scene.toml", floor + "--out " + two.string() + " --stop-after 40", dir / "log"), 0)
       << slurp(dir / "log");
   mpm::io::CheckpointData c = mpm::io::read_checkpoint(two / "checkpoint.h5");
   ASSERT_EQ(c.integer_scalars.erase("outflow_particles"), 1u);
-  for (const char* k : {"outflow_mass", "outflow_kinetic_energy", "outflow_strain_energy"}) c.real_scalars.erase(k);
+  for (const char* k : {"outflow_mass", "outflow_kinetic_energy", "outflow_strain_energy"})
+    c.real_scalars.erase(k);
   c.reals.erase("outflow_momentum");
   mpm::io::write_checkpoint(two / "checkpoint.h5", c);
-  ASSERT_EQ(run(dir / "scene.toml", floor + "--out " + two.string() + " --restart " + (two / "checkpoint.h5").string(),
-                dir / "log"),
-            0)
+  ASSERT_EQ(
+      run(dir / "scene.toml",
+          floor + "--out " + two.string() + " --restart " + (two / "checkpoint.h5").string(), dir / "log"),
+      0)
       << slurp(dir / "log");
   EXPECT_EQ(slurp(dir / "one/history.csv"), slurp(two / "history.csv"));
   fs::remove_all(dir);

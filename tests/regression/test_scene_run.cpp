@@ -17,10 +17,10 @@
 #include <thread>
 #include <vector>
 
-#include "support.hpp"
 #include "mpm/io/checkpoint.hpp"
 #include "mpm/materials/neo_hookean.hpp"
 #include "mpm/verification/axis_aligned.hpp"
+#include "support.hpp"
 
 namespace {
 namespace fs = std::filesystem;
@@ -30,7 +30,9 @@ const fs::path source_dir = fs::path(__FILE__).parent_path().parent_path().paren
 using mpm::testing::slurp;
 
 /// A fresh temporary folder per test.
-fs::path scratch(const std::string& name) { return mpm::testing::scratch("mpm_scene", name); }
+fs::path scratch(const std::string& name) {
+  return mpm::testing::scratch("mpm_scene", name);
+}
 
 int run(const std::string& args, const fs::path& log) {
   const std::string cmd = std::string(MPM_BINARY) + " run " + args + " >" + log.string() + " 2>&1";
@@ -70,9 +72,10 @@ TEST(SceneRun, RestartedRunEndsBitwiseEqualToAnUninterruptedOne) {
   ASSERT_EQ(run(common + " --out " + (dir / "a").string(), dir / "a.log"), 0) << slurp(dir / "a.log");
   ASSERT_EQ(run(common + " --out " + (dir / "b").string() + " --stop-after 57", dir / "b.log"), 0);
   EXPECT_NE(slurp(dir / "b/summary.json").find("\"status\": \"stopped\""), std::string::npos);
-  ASSERT_EQ(run(common + " --out " + (dir / "b").string() + " --restart " + (dir / "b/checkpoint.h5").string(),
-                dir / "c.log"),
-            0)
+  ASSERT_EQ(
+      run(common + " --out " + (dir / "b").string() + " --restart " + (dir / "b/checkpoint.h5").string(),
+          dir / "c.log"),
+      0)
       << slurp(dir / "c.log");
   const mpm::io::CheckpointData a = mpm::io::read_checkpoint(dir / "a/checkpoint.h5");
   const mpm::io::CheckpointData b = mpm::io::read_checkpoint(dir / "b/checkpoint.h5");
@@ -96,8 +99,9 @@ TEST(SceneRun, RestartedRunEndsBitwiseEqualToAnUninterruptedOne) {
 }
 
 TEST(SceneRun, ProcessKilledWhileCheckpointingLeavesARestartableCheckpoint) {
-  // A block large enough (129,600 particles, a ~19 MB checkpoint) that writes take a while; one checkpoint per
-  // step, so most of the run is spent writing them. Kill while a temporary file exists: a write is under way.
+  // A block large enough (129,600 particles, a ~19 MB checkpoint) that writes take a while; one checkpoint
+  // per step, so most of the run is spent writing them. Kill while a temporary file exists: a write is under
+  // way.
   const fs::path dir = scratch("kill");
   std::ofstream(dir / "scene.toml") << mpm::testing::block_scene("2e-3");
   const fs::path out = dir / "out";
@@ -123,12 +127,13 @@ TEST(SceneRun, ProcessKilledWhileCheckpointingLeavesARestartableCheckpoint) {
   // The previous checkpoint is intact, and the run continues from it to the same end as an uninterrupted run.
   const mpm::io::CheckpointData saved = mpm::io::read_checkpoint(out / "checkpoint.h5");
   EXPECT_GE(saved.integer_scalars.at("steps"), 1);
-  ASSERT_EQ(run((dir / "scene.toml").string() + " --quiet --out " + out.string() + " --checkpoint-every 1000 --restart " +
-                    (out / "checkpoint.h5").string(),
+  ASSERT_EQ(run((dir / "scene.toml").string() + " --quiet --out " + out.string() +
+                    " --checkpoint-every 1000 --restart " + (out / "checkpoint.h5").string(),
                 dir / "restart.log"),
             0)
       << slurp(dir / "restart.log");
-  ASSERT_EQ(run((dir / "scene.toml").string() + " --quiet --out " + (dir / "ref").string() + " --checkpoint-every 1000",
+  ASSERT_EQ(run((dir / "scene.toml").string() + " --quiet --out " + (dir / "ref").string() +
+                    " --checkpoint-every 1000",
                 dir / "ref.log"),
             0);
   const mpm::io::CheckpointData restarted = mpm::io::read_checkpoint(out / "checkpoint.h5");
@@ -140,11 +145,13 @@ TEST(SceneRun, ProcessKilledWhileCheckpointingLeavesARestartableCheckpoint) {
 }
 
 TEST(SceneRun, ParaViewFilesReadByVtkHoldTheEngineState) {
-  // The last frame, read by VTK's own reader (python3-vtk9), against the final checkpoint (the engine's arrays).
+  // The last frame, read by VTK's own reader (python3-vtk9), against the final checkpoint (the engine's
+  // arrays).
   const fs::path dir = scratch("vtk");
-  ASSERT_EQ(run(disks + " --quiet --checkpoint-every 100000 --set simulation.end_time=1.2 --out " + dir.string(),
-                dir / "log"),
-            0);
+  ASSERT_EQ(
+      run(disks + " --quiet --checkpoint-every 100000 --set simulation.end_time=1.2 --out " + dir.string(),
+          dir / "log"),
+      0);
   const std::string pvd = slurp(dir / "particles.pvd");
   const std::size_t at = pvd.rfind("file=\"");
   ASSERT_NE(at, std::string::npos);
@@ -161,10 +168,10 @@ dump("F", pd.GetArray("F"), [0, 3, 1, 4])
 dump("J", pd.GetArray("J"), [0])
 dump("stress", pd.GetArray("stress"), [0, 1, 2, 3])
 )";
-  const std::string cmd = "/usr/bin/python3 " + (dir / "read.py").string() + " " + (dir / last).string() + " > " +
-                          (dir / "values.txt").string() + " 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << "python3-vtk9 is needed (apt-get install python3-vtk9): "
-                                         << slurp(dir / "values.txt");
+  const std::string cmd = "/usr/bin/python3 " + (dir / "read.py").string() + " " + (dir / last).string() +
+                          " > " + (dir / "values.txt").string() + " 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0)
+      << "python3-vtk9 is needed (apt-get install python3-vtk9): " << slurp(dir / "values.txt");
   const mpm::io::CheckpointData c = mpm::io::read_checkpoint(dir / "checkpoint.h5");
   const std::size_t n = static_cast<std::size_t>(c.integer_scalars.at("particles"));
   std::istringstream in(slurp(dir / "values.txt"));
@@ -207,7 +214,8 @@ TEST(SceneRun, CheckBlockRestatingTheAxisAlignedSolutionGivesTheVerifyError) {
   scene << "[constants]\nA = " << exact.A << "\nlam = " << exact.mat.lambda << "\nmu = " << exact.mat.mu
         << "\nE = " << exact.young() << "\nrho = " << exact.mat.rho0 << "\nw = " << exact.omega() << R"toml(
 [simulation]
-end_time = )toml" << exact.period() << R"toml(
+end_time = )toml"
+        << exact.period() << R"toml(
 integrator = "cd"
 kernel = "cpgimp"
 cfl = 0.4
@@ -240,8 +248,8 @@ displacement = ["A*sin(pi*X)*cos(w*t)", "A*sin(pi*Y)*sin(w*t)"]
   std::ofstream(dir / "scene.toml") << scene.str();
   ASSERT_EQ(run((dir / "scene.toml").string() + " --quiet --out " + (dir / "out").string(), dir / "log"), 0)
       << slurp(dir / "log");
-  const std::string verify = std::string(MPM_BINARY) + " verify axis-aligned --cells 8 --json > " +
-                             (dir / "verify.json").string();
+  const std::string verify =
+      std::string(MPM_BINARY) + " verify axis-aligned --cells 8 --json > " + (dir / "verify.json").string();
   ASSERT_EQ(std::system(verify.c_str()), 0);
   const nlohmann::json v = nlohmann::json::parse(slurp(dir / "verify.json"));
   const nlohmann::json s = nlohmann::json::parse(slurp(dir / "out/summary.json"));
@@ -257,11 +265,13 @@ displacement = ["A*sin(pi*X)*cos(w*t)", "A*sin(pi*Y)*sin(w*t)"]
 
 TEST(SceneRun, NumericalFailureExits1KeepingTheGoodOutputsAndTheLastCheckpoint) {
   // USL with linear shape functions, without the light-node treatment, goes unstable on the colliding disks
-  // (measured: det F < 0 at step 154, t = 2.27); the run stops there with status 1 and every output up to the last
-  // good state.
+  // (measured: det F < 0 at step 154, t = 2.27); the run stops there with status 1 and every output up to the
+  // last good state.
   const fs::path dir = scratch("failure");
-  ASSERT_EQ(run(disks + " --quiet --checkpoint-every 50 --set simulation.integrator=usl "
-                        "--set simulation.light_nodes=none --out " + dir.string(),
+  ASSERT_EQ(run(disks +
+                    " --quiet --checkpoint-every 50 --set simulation.integrator=usl "
+                    "--set simulation.light_nodes=none --out " +
+                    dir.string(),
                 dir / "log"),
             1);
   const std::string log = slurp(dir / "log");
@@ -277,16 +287,17 @@ TEST(SceneRun, NumericalFailureExits1KeepingTheGoodOutputsAndTheLastCheckpoint) 
   // Frames at the first steps at or after t = 0, 0.1, ..., 2.2; the failed state is not written.
   const std::string pvd = slurp(dir / "particles.pvd");
   std::size_t datasets = 0;
-  for (std::size_t at = pvd.find("<DataSet"); at != std::string::npos; at = pvd.find("<DataSet", at + 1)) ++datasets;
+  for (std::size_t at = pvd.find("<DataSet"); at != std::string::npos; at = pvd.find("<DataSet", at + 1))
+    ++datasets;
   EXPECT_EQ(datasets, 23u);
   fs::remove_all(dir);
 }
 
 TEST(SceneRun, FloorReactionBalancesTheMomentumChangeInBothConstraintModes) {
-  // Block dropped on a fixed floor (examples/block-on-floor), 0.5 s, USL: sum over steps of (reaction + weight) dt
-  // equals the change of the particles' momentum, because the reaction is the force the constraint applied to
-  // the grid, sum_i m_i (a_i - a_i^free), and G2P passes the nodal momentum change on exactly. Only round-off
-  // remains (measured ~1e-12 of the weight impulse).
+  // Block dropped on a fixed floor (examples/block-on-floor), 0.5 s, USL: sum over steps of (reaction +
+  // weight) dt equals the change of the particles' momentum, because the reaction is the force the constraint
+  // applied to the grid, sum_i m_i (a_i - a_i^free), and G2P passes the nodal momentum change on exactly.
+  // Only round-off remains (measured ~1e-12 of the weight impulse).
   const std::string floor = (source_dir / "examples/block-on-floor/scene.toml").string();
   for (const char* mode : {"zero", "velocity-difference"}) {
     SCOPED_TRACE(mode);
@@ -301,7 +312,8 @@ TEST(SceneRun, FloorReactionBalancesTheMomentumChangeInBothConstraintModes) {
     const std::size_t t = column(h, "time"), py = column(h, "momentum_y"), ry = column(h, "reaction_y-min_y");
     const double weight = -9.81 * 1000 * 0.4 * 0.2;  // [N/m]
     double impulse = 0;
-    for (std::size_t k = 1; k < rows.size(); ++k) impulse += (rows[k][ry] + weight) * (rows[k][t] - rows[k - 1][t]);
+    for (std::size_t k = 1; k < rows.size(); ++k)
+      impulse += (rows[k][ry] + weight) * (rows[k][t] - rows[k - 1][t]);
     EXPECT_NEAR(rows.back()[py] - rows.front()[py], impulse, 1e-9 * std::abs(weight * 0.5));
     EXPECT_GT(rows.back()[t], 0.3);  // the block (0.1 m up) has landed: reactions were exercised
     fs::remove_all(dir);
@@ -317,12 +329,14 @@ TEST(SceneRun, TractionOnABoxFaceAppliesTractionTimesArea) {
   const std::string floor = (source_dir / "examples/block-on-floor/scene.toml").string();
   for (const char* integrator : {"usl", "implicit --set implicit.newton_tolerance=1e-11"}) {
     const fs::path dir = scratch("traction");
-    ASSERT_EQ(run(floor + " --quiet --set simulation.end_time=0.01 --set simulation.integrator=" + integrator +
-                          " --set 'loads.gravity=[0,0]' --set "
-                          "'loads.traction=[{body=\"block\", face=\"x-max\", traction=[100,0]}]' --set "
-                          "'bodies.0.hi=[0.71,0.3]' --out " + dir.string(),
-                  dir / "log"),
-              0)
+    ASSERT_EQ(
+        run(floor + " --quiet --set simulation.end_time=0.01 --set simulation.integrator=" + integrator +
+                " --set 'loads.gravity=[0,0]' --set "
+                "'loads.traction=[{body=\"block\", face=\"x-max\", traction=[100,0]}]' --set "
+                "'bodies.0.hi=[0.71,0.3]' --out " +
+                dir.string(),
+            dir / "log"),
+        0)
         << slurp(dir / "log");
     std::vector<std::string> h;
     const std::vector<std::vector<double>> rows = read_csv(dir / "history.csv", h);
@@ -359,14 +373,15 @@ TEST(SceneRun, RenderDrawsEveryKthFrameAndTheLast) {
 }
 
 TEST(SceneRun, CollidingDisksConserveMomentumAndEnergyAndMeetOnTime) {
-  // Sulsky et al. 1994: two disks of radius 0.2 at (0.25, 0.25) and (0.75, 0.75) approach at +-(0.1, 0.1); the
-  // surfaces touch at t = (sqrt(2)/2 - 0.4) / (0.2 sqrt(2)) = 1.0858.
+  // Sulsky et al. 1994: two disks of radius 0.2 at (0.25, 0.25) and (0.75, 0.75) approach at +-(0.1, 0.1);
+  // the surfaces touch at t = (sqrt(2)/2 - 0.4) / (0.2 sqrt(2)) = 1.0858.
   const fs::path dir = scratch("disks");
   ASSERT_EQ(run(disks + " --quiet --out " + dir.string(), dir / "log"), 0) << slurp(dir / "log");
   std::vector<std::string> h;
   const std::vector<std::vector<double>> rows = read_csv(dir / "history.csv", h);
   ASSERT_GT(rows.size(), 100u);
-  const std::size_t t = column(h, "time"), ke = column(h, "kinetic_energy"), total = column(h, "total_energy");
+  const std::size_t t = column(h, "time"), ke = column(h, "kinetic_energy"),
+                    total = column(h, "total_energy");
   const std::size_t px = column(h, "momentum_x"), py = column(h, "momentum_y");
   EXPECT_NEAR(rows.back()[t], 3.0, 1e-12);
   // Linear momentum: zero initially; the transfers conserve it exactly, so it stays at round-off against the
@@ -382,9 +397,10 @@ TEST(SceneRun, CollidingDisksConserveMomentumAndEnergyAndMeetOnTime) {
   for (const std::vector<double>& r : rows) EXPECT_NEAR(r[total] / e0, 1.0, 0.03) << "t = " << r[t];
   // Contact. Before the bodies share a grid node each translates rigidly and kinetic energy is constant to
   // round-off. Linear shape functions reach one cell beyond each body, so they can first share a node when
-  // the surfaces are 2 sqrt(2) h apart along the diagonal: not before t = 1.0858 - 2 sqrt(2) h / (0.2 sqrt(2))
-  // = 0.5858 (h = 0.05). Measured onset 0.661. Substantial exchange (5 % of the kinetic energy turned into
-  // strain) follows within one cell crossing (h / 0.2 sqrt(2) = 0.177) of the exact time; measured 0.944.
+  // the surfaces are 2 sqrt(2) h apart along the diagonal: not before t = 1.0858 - 2 sqrt(2) h / (0.2
+  // sqrt(2)) = 0.5858 (h = 0.05). Measured onset 0.661. Substantial exchange (5 % of the kinetic energy
+  // turned into strain) follows within one cell crossing (h / 0.2 sqrt(2) = 0.177) of the exact time;
+  // measured 0.944.
   const double k0 = rows.front()[ke], exact = 1.0858, h_cell = 0.05, closing = 0.2 * std::sqrt(2.0);
   double onset = -1, substantial = -1;
   for (const std::vector<double>& r : rows) {

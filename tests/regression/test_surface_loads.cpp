@@ -1,6 +1,6 @@
-// Pressures and tractions on the surfaces of bodies ([[loads.pressure]], [[loads.traction]]; boundary/surface_loads.hpp):
-// a pressure follows a rotated face, and a pressure over a whole disk, cylinder or ball leaves it in the hydrostatic
-// stress -P, with the explicit and the implicit engines.
+// Pressures and tractions on the surfaces of bodies ([[loads.pressure]], [[loads.traction]];
+// boundary/surface_loads.hpp): a pressure follows a rotated face, and a pressure over a whole disk, cylinder
+// or ball leaves it in the hydrostatic stress -P, with the explicit and the implicit engines.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -20,13 +20,14 @@ using namespace mpm::testing;
 fs::path run_scene(const std::string& name, const std::string& text, const std::string& args) {
   const fs::path dir = scratch("surface_loads", name);
   std::ofstream(dir / "scene.toml") << text;
-  const int status = run_mpm(dir / "scene.toml", "--out " + (dir / "out").string() + " " + args, dir / "log.txt");
+  const int status =
+      run_mpm(dir / "scene.toml", "--out " + (dir / "out").string() + " " + args, dir / "log.txt");
   EXPECT_EQ(status, 0) << slurp(dir / "log.txt");
   return dir;
 }
 
-/// A free 0.2 x 0.2 m Neo-Hookean block turned rigidly by the angle whose cosine and sine are 0.8 and 0.6 (F = R,
-/// no stress), loaded on the middle 0.1 m of its x-max face (reference) by `load`.
+/// A free 0.2 x 0.2 m Neo-Hookean block turned rigidly by the angle whose cosine and sine are 0.8 and 0.6 (F
+/// = R, no stress), loaded on the middle 0.1 m of its x-max face (reference) by `load`.
 std::string turned_block(const std::string& load) {
   return R"([constants]
 c = 0.8
@@ -56,14 +57,15 @@ hi = [0.1, 0.1]
 ppc = 2
 displacement = ["c * X - s * Y - X", "s * X + c * Y - Y"]
 deformation_gradient = ["c", "-s", "s", "c"]
-)" + load + "\nface = \"x-max\"\nregion = { lo = [-0.1, -0.05], hi = [0.1, 0.05] }\n";
+)" + load +
+         "\nface = \"x-max\"\nregion = { lo = [-0.1, -0.05], hi = [0.1, 0.05] }\n";
 }
 
 TEST(SurfaceLoads, PressureFollowsATurnedFaceAndATractionDoesNot) {
-  // The face's outward normal is R e_x = (0.8, 0.6): a pressure P = 100 Pa on 0.1 m of it pushes with -P 0.1 (0.8,
-  // 0.6) N/m, so the momentum is that times t; the dead traction (-100, 0) Pa pushes along -x whatever the turn.
-  // Internal forces cancel; the residue is the body's own deformation under the load over the 5 steps (measured
-  // 3.7e-6 and 5.9e-6 relative with USL, 2.4e-6 and 2.8e-6 implicit): asserted to 5e-5.
+  // The face's outward normal is R e_x = (0.8, 0.6): a pressure P = 100 Pa on 0.1 m of it pushes with -P 0.1
+  // (0.8, 0.6) N/m, so the momentum is that times t; the dead traction (-100, 0) Pa pushes along -x whatever
+  // the turn. Internal forces cancel; the residue is the body's own deformation under the load over the 5
+  // steps (measured 3.7e-6 and 5.9e-6 relative with USL, 2.4e-6 and 2.8e-6 implicit): asserted to 5e-5.
   for (const std::string integrator : {"usl", "implicit --set implicit.newton_tolerance=1e-11"}) {
     const fs::path dir =
         run_scene("turned", turned_block("[[loads.pressure]]\nbody = \"block\"\npressure = 100"),
@@ -75,8 +77,8 @@ TEST(SurfaceLoads, PressureFollowsATurnedFaceAndATractionDoesNot) {
     EXPECT_GT(h.at("external_work").back(), 0) << integrator;
     fs::remove_all(dir);
   }
-  const fs::path dir = run_scene(
-      "dead", turned_block("[[loads.traction]]\nbody = \"block\"\ntraction = [-100, 0]"), "");
+  const fs::path dir =
+      run_scene("dead", turned_block("[[loads.traction]]\nbody = \"block\"\ntraction = [-100, 0]"), "");
   const auto h = csv_columns(dir / "out/history.csv");
   const double t = h.at("time").back();
   EXPECT_NEAR(h.at("momentum_x").back(), -100 * 0.1 * t, 1e-12);
@@ -105,8 +107,8 @@ Spread stress_within(const fs::path& out, int dim, int k, double inside) {
   return r;
 }
 
-/// A Neo-Hookean disk (2-D) or ball (3-D) of radius 0.1 m, E = 1 MPa, under a pressure ramped to 1 kPa over 0.1 s
-/// on its whole surface, run to `end`.
+/// A Neo-Hookean disk (2-D) or ball (3-D) of radius 0.1 m, E = 1 MPa, under a pressure ramped to 1 kPa over
+/// 0.1 s on its whole surface, run to `end`.
 std::string pressed_round_body(int dim, const std::string& end) {
   const std::string d = std::to_string(dim);
   const std::string zero = dim == 2 ? "[0.0, 0.0]" : "[0.0, 0.0, 0.0]";
@@ -118,7 +120,8 @@ integrator = "usl"
 kernel = "cpgimp"
 cfl = 0.4
 [output]
-every = )" + end + "\n[grid]\nlo = " + lo + "\nhi = " + hi + "\ncells = " + cells + R"(
+every = )" +
+         end + "\n[grid]\nlo = " + lo + "\nhi = " + hi + "\ncells = " + cells + R"(
 [[materials]]
 name = "m"
 E = 1e6
@@ -126,7 +129,8 @@ nu = 0.3
 density = 1000
 [[bodies]]
 name = "round"
-shape = ")" + (dim == 2 ? "disk" : "sphere") + "\"\ncenter = " + zero + R"(
+shape = ")" +
+         (dim == 2 ? "disk" : "sphere") + "\"\ncenter = " + zero + R"(
 radius = 0.1
 ppc = 2
 [[loads.pressure]]
@@ -136,12 +140,14 @@ pressure = "1e3 * min(10 * t, 1.0) "
 }
 
 TEST(SurfaceLoads, PressureOverADiskLeavesItInHydrostaticStress) {
-  // Plane strain: inside r < 0.07 m sigma_xx = sigma_yy = -P. Measured means -1.00095 (USL with local damping 0.1)
-  // and -1.00090 (implicit), every particle within [-1.0094, -0.9906]: the staircase surface of the disk's lattice
-  // (exact in its projected areas) leaves that noise. Asserted: the means to 0.3%, every particle to 1.5%. The
-  // disk's pressures cancel: its momentum stays at round-off (measured 6e-15 and 8e-12 N s/m).
+  // Plane strain: inside r < 0.07 m sigma_xx = sigma_yy = -P. Measured means -1.00095 (USL with local damping
+  // 0.1) and -1.00090 (implicit), every particle within [-1.0094, -0.9906]: the staircase surface of the
+  // disk's lattice (exact in its projected areas) leaves that noise. Asserted: the means to 0.3%, every
+  // particle to 1.5%. The disk's pressures cancel: its momentum stays at round-off (measured 6e-15 and 8e-12
+  // N s/m).
   for (const std::string integrator : {"usl --set simulation.local_damping=0.1", "implicit"}) {
-    const fs::path dir = run_scene("disk", pressed_round_body(2, "0.3"), "--set simulation.integrator=" + integrator);
+    const fs::path dir =
+        run_scene("disk", pressed_round_body(2, "0.3"), "--set simulation.integrator=" + integrator);
     for (int k : {0, 1}) {
       const Spread s = stress_within(dir / "out", 2, k, 0.07);
       EXPECT_NEAR(s.mean, -1, 3e-3) << integrator << " component " << k;
@@ -151,8 +157,8 @@ TEST(SurfaceLoads, PressureOverADiskLeavesItInHydrostaticStress) {
     const auto h = csv_columns(dir / "out/history.csv");
     EXPECT_LT(std::abs(h.at("momentum_x").back()), 1e-10) << integrator;
     EXPECT_LT(std::abs(h.at("momentum_y").back()), 1e-10) << integrator;
-    // The pressure's work is the strain energy it stored plus what damping took: 0.015465 against 0.015443 J/m
-    // (USL), against 1/2 P dV = 0.0163 J/m for the exact disk's volume change.
+    // The pressure's work is the strain energy it stored plus what damping took: 0.015465 against 0.015443
+    // J/m (USL), against 1/2 P dV = 0.0163 J/m for the exact disk's volume change.
     const double work = h.at("external_work").back(), energy = h.at("total_energy").back();
     EXPECT_GT(work, 0.99 * energy) << integrator;
     EXPECT_LT(work, 1.01 * energy) << integrator;
@@ -161,10 +167,10 @@ TEST(SurfaceLoads, PressureOverADiskLeavesItInHydrostaticStress) {
 }
 
 TEST(SurfaceLoads, PressureOverABallLeavesItInHydrostaticStress) {
-  // 3-D, USL with local damping 0.1: inside r < 0.06 m sigma_xx = sigma_yy = sigma_zz = -P, measured -0.9946 (every
-  // particle within [-1.0102, -0.9630]) at 8 cells across the ball. Asserted: the mean to 1%, every particle to 5%.
-  const fs::path dir =
-      run_scene("ball", pressed_round_body(3, "0.2"), "--set simulation.local_damping=0.1");
+  // 3-D, USL with local damping 0.1: inside r < 0.06 m sigma_xx = sigma_yy = sigma_zz = -P, measured -0.9946
+  // (every particle within [-1.0102, -0.9630]) at 8 cells across the ball. Asserted: the mean to 1%, every
+  // particle to 5%.
+  const fs::path dir = run_scene("ball", pressed_round_body(3, "0.2"), "--set simulation.local_damping=0.1");
   for (int k : {0, 1, 2}) {
     const Spread s = stress_within(dir / "out", 3, k, 0.06);
     EXPECT_NEAR(s.mean, -1, 1e-2) << "component " << k;
@@ -190,7 +196,8 @@ every = 0.3
 [grid]
 lo = [0.0, -0.15]
 hi = [0.15, 0.15]
-cells = )" + cells + R"(
+cells = )" +
+         cells + R"(
 faces = { x-min = "symmetry" }
 [[materials]]
 name = "m"
@@ -212,10 +219,10 @@ pressure = "1e3 * min(10 * t, 1.0) "
 }
 
 TEST(SurfaceLoads, PressureOnACylindersSideConvergesToHydrostaticInAxisymmetry) {
-  // sigma_rr = sigma_thetatheta = -P, sigma_zz = 0 is exact for lateral pressure with free ends. The radial face
-  // of the cell around X_r carries the area (X_r + s/2) s per radian. The mean of sigma_rr within 0.07 m of the centre
-  // is -1.0203 at h = 0.0125 m and -1.0095 at h/2 (measured): first order, the O(h) of the axisymmetric quadrature.
-  // Asserted: the error halves (ratio > 1.8) and is below 1.2% at h/2.
+  // sigma_rr = sigma_thetatheta = -P, sigma_zz = 0 is exact for lateral pressure with free ends. The radial
+  // face of the cell around X_r carries the area (X_r + s/2) s per radian. The mean of sigma_rr within 0.07 m
+  // of the centre is -1.0203 at h = 0.0125 m and -1.0095 at h/2 (measured): first order, the O(h) of the
+  // axisymmetric quadrature. Asserted: the error halves (ratio > 1.8) and is below 1.2% at h/2.
   double error[2];
   int k = 0;
   for (const std::string cells : {"[12, 24]", "[24, 48]"}) {

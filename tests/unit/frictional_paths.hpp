@@ -1,5 +1,5 @@
-// Strain paths that drive one material point of a frictional material (Drucker-Prager, Mohr-Coulomb), shared by
-// their unit tests.
+// Strain paths that drive one material point of a frictional material (Drucker-Prager, Mohr-Coulomb), shared
+// by their unit tests.
 #pragma once
 #include <gtest/gtest.h>
 
@@ -29,10 +29,12 @@ Law soil() {
   return m;
 }
 
-inline Mat3 diagonal(Real a, Real b, Real c) { return Eigen::Vector3d(a, b, c).asDiagonal(); }
+inline Mat3 diagonal(Real a, Real b, Real c) {
+  return Eigen::Vector3d(a, b, c).asDiagonal();
+}
 
-/// The soil, or with `soften` a soil whose cohesion falls to 1 kPa and friction angle to 20 degrees at a plastic
-/// strain of 0.01.
+/// The soil, or with `soften` a soil whose cohesion falls to 1 kPa and friction angle to 20 degrees at a
+/// plastic strain of 0.01.
 template <class Law>
 Law soil(bool soften) {
   Law m = soil<Law>();
@@ -59,9 +61,9 @@ Mat3 plastic_strain(const Law& m, const Mat3& sigma_n, const Mat3& sigma, const 
   return de - elastic;
 }
 
-/// Drained triaxial test: from the isotropic stress sigma_r, the axial (zz) strain changes by axial / steps per step
-/// while the lateral stresses stay sigma_r (the equal lateral strains solved by the secant method to 1e-12 of
-/// sigma_r at each step).
+/// Drained triaxial test: from the isotropic stress sigma_r, the axial (zz) strain changes by axial / steps
+/// per step while the lateral stresses stay sigma_r (the equal lateral strains solved by the secant method to
+/// 1e-12 of sigma_r at each step).
 template <class Law>
 StressUpdate triaxial(const Law& m, Real sigma_r, Real axial, int steps) {
   StressUpdate u{diagonal(sigma_r, sigma_r, sigma_r), 0, 0, 0, false};
@@ -83,8 +85,8 @@ StressUpdate triaxial(const Law& m, Real sigma_r, Real axial, int steps) {
   return u;
 }
 
-/// Simple shear at constant volume: the engineering shear strain gamma_xy grows by gamma / steps per step from
-/// the stress sigma_0.
+/// Simple shear at constant volume: the engineering shear strain gamma_xy grows by gamma / steps per step
+/// from the stress sigma_0.
 template <class Law>
 StressUpdate simple_shear(const Law& m, const Mat3& sigma_0, Real gamma, int steps) {
   StressUpdate u{sigma_0, 0, 0, 0, false};
@@ -94,10 +96,10 @@ StressUpdate simple_shear(const Law& m, const Mat3& sigma_0, Real gamma, int ste
   return u;
 }
 
-/// From the state `on` (on the surface, away from edges), steps of h * direction for h = 1e-5 and 1e-6 against the
-/// continuum tangent D de - D n (a : D de) / (a : D n), a and n the gradients of the yield function and the plastic
-/// potential at `on` (perfect plasticity): the error is below 1e-3 |D de| and falls by at least 50 for h / 10
-/// (backward Euler differs by O(|de|^2)).
+/// From the state `on` (on the surface, away from edges), steps of h * direction for h = 1e-5 and 1e-6
+/// against the continuum tangent D de - D n (a : D de) / (a : D n), a and n the gradients of the yield
+/// function and the plastic potential at `on` (perfect plasticity): the error is below 1e-3 |D de| and falls
+/// by at least 50 for h / 10 (backward Euler differs by O(|de|^2)).
 template <class Law>
 void expect_second_order_tangent(const Law& m, const StressUpdate& on, const Mat3& a, const Mat3& Dn,
                                  const Mat3& direction) {

@@ -1,11 +1,13 @@
 // APIC's transfers (Jiang et al. 2015; transfer/p2g.hpp's AffineMomentum, g2p.hpp's g2p_affine,
-// lanes.hpp's LaneStencil::locate_nodes) through the real stencils and scatter order, for every kernel in 2-D and
-// 3-D:
-//   * an affine velocity field v = a + C x with B_p = C D_p makes the round trip P2G-G2P without loss: every node
+// lanes.hpp's LaneStencil::locate_nodes) through the real stencils and scatter order, for every kernel in 2-D
+// and 3-D:
+//   * an affine velocity field v = a + C x with B_p = C D_p makes the round trip P2G-G2P without loss: every
+//   node
 //     with mass gets a + C x_i, every particle gets back a + C x_p and C D_p (D_p = sum_i S_ip (x_i - x_p)
 //     (x_i - x_p)^T, summed here from the one-particle stencils, independently of the lanes);
 //   * with B_p = 0, P2G gives Momentum's bits;
-//   * P2G and G2P each keep the angular momentum sum_p m_p (x_p x v_p + eps : B_p^T) = sum_i x_i x m_i v_i of any
+//   * P2G and G2P each keep the angular momentum sum_p m_p (x_p x v_p + eps : B_p^T) = sum_i x_i x m_i v_i of
+//   any
 //     particle velocities and matrices.
 #include <gtest/gtest.h>
 
@@ -16,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "kernel_cases.hpp"
 #include "mpm/grid/grid.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/shape/kernels.hpp"
@@ -23,8 +26,6 @@
 #include "mpm/transfer/g2p.hpp"
 #include "mpm/transfer/p2g.hpp"
 #include "mpm/transfer/scatter_order.hpp"
-
-#include "kernel_cases.hpp"
 
 namespace {
 
@@ -38,8 +39,8 @@ template <class C>
 class Apic : public ::testing::Test {};
 TYPED_TEST_SUITE(Apic, Cases, CaseName);
 
-/// A grid of 8 cells per axis (h = 0.1, offset origin) and 200 particles at random places in it, with random masses,
-/// velocities and half-lengths h/4 (2 particles per cell).
+/// A grid of 8 cells per axis (h = 0.1, offset origin) and 200 particles at random places in it, with random
+/// masses, velocities and half-lengths h/4 (2 particles per cell).
 template <int Dim, class Kernel>
 struct Setup {
   mpm::GridGeometry<Dim> geo;
@@ -81,19 +82,21 @@ struct Setup {
   }
   mpm::Grid<Dim> p2g(bool affine) {
     mpm::Grid<Dim> grid(geo);
-    mpm::p2g<mpm::Scatter{.mass_momentum = true, .force = false}>(p, stencils(), order, {}, grid, mpm::KeepNothing{}, 0,
-                                                                  false, affine ? &p.B : nullptr);
+    mpm::p2g<mpm::Scatter{.mass_momentum = true, .force = false}>(
+        p, stencils(), order, {}, grid, mpm::KeepNothing{}, 0, false, affine ? &p.B : nullptr);
     return grid;
   }
 };
 
-/// The angular momentum about the origin of a point mass m at x moving at v, with the spin eps : B^T of an affine
-/// matrix B (Jiang et al. 2015): the z component in 2-D (one entry), the vector in 3-D.
+/// The angular momentum about the origin of a point mass m at x moving at v, with the spin eps : B^T of an
+/// affine matrix B (Jiang et al. 2015): the z component in 2-D (one entry), the vector in 3-D.
 template <int Dim>
 std::array<Real, 3> angular_momentum(Real m, const Vec<Dim>& x, const Vec<Dim>& v, const Mat<Dim>& B) {
-  if constexpr (Dim == 2) return {m * (x[0] * v[1] - x[1] * v[0] + B(1, 0) - B(0, 1)), 0, 0};
+  if constexpr (Dim == 2)
+    return {m * (x[0] * v[1] - x[1] * v[0] + B(1, 0) - B(0, 1)), 0, 0};
   else
-    return {m * (x[1] * v[2] - x[2] * v[1] + B(2, 1) - B(1, 2)), m * (x[2] * v[0] - x[0] * v[2] + B(0, 2) - B(2, 0)),
+    return {m * (x[1] * v[2] - x[2] * v[1] + B(2, 1) - B(1, 2)),
+            m * (x[2] * v[0] - x[0] * v[2] + B(0, 2) - B(2, 0)),
             m * (x[0] * v[1] - x[1] * v[0] + B(1, 0) - B(0, 1))};
 }
 
@@ -156,24 +159,28 @@ TYPED_TEST(Apic, P2GAndG2PKeepTheAngularMomentum) {
   const auto add = [](std::array<Real, 3>& sum, const std::array<Real, 3>& L) {
     for (int k = 0; k < 3; ++k) sum[k] += L[k];
   };
-  for (std::size_t i = 0; i < s.p.size(); ++i) add(particles, angular_momentum<Dim>(s.p.m[i], s.p.x[i], s.p.v[i], s.p.B[i]));
+  for (std::size_t i = 0; i < s.p.size(); ++i)
+    add(particles, angular_momentum<Dim>(s.p.m[i], s.p.x[i], s.p.v[i], s.p.B[i]));
   mpm::Grid<Dim> grid = s.p2g(true);
   for (std::size_t n = 0; n < grid.size(); ++n)  // v holds the momentum m_i v_i until grid_velocity
     add(nodes, angular_momentum<Dim>(1.0, s.geo.position(s.geo.coords(static_cast<std::ptrdiff_t>(n))),
                                      grid.nodes[n].v, Mat<Dim>::Zero()));
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(nodes[k], particles[k], 1e-15) << "P2G, component " << k;
 
-  // G2P of any node velocities: the particles' angular momentum is sum_i m_i x_i x v_i with m_i their P2G mass.
+  // G2P of any node velocities: the particles' angular momentum is sum_i m_i x_i x v_i with m_i their P2G
+  // mass.
   std::array<Real, 3> grid_L{}, back{};
   for (std::size_t n = 0; n < grid.size(); ++n) {
     for (int d = 0; d < Dim; ++d) grid.nodes[n].v_new[d] = grid.nodes[n].m > 0 ? sym(s.rng) : 0.0;
-    add(grid_L, angular_momentum<Dim>(grid.nodes[n].m, s.geo.position(s.geo.coords(static_cast<std::ptrdiff_t>(n))),
-                                      grid.nodes[n].v_new, Mat<Dim>::Zero()));
+    add(grid_L,
+        angular_momentum<Dim>(grid.nodes[n].m, s.geo.position(s.geo.coords(static_cast<std::ptrdiff_t>(n))),
+                              grid.nodes[n].v_new, Mat<Dim>::Zero()));
   }
   std::vector<Vec<Dim>> v;
   std::vector<Mat<Dim>> B;
   mpm::g2p_affine(s.stencils(), grid, &mpm::GridNode<Dim>::v_new, v, B);
-  for (std::size_t i = 0; i < s.p.size(); ++i) add(back, angular_momentum<Dim>(s.p.m[i], s.p.x[i], v[i], B[i]));
+  for (std::size_t i = 0; i < s.p.size(); ++i)
+    add(back, angular_momentum<Dim>(s.p.m[i], s.p.x[i], v[i], B[i]));
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(back[k], grid_L[k], 1e-15) << "G2P, component " << k;
 }
 

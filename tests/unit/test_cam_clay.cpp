@@ -1,12 +1,14 @@
-// Modified Cam-Clay (Roscoe & Burland 1968, with the volumetric laws of Butterfield 1979) at one material point,
-// against closed forms: isotropic compression along the normal compression line and swelling back, the undrained
-// effective stress path of normally and lightly over-consolidated clay, and drained triaxial compression from both
-// states reaching the critical state line q = M p'. p' = -tr(sigma) / 3 and compression positive throughout.
+// Modified Cam-Clay (Roscoe & Burland 1968, with the volumetric laws of Butterfield 1979) at one material
+// point, against closed forms: isotropic compression along the normal compression line and swelling back, the
+// undrained effective stress path of normally and lightly over-consolidated clay, and drained triaxial
+// compression from both states reaching the critical state line q = M p'. p' = -tr(sigma) / 3 and compression
+// positive throughout.
 //
-// What holds exactly, whatever the step size: ln p' and ln p_c move by the elastic and plastic parts of each volumetric
-// increment over kappa* and lambda* - kappa*, so eps_v = kappa* ln(p'/p'_0) + (lambda* - kappa*) ln(p_c/p_c0) after
-// any path (asserted to 1e-12 of eps_v, the round-off of a few hundred logarithms and exponentials), and a plastic
-// state lies on its yield surface (asserted to 1e-10 of p_c^2, the return's convergence test).
+// What holds exactly, whatever the step size: ln p' and ln p_c move by the elastic and plastic parts of each
+// volumetric increment over kappa* and lambda* - kappa*, so eps_v = kappa* ln(p'/p'_0) + (lambda* - kappa*)
+// ln(p_c/p_c0) after any path (asserted to 1e-12 of eps_v, the round-off of a few hundred logarithms and
+// exponentials), and a plastic state lies on its yield surface (asserted to 1e-10 of p_c^2, the return's
+// convergence test).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -35,8 +37,12 @@ ModifiedCamClay clay() {
   return m;
 }
 
-Mat3 diagonal(Real a, Real b, Real c) { return Eigen::Vector3d(a, b, c).asDiagonal(); }
-Mat3 isotropic(Real p) { return diagonal(-p, -p, -p); }
+Mat3 diagonal(Real a, Real b, Real c) {
+  return Eigen::Vector3d(a, b, c).asDiagonal();
+}
+Mat3 isotropic(Real p) {
+  return diagonal(-p, -p, -p);
+}
 
 struct State {
   Mat3 sigma;
@@ -48,7 +54,9 @@ struct State {
   Real pc() const { return internal[0]; }
 };
 
-State start(const ModifiedCamClay& m, Real p0) { return {isotropic(p0), 0, {m.pc0}, 0}; }
+State start(const ModifiedCamClay& m, Real p0) {
+  return {isotropic(p0), 0, {m.pc0}, 0};
+}
 
 void advance(const ModifiedCamClay& m, State& s, const Mat3& de) {
   const StressUpdate u = mpm::update_stress(m, s.sigma, s.eps_bar, s.internal, de, Mat3::Zero());
@@ -58,10 +66,11 @@ void advance(const ModifiedCamClay& m, State& s, const Mat3& de) {
   s.eps_v -= de.trace();
 }
 
-/// eps_v - kappa* ln(p'/p'_0) - (lambda* - kappa*) ln(p_c/p_c0): zero on every path (Butterfield 1979 integrated
-/// exactly).
+/// eps_v - kappa* ln(p'/p'_0) - (lambda* - kappa*) ln(p_c/p_c0): zero on every path (Butterfield 1979
+/// integrated exactly).
 Real volume_identity(const ModifiedCamClay& m, const State& s, Real p0) {
-  return s.eps_v - m.kappa_star * std::log(s.p() / p0) - (m.lambda_star - m.kappa_star) * std::log(s.pc() / m.pc0);
+  return s.eps_v - m.kappa_star * std::log(s.p() / p0) -
+         (m.lambda_star - m.kappa_star) * std::log(s.pc() / m.pc0);
 }
 
 /// f / p_c^2 = (q^2 / M^2 + p' (p' - p_c)) / p_c^2 (Roscoe & Burland 1968).
@@ -70,8 +79,8 @@ Real yield(const ModifiedCamClay& m, const State& s) {
 }
 
 TEST(CamClay, IsotropicCompressionFollowsTheNormalCompressionLineAtAnyStep) {
-  // Normally consolidated (p'_0 = p_c0): p' = p'_0 exp(eps_v / lambda*) on the normal compression line, p_c = p';
-  // swelling back by 0.01 leaves p_c and gives p' = p'_max exp(-0.01 / kappa*).
+  // Normally consolidated (p'_0 = p_c0): p' = p'_0 exp(eps_v / lambda*) on the normal compression line, p_c =
+  // p'; swelling back by 0.01 leaves p_c and gives p' = p'_max exp(-0.01 / kappa*).
   const ModifiedCamClay m = clay();
   for (int steps : {1, 10, 1000}) {
     State s = start(m, m.pc0);
@@ -110,25 +119,31 @@ void expect_undrained_path(Real p0) {
   }
   ASSERT_TRUE(yielded);
   const Real p_f = std::pow(m.pc0 * std::pow(p0, a) / 2, 1 / (1 + a));
-  // The approach is exponential in the strain: p' is 4e-4 from p'_f at 10% axial strain, 2e-7 at 20%, 1e-10 at 30%
-  // and at 40% 1.3e-13 (NC) and 1.1e-13 (OCR 1.5), where round-off stops it (measured). Asserted 1e-11.
+  // The approach is exponential in the strain: p' is 4e-4 from p'_f at 10% axial strain, 2e-7 at 20%, 1e-10
+  // at 30% and at 40% 1.3e-13 (NC) and 1.1e-13 (OCR 1.5), where round-off stops it (measured). Asserted
+  // 1e-11.
   std::printf("undrained from p'_0 = %g: p' - p'_f = %.3g p'_f, q / p' - M = %.3g M\n", p0, s.p() / p_f - 1,
               s.q() / s.p() / m.M - 1);
   EXPECT_NEAR(s.p(), p_f, 1e-11 * p_f);
   EXPECT_NEAR(s.q() / s.p(), m.M, 1e-11 * m.M);
 }
 
-TEST(CamClay, UndrainedPathOfNormallyConsolidatedClay) { expect_undrained_path(200e3); }
-TEST(CamClay, UndrainedPathOfLightlyOverconsolidatedClay) { expect_undrained_path(200e3 / 1.5); }
+TEST(CamClay, UndrainedPathOfNormallyConsolidatedClay) {
+  expect_undrained_path(200e3);
+}
+TEST(CamClay, UndrainedPathOfLightlyOverconsolidatedClay) {
+  expect_undrained_path(200e3 / 1.5);
+}
 
-/// Drained triaxial compression at the cell pressure p'_0: the lateral stresses stay -p'_0 (the lateral strain solved
-/// by the secant method at each step), so q = 3 (p' - p'_0), and the critical state is p'_cs = 3 p'_0 / (3 - M),
-/// q_cs = M p'_cs, p_c = 2 p'_cs, eps_v = kappa* ln(p'_cs / p'_0) + (lambda* - kappa*) ln(2 p'_cs / p_c0).
+/// Drained triaxial compression at the cell pressure p'_0: the lateral stresses stay -p'_0 (the lateral
+/// strain solved by the secant method at each step), so q = 3 (p' - p'_0), and the critical state is p'_cs =
+/// 3 p'_0 / (3 - M), q_cs = M p'_cs, p_c = 2 p'_cs, eps_v = kappa* ln(p'_cs / p'_0) + (lambda* - kappa*) ln(2
+/// p'_cs / p_c0).
 void expect_drained_path(Real p0) {
   const ModifiedCamClay m = clay();
   State s = start(m, p0);
-  // The critical state is an asymptote, approached by a factor of about 15 for every 0.3 of axial strain: the path
-  // is followed (as a sequence of small-strain increments) to an axial strain of 3.
+  // The critical state is an asymptote, approached by a factor of about 15 for every 0.3 of axial strain: the
+  // path is followed (as a sequence of small-strain increments) to an axial strain of 3.
   const int steps = 3000;
   const Real da = -3.0 / steps;  // axial strain increment (z, compression)
   Real guess = 0;
@@ -153,19 +168,22 @@ void expect_drained_path(Real p0) {
     }
   }
   const Real p_cs = 3 * p0 / (3 - m.M);
-  const Real eps_cs = m.kappa_star * std::log(p_cs / p0) + (m.lambda_star - m.kappa_star) * std::log(2 * p_cs / m.pc0);
-  // p' is 2e-3 from p'_cs at an axial strain of 0.6, 9e-6 at 1.2, 4e-8 at 1.8 and 8e-13 at 3 (measured, NC and OCR
-  // 1.5 alike). Asserted 1e-10 for the stresses and p_c, and 1e-10 for eps_v (which follows from them by the
-  // identity).
-  std::printf("drained from p'_0 = %g: p' - p'_cs = %.3g p'_cs, q / p' - M = %.3g M, eps_v - eps_cs = %.3g\n", p0,
-              s.p() / p_cs - 1, s.q() / s.p() / m.M - 1, s.eps_v - eps_cs);
+  const Real eps_cs =
+      m.kappa_star * std::log(p_cs / p0) + (m.lambda_star - m.kappa_star) * std::log(2 * p_cs / m.pc0);
+  // p' is 2e-3 from p'_cs at an axial strain of 0.6, 9e-6 at 1.2, 4e-8 at 1.8 and 8e-13 at 3 (measured, NC
+  // and OCR 1.5 alike). Asserted 1e-10 for the stresses and p_c, and 1e-10 for eps_v (which follows from them
+  // by the identity).
+  std::printf("drained from p'_0 = %g: p' - p'_cs = %.3g p'_cs, q / p' - M = %.3g M, eps_v - eps_cs = %.3g\n",
+              p0, s.p() / p_cs - 1, s.q() / s.p() / m.M - 1, s.eps_v - eps_cs);
   EXPECT_NEAR(s.p(), p_cs, 1e-10 * p_cs);
   EXPECT_NEAR(s.q() / s.p(), m.M, 1e-10 * m.M);
   EXPECT_NEAR(s.pc(), 2 * p_cs, 1e-10 * 2 * p_cs);
   EXPECT_NEAR(s.eps_v, eps_cs, 1e-10);
 }
 
-TEST(CamClay, DrainedTriaxialOfNormallyConsolidatedClayReachesTheCriticalState) { expect_drained_path(200e3); }
+TEST(CamClay, DrainedTriaxialOfNormallyConsolidatedClayReachesTheCriticalState) {
+  expect_drained_path(200e3);
+}
 TEST(CamClay, DrainedTriaxialOfLightlyOverconsolidatedClayReachesTheCriticalState) {
   expect_drained_path(200e3 / 1.5);
 }
@@ -214,7 +232,8 @@ TEST(CamClay, TheWaveSpeedFollowsTheMeanStress) {
   // K = p' / kappa*, G = 3 K (1 - 2 nu) / (2 (1 + nu)): c^2 = (K + 4 G / 3) / rho.
   const ModifiedCamClay m = clay();
   const Real K = 100e3 / m.kappa_star, G = 3 * K * (1 - 2 * m.nu) / (2 * (1 + m.nu));
-  EXPECT_NEAR(m.wave_speed(1, mpm::packed(isotropic(100e3))), std::sqrt((K + 4 * G / 3) / m.rho0), 1e-12 * 100);
+  EXPECT_NEAR(m.wave_speed(1, mpm::packed(isotropic(100e3))), std::sqrt((K + 4 * G / 3) / m.rho0),
+              1e-12 * 100);
 }
 
 }  // namespace

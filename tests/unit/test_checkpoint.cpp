@@ -32,9 +32,8 @@ using mpm::io::write_checkpoint;
 class Checkpoint : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("mpm_test_checkpoint_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("mpm_test_checkpoint_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -52,7 +51,9 @@ class Checkpoint : public ::testing::Test {
   fs::path dir_;
 };
 
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool same_bits(double a, double b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
 
 /// Asserts a == b with doubles compared by their bits (so -0.0 differs from 0.0).
 void expect_bitwise_equal(const CheckpointData& a, const CheckpointData& b) {
@@ -61,7 +62,8 @@ void expect_bitwise_equal(const CheckpointData& a, const CheckpointData& b) {
     ASSERT_EQ(b.reals.count(name), 1u) << name;
     const auto& other = b.reals.at(name);
     ASSERT_EQ(values.size(), other.size()) << name;
-    // memcmp of an empty vector's data() (possibly null) is undefined even for zero bytes: compare only values
+    // memcmp of an empty vector's data() (possibly null) is undefined even for zero bytes: compare only
+    // values
     if (!values.empty()) {
       EXPECT_EQ(std::memcmp(values.data(), other.data(), values.size() * sizeof(double)), 0) << name;
     }
@@ -100,12 +102,25 @@ void put_file_bytes(const fs::path& file, const std::string& bytes) {
 CheckpointData special_values() {
   using limits = std::numeric_limits<double>;
   CheckpointData d;
-  d.reals["special"] = {limits::denorm_min(), -limits::denorm_min(), 2.5e-310, -0.0, 0.0, 1e308, -1e308,
-                        limits::max(), limits::lowest(), limits::min(), limits::epsilon(), 0.1 + 0.2,
-                        1.0 / 3.0, limits::infinity(), -limits::infinity()};
+  d.reals["special"] = {limits::denorm_min(),
+                        -limits::denorm_min(),
+                        2.5e-310,
+                        -0.0,
+                        0.0,
+                        1e308,
+                        -1e308,
+                        limits::max(),
+                        limits::lowest(),
+                        limits::min(),
+                        limits::epsilon(),
+                        0.1 + 0.2,
+                        1.0 / 3.0,
+                        limits::infinity(),
+                        -limits::infinity()};
   d.reals["x"] = {0.1, 0.2, 0.30000000000000004, -1.5, 2.0, 3.0};
   d.reals["empty"] = {};
-  d.integers["ids"] = {0, 1, -1, std::numeric_limits<std::int64_t>::min(), std::numeric_limits<std::int64_t>::max()};
+  d.integers["ids"] = {0, 1, -1, std::numeric_limits<std::int64_t>::min(),
+                       std::numeric_limits<std::int64_t>::max()};
   d.integers["none"] = {};
   d.real_scalars["time"] = 0.1 + 0.2;
   d.real_scalars["negative_zero"] = -0.0;
@@ -257,8 +272,9 @@ TEST_F(Checkpoint, SecondWriteReplacesFirst) {
   EXPECT_TRUE(temp_files(file).empty());
 }
 
-// A child process starts writing a 400 MB checkpoint B over checkpoint A and is killed with SIGKILL as soon as
-// its temporary file "state.h5.tmp-PID-N" appears (plus 20 ms, to be inside the write): FILE must still be A.
+// A child process starts writing a 400 MB checkpoint B over checkpoint A and is killed with SIGKILL as soon
+// as its temporary file "state.h5.tmp-PID-N" appears (plus 20 ms, to be inside the write): FILE must still be
+// A.
 TEST_F(Checkpoint, WriterKilledMidWriteLeavesPreviousCheckpoint) {
   const fs::path file = dir_ / "state.h5";
   const CheckpointData a = special_values();
@@ -319,7 +335,8 @@ TEST_F(Checkpoint, SealRefusesChangedOrTruncatedFiles) {
     const fs::path file = dir_ / "flipped.h5";
     put_file_bytes(file, flipped);
     const std::string msg = read_error(file);
-    EXPECT_NE(msg.find("corrupt: its contents do not match the checksum"), std::string::npos) << at << ": " << msg;
+    EXPECT_NE(msg.find("corrupt: its contents do not match the checksum"), std::string::npos)
+        << at << ": " << msg;
   }
   const fs::path cut = dir_ / "cut.h5";
   put_file_bytes(cut, bytes.substr(0, bytes.size() - 100));

@@ -1,6 +1,7 @@
-// Arrays of rows in a checkpoint (CheckpointData::row_widths): their widths round-trip, R ranks reading one file
-// each get rows [n r / R, n (r + 1) / R) and together all of them, and inconsistent rows are refused with the
-// file's name. Ranks are played in one process by mpm::Alone, a communicator that only says which rank it is.
+// Arrays of rows in a checkpoint (CheckpointData::row_widths): their widths round-trip, R ranks reading one
+// file each get rows [n r / R, n (r + 1) / R) and together all of them, and inconsistent rows are refused
+// with the file's name. Ranks are played in one process by mpm::Alone, a communicator that only says which
+// rank it is.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -57,7 +58,8 @@ TEST(CheckpointRows, ThreeRanksReadSharesThatTogetherAreAllRows) {
   }
   // More ranks than rows: some get none.
   EXPECT_TRUE(mpm::io::read_checkpoint(file, mpm::Alone(0, 7)).integers.at("id").empty());
-  EXPECT_EQ(mpm::io::read_checkpoint(file, mpm::Alone(6, 7)).integers.at("id"), (std::vector<std::int64_t>{14}));
+  EXPECT_EQ(mpm::io::read_checkpoint(file, mpm::Alone(6, 7)).integers.at("id"),
+            (std::vector<std::int64_t>{14}));
   fs::remove_all(file.parent_path());
 }
 
@@ -79,10 +81,12 @@ TEST(CheckpointRows, InconsistentRowsAreRefusedNamingTheFile) {
   EXPECT_EQ(refusal(d, file), "checkpoint " + file.string() + ": row arrays of different lengths ('x')");
   d = five_rows();
   d.row_widths["x"] = 3;
-  EXPECT_EQ(refusal(d, file), "checkpoint " + file.string() + ": row array 'x' of 10 values is not rows of 3");
+  EXPECT_EQ(refusal(d, file),
+            "checkpoint " + file.string() + ": row array 'x' of 10 values is not rows of 3");
   d = five_rows();
   d.row_widths["v"] = 2;
-  EXPECT_EQ(refusal(d, file), "checkpoint " + file.string() + ": row array 'v' is neither a real nor an integer array");
+  EXPECT_EQ(refusal(d, file),
+            "checkpoint " + file.string() + ": row array 'v' is neither a real nor an integer array");
   EXPECT_FALSE(fs::exists(file));
   fs::remove_all(file.parent_path());
 }

@@ -1,15 +1,16 @@
 // B-splines whose knots are clamped at the grid's faces (GridGeometry::clamped, stencil.hpp's locate_axis,
-// kernels.hpp's weights_at; Steffen et al. 2008, Sec. 4.3): the ghost node's function folded into the face's two
-// nodes by linear extrapolation (N_0 + 2 N_-1, N_1 - N_-1). Checked on grids of few cells clamped at both faces:
-// no stencil reaches beyond a face; partition of unity, zero gradient sum and linear reproduction up to the faces;
-// non-negative, continuous weights; the closed forms of the folded functions and their integrals; the uniform
-// weights unchanged away from the faces; lanes equal to the one-particle path; and the 2-D and 3-D tensor products
-// at the domain's corners. Positions in grid units (h = 1) unless stated otherwise.
+// kernels.hpp's weights_at; Steffen et al. 2008, Sec. 4.3): the ghost node's function folded into the face's
+// two nodes by linear extrapolation (N_0 + 2 N_-1, N_1 - N_-1). Checked on grids of few cells clamped at both
+// faces: no stencil reaches beyond a face; partition of unity, zero gradient sum and linear reproduction up
+// to the faces; non-negative, continuous weights; the closed forms of the folded functions and their
+// integrals; the uniform weights unchanged away from the faces; lanes equal to the one-particle path; and the
+// 2-D and 3-D tensor products at the domain's corners. Positions in grid units (h = 1) unless stated
+// otherwise.
 #include <gtest/gtest.h>
 
 #include <array>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <random>
@@ -76,8 +77,8 @@ TYPED_TEST(ClampedKernel, PartitionOfUnityAndLinearReproductionUpToTheFaces) {
       const Real xi = n * (k / (400.0 * n));  // 0 and n exactly included
       SCOPED_TRACE(::testing::Message() << n << " cells, xi = " << xi);
       const Located<K> s = locate<K>(g, xi);
-      ASSERT_GE(s.base, 0);                    // no node below the lower face
-      ASSERT_LE(s.base + K::width - 1, n);     // nor above the upper one
+      ASSERT_GE(s.base, 0);                 // no node below the lower face
+      ASSERT_LE(s.base + K::width - 1, n);  // nor above the upper one
       Real sum_w = 0, sum_dw = 0, sum_xw = 0, sum_xdw = 0;
       for (int j = 0; j < K::width; ++j) {
         EXPECT_GE(s.w[j], -kEps);
@@ -95,10 +96,10 @@ TYPED_TEST(ClampedKernel, PartitionOfUnityAndLinearReproductionUpToTheFaces) {
 }
 
 TYPED_TEST(ClampedKernel, WeightsAreContinuousAndGradientsAreTheirDerivatives) {
-  // Each node's weight evaluated just left and right of every half-integer (where the pieces and the base node
-  // change): the jump is the slope times the 2e-9 step, < 1e-8. Its gradient against a central difference of
-  // step 1e-6 away from the breaks: the truncation error is O(1e-12) times the third derivative (<= 4), and the
-  // difference's round-off 1e-16 / 1e-6.
+  // Each node's weight evaluated just left and right of every half-integer (where the pieces and the base
+  // node change): the jump is the slope times the 2e-9 step, < 1e-8. Its gradient against a central
+  // difference of step 1e-6 away from the breaks: the truncation error is O(1e-12) times the third derivative
+  // (<= 4), and the difference's round-off 1e-16 / 1e-6.
   using K = TypeParam;
   const int n = 7;
   const mpm::GridGeometry<1> g = grid(n, K::ghost);
@@ -128,7 +129,10 @@ Real folded(int width, int node, Real q) {
     if (node == 0) return q < 1 ? 1 - q + q * q * q / 6 : q < 2 ? (2 - q) * (2 - q) * (2 - q) / 6 : 0;
     if (node == 1) {
       const Real s = q - 1;
-      return q < 1 ? q - q * q * q / 3 : q < 2 ? 2.0 / 3 - s * s + s * s * s / 2 : q < 3 ? (3 - q) * (3 - q) * (3 - q) / 6 : 0;
+      return q < 1   ? q - q * q * q / 3
+             : q < 2 ? 2.0 / 3 - s * s + s * s * s / 2
+             : q < 3 ? (3 - q) * (3 - q) * (3 - q) / 6
+                     : 0;
     }
   }
   return std::numeric_limits<Real>::quiet_NaN();
@@ -142,7 +146,8 @@ TYPED_TEST(ClampedKernel, FaceNodesFollowTheFoldedClosedFormsAtBothFaces) {
   for (int k = 0; k <= 700; ++k) {
     const Real q = k / 100.0;
     for (int node = 0; node < 2; ++node) {
-      EXPECT_NEAR(node_weight<K>(g, q, node)[0], folded(K::width, node, q), 16 * kEps) << "lower, node " << node << ", q " << q;
+      EXPECT_NEAR(node_weight<K>(g, q, node)[0], folded(K::width, node, q), 16 * kEps)
+          << "lower, node " << node << ", q " << q;
       EXPECT_NEAR(node_weight<K>(g, n - q, n - node)[0], folded(K::width, node, q), 16 * kEps * n)
           << "upper, node " << n - node << ", q " << q;
     }
@@ -153,14 +158,14 @@ TYPED_TEST(ClampedKernel, FaceNodesFollowTheFoldedClosedFormsAtBothFaces) {
 }
 
 TYPED_TEST(ClampedKernel, FaceNodesIntegrateToTheirLumpedShares) {
-  // int N_0 = 13/24, int N_1 = 23/24 (quadratic), 7/12 and 11/12 (cubic), every other node 1 (derived from the
-  // closed forms). Simpson's rule on intervals of 1/2, which the pieces' breaks (half-integers, integers) never
-  // split, integrates the cubics exactly: round-off only.
+  // int N_0 = 13/24, int N_1 = 23/24 (quadratic), 7/12 and 11/12 (cubic), every other node 1 (derived from
+  // the closed forms). Simpson's rule on intervals of 1/2, which the pieces' breaks (half-integers, integers)
+  // never split, integrates the cubics exactly: round-off only.
   using K = TypeParam;
   const int n = 7;
   const mpm::GridGeometry<1> g = grid(n, K::ghost);
-  const std::array<Real, 2> expected = K::width == 3 ? std::array<Real, 2>{13.0 / 24, 23.0 / 24}
-                                                     : std::array<Real, 2>{7.0 / 12, 11.0 / 12};
+  const std::array<Real, 2> expected =
+      K::width == 3 ? std::array<Real, 2>{13.0 / 24, 23.0 / 24} : std::array<Real, 2>{7.0 / 12, 11.0 / 12};
   for (int node = 0; node <= n; ++node) {
     Real integral = 0;
     for (int k = 0; k < 2 * n; ++k) {
@@ -177,10 +182,11 @@ TYPED_TEST(ClampedKernel, FaceNodesIntegrateToTheirLumpedShares) {
 }
 
 TYPED_TEST(ClampedKernel, UniformWeightsAwayFromTheFaces) {
-  // Bit for bit: clamping changes nothing where the uniform stencil stays inside (half a cell from a face for the
-  // quadratic spline, a cell for the cubic one). Both through the same (not inlined) function: GCC 12's SLP
-  // vectoriser fuses a multiply and an add/subtract pair into one vfmaddsub despite -ffp-contract=off, differently
-  // in different inlined contexts (1 ulp of dw, seen in this test), so identical code is compared with itself.
+  // Bit for bit: clamping changes nothing where the uniform stencil stays inside (half a cell from a face for
+  // the quadratic spline, a cell for the cubic one). Both through the same (not inlined) function: GCC 12's
+  // SLP vectoriser fuses a multiply and an add/subtract pair into one vfmaddsub despite -ffp-contract=off,
+  // differently in different inlined contexts (1 ulp of dw, seen in this test), so identical code is compared
+  // with itself.
   using K = TypeParam;
   const int n = 7;
   const Real reach = K::width == 3 ? 0.5 : 1.0;
@@ -199,8 +205,8 @@ TYPED_TEST(ClampedKernel, UniformWeightsAwayFromTheFaces) {
 }
 
 TYPED_TEST(ClampedKernel, LanesLocateAndWeighLikeOneParticle) {
-  // build_stencils (locate_block in lanes) against make_stencil, and weights_at in lanes against one particle,
-  // bit for bit, on a clamped 2-D grid with particles near every face and corner.
+  // build_stencils (locate_block in lanes) against make_stencil, and weights_at in lanes against one
+  // particle, bit for bit, on a clamped 2-D grid with particles near every face and corner.
   using K = TypeParam;
   mpm::GridGeometry<2> g{mpm::Vec<2>(-0.3, 0.1), 0.25, {5, 4}, K::ghost};
   g.clamped = {true, true, true, true};
@@ -214,8 +220,8 @@ TYPED_TEST(ClampedKernel, LanesLocateAndWeighLikeOneParticle) {
     if (k < 4) x = mpm::Vec<2>(k % 2 ? hi[0] : g.lo[0], k / 2 ? hi[1] : g.lo[1]);  // the corners themselves
     p.add(x, mpm::Vec<2>::Zero(), 1.0, 1.0, mpm::Vec<2>::Constant(0.05), 0);
   }
-  // The records build_stencils keeps, and the axis data ParticleStencils locates again in lanes where the transfers
-  // read them.
+  // The records build_stencils keeps, and the axis data ParticleStencils locates again in lanes where the
+  // transfers read them.
   std::vector<mpm::StoredStencil<2, K>> stencils;
   mpm::build_stencils<2, K>(p, g, stencils);
   const mpm::NodeLayout<2> nl(g);

@@ -1,6 +1,6 @@
-// The Coulomb contact law (contact/coulomb.hpp) by hand-computed cases, a Coulomb wall's correction, reaction,
-// dissipated power and the spread of its normal force (KinematicConstraints), and the refusal of friction where it
-// has no meaning.
+// The Coulomb contact law (contact/coulomb.hpp) by hand-computed cases, a Coulomb wall's correction,
+// reaction, dissipated power and the spread of its normal force (KinematicConstraints), and the refusal of
+// friction where it has no meaning.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -40,9 +40,9 @@ TEST(CoulombContact, RemovesTheApproachAndLimitsTheSlipByMuTimesIt) {
 }
 
 TEST(CoulombWall, CorrectsANodeAndReportsItsForceAndDissipation) {
-  // One cell, the y-min face a fixed wall with mu = 0.5; every node there (and its ghost layer) has mass 2 kg and
-  // advanced velocity (3, -2) m/s; dt = 0.1 s. Each node: dv = (-1, 2), force m dv / dt = (-20, 40) N, power
-  // -force . v_after = -(-20 * 2 + 40 * 0) = 40 W.
+  // One cell, the y-min face a fixed wall with mu = 0.5; every node there (and its ghost layer) has mass 2 kg
+  // and advanced velocity (3, -2) m/s; dt = 0.1 s. Each node: dv = (-1, 2), force m dv / dt = (-20, 40) N,
+  // power -force . v_after = -(-20 * 2 + 40 * 0) = 40 W.
   mpm::BoundarySpec<2> spec;
   spec.faces[2].type = mpm::FaceType::velocity;
   spec.faces[2].friction = 0.5;

@@ -1,8 +1,8 @@
 // CPDI weights (Sadeghirad, Brannon & Burghardt 2011; shape/cpdi.hpp): the partition of unity and the linear
-// reproduction for sheared and rotated domains, the hat inside one cell, the corners' trapezoid rule on a node, the
-// domain bound of one cell, the axis-aligned box kernel, and lanes bit for bit equal to one particle. CPDI2's
-// (Sadeghirad, Brannon & Guilkey 2013; shape/cpdi2.hpp) for general quadrilaterals and hexahedra: the same properties,
-// and CPDI's weights for parallelograms.
+// reproduction for sheared and rotated domains, the hat inside one cell, the corners' trapezoid rule on a
+// node, the domain bound of one cell, the axis-aligned box kernel, and lanes bit for bit equal to one
+// particle. CPDI2's (Sadeghirad, Brannon & Guilkey 2013; shape/cpdi2.hpp) for general quadrilaterals and
+// hexahedra: the same properties, and CPDI's weights for parallelograms.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -31,9 +31,9 @@ mpm::GridGeometry<Dim> grid() {
   return g;
 }
 
-/// The sums of one particle's weights over its nodes: sum S, sum S x_i, sum grad S, sum (x_i - x_p) (x) grad S
-/// (I when sum grad S = 0: the linear reproduction of gradients, with terms of the size of one); and the weights
-/// by node.
+/// The sums of one particle's weights over its nodes: sum S, sum S x_i, sum grad S, sum (x_i - x_p) (x) grad
+/// S (I when sum grad S = 0: the linear reproduction of gradients, with terms of the size of one); and the
+/// weights by node.
 template <int Dim>
 struct Sums {
   Real S = 0, min_S = 1;
@@ -47,16 +47,17 @@ template <int Dim, class K = mpm::CpdiKernel<Dim>>
 Sums<Dim> sums(const mpm::GridGeometry<Dim>& g, const Vec<Dim>& x, const mpm::Domain<Dim, K>& domain) {
   const mpm::NodeLayout<Dim> nl(g);
   Sums<Dim> s;
-  mpm::for_each_node(mpm::make_stencil<Dim, K>(g, nl, x, domain), nl, [&](std::int32_t n, Real S, const Vec<Dim>& dS) {
-    const Vec<Dim> xi = g.position(g.coords(n));
-    s.S += S;
-    s.min_S = std::min(s.min_S, S);
-    s.Sx += S * xi;
-    s.dS += dS;
-    s.xdS += (xi - x) * dS.transpose();
-    s.weights.emplace_back(n, S);
-    s.gradients.push_back(dS);
-  });
+  mpm::for_each_node(mpm::make_stencil<Dim, K>(g, nl, x, domain), nl,
+                     [&](std::int32_t n, Real S, const Vec<Dim>& dS) {
+                       const Vec<Dim> xi = g.position(g.coords(n));
+                       s.S += S;
+                       s.min_S = std::min(s.min_S, S);
+                       s.Sx += S * xi;
+                       s.dS += dS;
+                       s.xdS += (xi - x) * dS.transpose();
+                       s.weights.emplace_back(n, S);
+                       s.gradients.push_back(dS);
+                     });
   return s;
 }
 
@@ -75,10 +76,10 @@ Mat<Dim> random_F(std::mt19937_64& rng, Real size) {
 
 template <int Dim>
 void expect_partition_of_unity_and_linear_reproduction(Real size) {
-  // Sheared, stretched and rotated domains of 1 and 2 particles per cell (l_0 = h/2, h/4), some beyond the bound
-  // of one cell (scaled). Sums of at most 4^Dim 2^Dim terms; measured worst over both sizes, 3-D: |sum S - 1|
-  // 4.4e-16, |sum S x_i - x_p| 7.0e-16, h |sum grad S| 1.9e-14, |sum (x_i - x_p) (x) grad S - I| 6.4e-14 (the
-  // gradients of the smallest scaled domains are the largest terms).
+  // Sheared, stretched and rotated domains of 1 and 2 particles per cell (l_0 = h/2, h/4), some beyond the
+  // bound of one cell (scaled). Sums of at most 4^Dim 2^Dim terms; measured worst over both sizes, 3-D: |sum
+  // S - 1| 4.4e-16, |sum S x_i - x_p| 7.0e-16, h |sum grad S| 1.9e-14, |sum (x_i - x_p) (x) grad S -
+  // I| 6.4e-14 (the gradients of the smallest scaled domains are the largest terms).
   const mpm::GridGeometry<Dim> g = grid<Dim>();
   std::mt19937_64 rng(17 + Dim);
   std::uniform_real_distribution<Real> where(0.4, 0.8);
@@ -126,8 +127,8 @@ TEST(CpdiWeights, AnAxisAlignedDomainInsideOneCellGivesTheHat) {
 }
 
 TEST(CpdiWeights, ANodeCentredDomainAveragesTheHatAtItsCorners) {
-  // x_p on a node, half-lengths l = 0.3 h: along each axis the node's factor is (N(-l) + N(l)) / 2 = 1 - l and each
-  // neighbour's l / 2 (GIMP integrates the hat exactly instead: 1 - l/2 and l/4).
+  // x_p on a node, half-lengths l = 0.3 h: along each axis the node's factor is (N(-l) + N(l)) / 2 = 1 - l
+  // and each neighbour's l / 2 (GIMP integrates the hat exactly instead: 1 - l/2 and l/4).
   const mpm::GridGeometry<2> g = grid<2>();
   const Vec<2> x(g.lo[0] + 6 * g.h, g.lo[1] + 4 * g.h);
   const Sums<2> s = sums<2>(g, x, Mat<2>::Identity() * (0.3 * g.h));
@@ -140,8 +141,8 @@ TEST(CpdiWeights, ANodeCentredDomainAveragesTheHatAtItsCorners) {
 }
 
 TEST(CpdiWeights, AQuarterTurnOfASquareDomainGivesTheSameWeights) {
-  // F = the rotation by pi/2 maps the square onto itself (its corners permuted), so the weights and gradients are
-  // those of F = I; cpGIMP's half-lengths l_0 F_dd would be 0 there.
+  // F = the rotation by pi/2 maps the square onto itself (its corners permuted), so the weights and gradients
+  // are those of F = I; cpGIMP's half-lengths l_0 F_dd would be 0 there.
   const mpm::GridGeometry<3> g = grid<3>();
   const Vec<3> x(g.lo[0] + 5.3 * g.h, g.lo[1] + 6.8 * g.h, g.lo[2] + 4.45 * g.h);
   Mat<3> Q;
@@ -172,8 +173,8 @@ TEST(CpdiWeights, ADomainBeyondOneCellIsScaledAboutItsCentre) {
 }
 
 TEST(CpdiWeights, TheBoxKernelReproducesLinearFieldsForEveryHalfLength) {
-  // CpdiKernel::Box (rigid-body points, the decomposition): (N(xi - l) + N(xi + l)) / 2 along one axis, for l in
-  // (0, 1] cells, and its gradient (N(xi + l) - N(xi - l)) / (2 l).
+  // CpdiKernel::Box (rigid-body points, the decomposition): (N(xi - l) + N(xi + l)) / 2 along one axis, for l
+  // in (0, 1] cells, and its gradient (N(xi + l) - N(xi - l)) / (2 l).
   using Box = mpm::CpdiKernel<2>::Box;
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<Real> u(0.0, 1.0);
@@ -184,7 +185,8 @@ TEST(CpdiWeights, TheBoxKernelReproducesLinearFieldsForEveryHalfLength) {
     Real w[Box::width], dw[Box::width], sum = 0, first = 0, slope = 0, dsum = 0;
     Box::weights_at(a, w, dw);
     for (int k = 0; k < Box::width; ++k) {
-      const Real lo = std::max(0.0, 1 - std::abs(xi - l - (base + k))), hi = std::max(0.0, 1 - std::abs(xi + l - (base + k)));
+      const Real lo = std::max(0.0, 1 - std::abs(xi - l - (base + k))),
+                 hi = std::max(0.0, 1 - std::abs(xi + l - (base + k)));
       EXPECT_NEAR(w[k], (lo + hi) / 2, 1e-15);
       sum += w[k];
       first += (base + k) * w[k];
@@ -215,10 +217,10 @@ mpm::Corners<Dim> distorted_corners(std::mt19937_64& rng, const Vec<Dim>& x, con
 
 template <int Dim>
 void expect_cpdi2_partition_of_unity_and_linear_reproduction(Real size) {
-  // Random quadrilaterals and hexahedra: CPDI's domains of 1 and 2 particles per cell with their corners moved by up
-  // to 0.3 l_0 each, the particle at their centroid; some reach beyond one cell (scaled). Measured worst over both
-  // sizes, 3-D: |sum S - 1| 6.7e-16, |sum S x_i - x_p| 4.4e-16, h |sum grad S| 1.1e-14, |sum (x_i - x_p) (x) grad S -
-  // I| 3.1e-14; the bounds are CPDI's.
+  // Random quadrilaterals and hexahedra: CPDI's domains of 1 and 2 particles per cell with their corners
+  // moved by up to 0.3 l_0 each, the particle at their centroid; some reach beyond one cell (scaled).
+  // Measured worst over both sizes, 3-D: |sum S - 1| 6.7e-16, |sum S x_i - x_p| 4.4e-16, h |sum grad
+  // S| 1.1e-14, |sum (x_i - x_p) (x) grad S - I| 3.1e-14; the bounds are CPDI's.
   using K = mpm::Cpdi2Kernel<Dim>;
   const mpm::GridGeometry<Dim> g = grid<Dim>();
   std::mt19937_64 rng(31 + Dim);
@@ -257,10 +259,10 @@ TEST(Cpdi2Weights, PartitionOfUnityAndLinearReproductionForHexahedra) {
 
 template <int Dim>
 void expect_parallelograms_weighed_as_cpdi() {
-  // The corners x_p + R s_c of CPDI's domain give CPDI's weights and gradients, node by node, scaled ones too:
-  // the two compute them by different routes (2^-D R^-T against Gauss points with cofactors), so to round-off,
-  // which for the gradients grows with the condition of R (det F down to 0.3 with entries up to 4): measured worst
-  // |difference| / (1/h + |gradient|) 1.1e-14 in 2-D, 3.2e-14 in 3-D.
+  // The corners x_p + R s_c of CPDI's domain give CPDI's weights and gradients, node by node, scaled ones
+  // too: the two compute them by different routes (2^-D R^-T against Gauss points with cofactors), so to
+  // round-off, which for the gradients grows with the condition of R (det F down to 0.3 with entries up to
+  // 4): measured worst |difference| / (1/h + |gradient|) 1.1e-14 in 2-D, 3.2e-14 in 3-D.
   const mpm::GridGeometry<Dim> g = grid<Dim>();
   std::mt19937_64 rng(7 + Dim);
   std::uniform_real_distribution<Real> where(0.4, 0.8);
@@ -275,19 +277,24 @@ void expect_parallelograms_weighed_as_cpdi() {
     for (std::size_t k = 0; k < cpdi.weights.size(); ++k) {
       EXPECT_EQ(cpdi.weights[k].first, cpdi2.weights[k].first);
       EXPECT_NEAR(cpdi.weights[k].second, cpdi2.weights[k].second, 1e-15) << sample;
-      worst = std::max(worst, (cpdi.gradients[k] - cpdi2.gradients[k]).norm() / (1 / g.h + cpdi.gradients[k].norm()));
+      worst = std::max(
+          worst, (cpdi.gradients[k] - cpdi2.gradients[k]).norm() / (1 / g.h + cpdi.gradients[k].norm()));
     }
   }
   EXPECT_LT(worst, 1e-13);
 }
 
-TEST(Cpdi2Weights, ParallelogramsWeighAsCpdi2D) { expect_parallelograms_weighed_as_cpdi<2>(); }
-TEST(Cpdi2Weights, ParallelepipedsWeighAsCpdi3D) { expect_parallelograms_weighed_as_cpdi<3>(); }
+TEST(Cpdi2Weights, ParallelogramsWeighAsCpdi2D) {
+  expect_parallelograms_weighed_as_cpdi<2>();
+}
+TEST(Cpdi2Weights, ParallelepipedsWeighAsCpdi3D) {
+  expect_parallelograms_weighed_as_cpdi<3>();
+}
 
 template <int Dim, class K = mpm::CpdiKernel<Dim>>
 void expect_lanes_like_one_particle() {
-  // build_stencils (locate_block in lanes) against make_stencil, and for_each_node in lanes against one particle,
-  // bit for bit, for distorted domains (CPDI2's corners moved off the parallelograms).
+  // build_stencils (locate_block in lanes) against make_stencil, and for_each_node in lanes against one
+  // particle, bit for bit, for distorted domains (CPDI2's corners moved off the parallelograms).
   const mpm::GridGeometry<Dim> g = grid<Dim>();
   mpm::ParticleSet<Dim> p;
   std::mt19937_64 rng(23);
@@ -301,7 +308,8 @@ void expect_lanes_like_one_particle() {
   if constexpr (mpm::moves_corners<K>) {
     mpm::place_corners(p);
     for (std::size_t i = 0; i < p.size(); ++i)
-      p.corners[i] = distorted_corners<Dim>(rng, Vec<Dim>::Zero(), Mat<Dim>::Zero(), 0.05 * g.h) + p.corners[i];
+      p.corners[i] =
+          distorted_corners<Dim>(rng, Vec<Dim>::Zero(), Mat<Dim>::Zero(), 0.05 * g.h) + p.corners[i];
   }
   std::vector<mpm::Stencil<Dim, K>> stencils;
   mpm::build_stencils<Dim, K>(p, g, stencils);
@@ -329,9 +337,8 @@ void expect_lanes_like_one_particle() {
     const int active = block.active;
     std::vector<std::vector<std::pair<Real, Vec<Dim>>>> one(active);
     for (int k = 0; k < active; ++k)
-      mpm::for_each_node(stencils[block.first + k], nl, [&](std::int32_t, Real w, const Vec<Dim>& dw) {
-        one[k].emplace_back(w, dw);
-      });
+      mpm::for_each_node(stencils[block.first + k], nl,
+                         [&](std::int32_t, Real w, const Vec<Dim>& dw) { one[k].emplace_back(w, dw); });
     for (std::size_t n = 0; n < one[0].size(); ++n)
       for (int k = 0; k < active; ++k, ++node) {
         EXPECT_EQ(S[node], one[k][n].first);
@@ -340,9 +347,17 @@ void expect_lanes_like_one_particle() {
   }
 }
 
-TEST(CpdiWeights, LanesLocateAndWeighLikeOneParticle2D) { expect_lanes_like_one_particle<2>(); }
-TEST(CpdiWeights, LanesLocateAndWeighLikeOneParticle3D) { expect_lanes_like_one_particle<3>(); }
-TEST(Cpdi2Weights, LanesLocateAndWeighLikeOneParticle2D) { expect_lanes_like_one_particle<2, mpm::Cpdi2Kernel<2>>(); }
-TEST(Cpdi2Weights, LanesLocateAndWeighLikeOneParticle3D) { expect_lanes_like_one_particle<3, mpm::Cpdi2Kernel<3>>(); }
+TEST(CpdiWeights, LanesLocateAndWeighLikeOneParticle2D) {
+  expect_lanes_like_one_particle<2>();
+}
+TEST(CpdiWeights, LanesLocateAndWeighLikeOneParticle3D) {
+  expect_lanes_like_one_particle<3>();
+}
+TEST(Cpdi2Weights, LanesLocateAndWeighLikeOneParticle2D) {
+  expect_lanes_like_one_particle<2, mpm::Cpdi2Kernel<2>>();
+}
+TEST(Cpdi2Weights, LanesLocateAndWeighLikeOneParticle3D) {
+  expect_lanes_like_one_particle<3, mpm::Cpdi2Kernel<3>>();
+}
 
 }  // namespace

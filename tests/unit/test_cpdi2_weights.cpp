@@ -1,5 +1,6 @@
-// The CPDI2 domain weights (shape/cpdi2.hpp; Sadeghirad, Brannon & Guilkey 2013): exact against a 4-point Gauss rule
-// for random quadrilaterals and hexahedra, CPDI's for parallelograms, and the properties the transfers need.
+// The CPDI2 domain weights (shape/cpdi2.hpp; Sadeghirad, Brannon & Guilkey 2013): exact against a 4-point
+// Gauss rule for random quadrilaterals and hexahedra, CPDI's for parallelograms, and the properties the
+// transfers need.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -22,15 +23,17 @@ void random_domain(std::mt19937_64& rng, Real size, Corners<Dim>& x) {
     for (int d = 0; d < Dim; ++d) x[c][d] = 0.3 + 0.5 * mpm::CpdiKernel<Dim>::sign(c, d) + u(rng);
 }
 
-/// V, int M_c dV and int grad M_c dV by the 4-point Gauss rule per axis with the inverse Jacobian (a different and
-/// more accurate route than the class's 2-point rule with cofactors).
+/// V, int M_c dV and int grad M_c dV by the 4-point Gauss rule per axis with the inverse Jacobian (a
+/// different and more accurate route than the class's 2-point rule with cofactors).
 template <int Dim>
 struct Reference {
   static constexpr int C = 1 << Dim;
   Real V = 0, w[C] = {}, g[C][Dim] = {};
   explicit Reference(const Corners<Dim>& x) {
-    const std::array<Real, 4> p = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
-    const std::array<Real, 4> pw = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538};
+    const std::array<Real, 4> p = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
+                                   0.8611363115940526};
+    const std::array<Real, 4> pw = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
+                                    0.3478548451374538};
     const int points = Dim == 2 ? 16 : 64;
     for (int q = 0; q < points; ++q) {
       Real xi[Dim], weight = 1;
@@ -97,8 +100,12 @@ void expect_exact_and_consistent() {
   }
 }
 
-TEST(Cpdi2Weights, TwoPointGaussIsExactForQuadrilaterals) { expect_exact_and_consistent<2>(); }
-TEST(Cpdi2Weights, TwoPointGaussIsExactForHexahedra) { expect_exact_and_consistent<3>(); }
+TEST(Cpdi2Weights, TwoPointGaussIsExactForQuadrilaterals) {
+  expect_exact_and_consistent<2>();
+}
+TEST(Cpdi2Weights, TwoPointGaussIsExactForHexahedra) {
+  expect_exact_and_consistent<3>();
+}
 
 TEST(Cpdi2Weights, ParallelogramsGiveCpdisWeights) {
   // Corners x_p + R s_c: w_c = 2^-D and g_c = 2^-D R^-T s_c (shape/cpdi.hpp).
@@ -123,8 +130,9 @@ TEST(Cpdi2Weights, ParallelogramsGiveCpdisWeights) {
 }
 
 TEST(Cpdi2Weights, QuadrilateralWeightsFollowTheTriangleAreas) {
-  // 2-D closed form with the corners counter-clockwise: w_c = 1/4 + (T_c - T_{c+2}) / (12 V), T_c the signed area of
-  // the triangle (c-1, c, c+1); V the shoelace area. Bit order (-,-), (+,-), (-,+), (+,+) is ccw order 0, 1, 3, 2.
+  // 2-D closed form with the corners counter-clockwise: w_c = 1/4 + (T_c - T_{c+2}) / (12 V), T_c the signed
+  // area of the triangle (c-1, c, c+1); V the shoelace area. Bit order (-,-), (+,-), (-,+), (+,+) is ccw
+  // order 0, 1, 3, 2.
   std::mt19937_64 rng(3);
   const int ccw[4] = {0, 1, 3, 2};
   for (int sample = 0; sample < 100; ++sample) {

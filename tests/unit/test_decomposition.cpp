@@ -1,7 +1,8 @@
-// The division of the grid between ranks (mpm/distributed/decomposition.hpp): boxes of whole tiles by recursive
-// coordinate bisection weighted by particle counts. Checked: the boxes partition the tiles exactly; uniform
-// weights give equal boxes where the counts divide; each cut shares the weight to within one tile layer of the
-// ideal ratio; the result is a function of its arguments; a grid too small for the ranks is refused.
+// The division of the grid between ranks (mpm/distributed/decomposition.hpp): boxes of whole tiles by
+// recursive coordinate bisection weighted by particle counts. Checked: the boxes partition the tiles exactly;
+// uniform weights give equal boxes where the counts divide; each cut shares the weight to within one tile
+// layer of the ideal ratio; the result is a function of its arguments; a grid too small for the ranks is
+// refused.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -52,7 +53,8 @@ TEST(Decomposition, BoxesPartitionTheTilesForEveryRankCount) {
       ASSERT_GE(o, 0) << "a tile in no box (-1) or in several (-2), " << ranks << " ranks";
       ++count[static_cast<std::size_t>(o)];
     }
-    for (std::size_t r = 0; r < boxes.size(); ++r) EXPECT_EQ(count[r], boxes[r].tile_count()) << ranks << " ranks";
+    for (std::size_t r = 0; r < boxes.size(); ++r)
+      EXPECT_EQ(count[r], boxes[r].tile_count()) << ranks << " ranks";
     EXPECT_EQ(mpm::bisect<3>(tiles, weight, ranks), boxes);  // a function of its arguments
   }
 }
@@ -65,8 +67,10 @@ TEST(Decomposition, UniformWeightsGiveEqualBoxes) {
   EXPECT_EQ(mpm::bisect<2>(tiles, weight, 2),
             (std::vector<mpm::TileBox<2>>{{{0, 0}, {8, 8}}, {{8, 0}, {16, 8}}}));
   EXPECT_EQ(mpm::bisect<2>(tiles, weight, 4),
-            (std::vector<mpm::TileBox<2>>{{{0, 0}, {4, 8}}, {{4, 0}, {8, 8}}, {{8, 0}, {12, 8}}, {{12, 0}, {16, 8}}}));
-  for (int ranks : {1, 2, 4, 8, 16, 32}) EXPECT_EQ(mpm::imbalance<2>(tiles, weight, mpm::bisect<2>(tiles, weight, ranks)), 1.0);
+            (std::vector<mpm::TileBox<2>>{
+                {{0, 0}, {4, 8}}, {{4, 0}, {8, 8}}, {{8, 0}, {12, 8}}, {{12, 0}, {16, 8}}}));
+  for (int ranks : {1, 2, 4, 8, 16, 32})
+    EXPECT_EQ(mpm::imbalance<2>(tiles, weight, mpm::bisect<2>(tiles, weight, ranks)), 1.0);
   // 3 ranks on 12 tiles in a row: 4 each (the cut for 1 : 2 at 4, then 2 : 2 at 8).
   EXPECT_EQ(mpm::bisect<1>({12}, std::vector<std::int64_t>(12, 5), 3),
             (std::vector<mpm::TileBox<1>>{{{0}, {4}}, {{4}, {8}}, {{8}, {12}}}));
@@ -80,8 +84,9 @@ TEST(Decomposition, CutsFollowTheParticles) {
   const auto boxes = mpm::bisect<1>({20}, weight, 2);
   EXPECT_EQ(boxes[0].hi[0], 18);
   EXPECT_EQ(mpm::imbalance<1>({20}, weight, boxes), 1.0);
-  // Random weights: every box's weight within one tile layer's weight of the ideal share. With layers of at most
-  // 16 x 100 particles and 4 ranks (two levels of cuts), each box misses its share by less than 2 layers.
+  // Random weights: every box's weight within one tile layer's weight of the ideal share. With layers of at
+  // most 16 x 100 particles and 4 ranks (two levels of cuts), each box misses its share by less than 2
+  // layers.
   const mpm::IVec<2> tiles = {40, 16};
   std::mt19937_64 rng(11);
   std::uniform_int_distribution<std::int64_t> particles(0, 100);

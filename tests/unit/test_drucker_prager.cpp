@@ -1,8 +1,8 @@
 // Drucker-Prager plasticity (de Souza Neto et al. 2008, Sec. 8.3) driven through strain paths at one material
-// point: the cones matched to Mohr-Coulomb, triaxial compression, simple shear, tension against the cut-off and
-// the apex, the dilatancy of the flow, softening, the tangent of tiny steps and the surface after huge ones.
-// Tolerances: a stress after a return is exact up to the round-off of a few operations on stresses of the size
-// of the state, so yield functions are asserted to 1e-12 of that size.
+// point: the cones matched to Mohr-Coulomb, triaxial compression, simple shear, tension against the cut-off
+// and the apex, the dilatancy of the flow, softening, the tangent of tiny steps and the surface after huge
+// ones. Tolerances: a stress after a return is exact up to the round-off of a few operations on stresses of
+// the size of the state, so yield functions are asserted to 1e-12 of that size.
 #include <random>
 
 #include "frictional_paths.hpp"
@@ -19,7 +19,9 @@ DruckerPrager dp(ConeMatch match = ConeMatch::outer) {
   return m;
 }
 
-Real sqrt_j2(const Mat3& s) { return std::sqrt(0.5 * mpm::deviator(s).squaredNorm()); }
+Real sqrt_j2(const Mat3& s) {
+  return std::sqrt(0.5 * mpm::deviator(s).squaredNorm());
+}
 
 /// f = sqrt(J2) + eta p - xi c at plastic strain e, computed here from the definition.
 Real yield(const DruckerPrager& m, const Mat3& sigma, Real e) {
@@ -39,9 +41,9 @@ TEST(DruckerPrager, OuterAndInnerConesPassThroughMohrCoulombsEdges) {
 }
 
 TEST(DruckerPrager, PlaneStrainConeGivesMohrCoulombsPlaneStrainStrength) {
-  // Associated flow with no plastic strain out of the plane: dev(sigma)_zz = -2 eta sqrt(J2) / 3. With in-plane
-  // principal stresses p_in +- R, R = c cos(phi) - p_in sin(phi) (Mohr-Coulomb), d = p_in - p and
-  // J2 = R^2 + 3 d^2, so sqrt(J2) = R / sqrt(1 - eta^2 / 3) and the stress must lie on the plane-strain cone.
+  // Associated flow with no plastic strain out of the plane: dev(sigma)_zz = -2 eta sqrt(J2) / 3. With
+  // in-plane principal stresses p_in +- R, R = c cos(phi) - p_in sin(phi) (Mohr-Coulomb), d = p_in - p and J2
+  // = R^2 + 3 d^2, so sqrt(J2) = R / sqrt(1 - eta^2 / 3) and the stress must lie on the plane-strain cone.
   const DruckerPrager m = dp(ConeMatch::plane_strain);
   const Real phi = m.strength.friction, c = m.strength.cohesion;
   const Real eta = mpm::cone_coefficients(ConeMatch::plane_strain, phi).eta;
@@ -96,8 +98,8 @@ TEST(DruckerPrager, SimpleShearAtConstantVolumeSaturatesAtTheConesShearStress) {
 }
 
 TEST(DruckerPrager, TensionEndsAtTheCutOffOrTheApex) {
-  // Isotropic extension from zero stress: no deviator, so the mean stress stops at the cut-off t or, without one,
-  // at the apex xi c / eta = c cot(phi) (outer cone), and no deviatoric plastic strain accumulates.
+  // Isotropic extension from zero stress: no deviator, so the mean stress stops at the cut-off t or, without
+  // one, at the apex xi c / eta = c cot(phi) (outer cone), and no deviatoric plastic strain accumulates.
   DruckerPrager m = dp();
   const Real apex = m.strength.cohesion / std::tan(m.strength.friction);
   StressUpdate u = step(m, Mat3::Zero(), 0, diagonal(0.01, 0.01, 0.01));
@@ -114,8 +116,8 @@ TEST(DruckerPrager, TensionEndsAtTheCutOffOrTheApex) {
 
 TEST(DruckerPrager, SofteningCohesionFollowsThePlasticStrain) {
   // Simple shear at constant volume (psi = 0): after every plastic step the stress lies on the cone of the
-  // reported eps_bar, and once the residual strength is reached tau_xy stays xi c_r - eta p0 while eps_bar grows
-  // by the plastic shear strain over sqrt(3).
+  // reported eps_bar, and once the residual strength is reached tau_xy stays xi c_r - eta p0 while eps_bar
+  // grows by the plastic shear strain over sqrt(3).
   DruckerPrager m = dp(ConeMatch::plane_strain);
   m.strength.dilatancy = 0;
   m.strength.residual_cohesion = 2e3;
@@ -140,8 +142,8 @@ TEST(DruckerPrager, SofteningCohesionFollowsThePlasticStrain) {
 }
 
 TEST(DruckerPrager, TinyStepsFollowTheContinuumTangentToSecondOrder) {
-  // From a state on the cone, d sigma = D de - D n (a : D de) / (G + K eta eta_bar) with a and n the gradients of
-  // f and g (perfect plasticity); backward Euler differs by O(|de|^2).
+  // From a state on the cone, d sigma = D de - D n (a : D de) / (G + K eta eta_bar) with a and n the
+  // gradients of f and g (perfect plasticity); backward Euler differs by O(|de|^2).
   const DruckerPrager m = dp();
   const StressUpdate on = triaxial(m, -100e3, -0.02, 200);
   const Real G = m.mu(), K = m.bulk();
@@ -149,7 +151,8 @@ TEST(DruckerPrager, TinyStepsFollowTheContinuumTangentToSecondOrder) {
   const Real eta_bar = mpm::cone_coefficients(m.match, m.strength.dilatancy).eta;
   const Mat3 s = mpm::deviator(on.sigma);
   const Real tau = sqrt_j2(on.sigma);
-  const Mat3 a = s / (2 * tau) + cone.eta / 3 * Mat3::Identity(), Dn = G / tau * s + K * eta_bar * Mat3::Identity();
+  const Mat3 a = s / (2 * tau) + cone.eta / 3 * Mat3::Identity(),
+             Dn = G / tau * s + K * eta_bar * Mat3::Identity();
   Mat3 direction;
   direction << 0.1, 0.3, 0.05, 0.3, 0.2, -0.1, 0.05, -0.1, -1.0;
   expect_second_order_tangent(m, on, a, Dn, direction);
@@ -221,7 +224,8 @@ TEST(DruckerPrager, InvalidParametersAreRefusedAtTheirKey) {
   m.strength.friction = m.strength.residual_friction = 0;
   m.strength.dilatancy = 0;
   EXPECT_TRUE(refused(m, "cohesion"));
-  EXPECT_THROW(mpm::validate(mpm::Material{dp()}, "materials[0]", 2, mpm::Geometry::plane_stress), mpm::InputError);
+  EXPECT_THROW(mpm::validate(mpm::Material{dp()}, "materials[0]", 2, mpm::Geometry::plane_stress),
+               mpm::InputError);
 }
 
 }  // namespace

@@ -1,9 +1,9 @@
-// The explicit engine's Drucker-Prager step in G2P's SIMD lanes (DruckerPragerLanes) against the one-particle step
-// both engines share (rate_form_step): random stresses, plastic strains and velocity gradients large enough to
-// reach every branch of the return (elastic, cone, cut-off, corner, apex), in plane strain, axisymmetry and 3-D,
-// with one material (broadcast), several (gathered by index), a softening one (its lanes take rate_form_step)
-// and a last block of fewer particles than lanes. The lanes evaluate the same operations in the same order,
-// so every stress, plastic strain, energy, stretch and volume is asserted bit for bit.
+// The explicit engine's Drucker-Prager step in G2P's SIMD lanes (DruckerPragerLanes) against the one-particle
+// step both engines share (rate_form_step): random stresses, plastic strains and velocity gradients large
+// enough to reach every branch of the return (elastic, cone, cut-off, corner, apex), in plane strain,
+// axisymmetry and 3-D, with one material (broadcast), several (gathered by index), a softening one (its lanes
+// take rate_form_step) and a last block of fewer particles than lanes. The lanes evaluate the same operations
+// in the same order, so every stress, plastic strain, energy, stretch and volume is asserted bit for bit.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -40,7 +40,8 @@ Branches expect_lanes_equal_one_particle_steps(const std::vector<Material>& mate
   std::vector<mpm::Mat<Dim>> L(n);
   std::vector<Real> J(n), v_r(n), r(n);
   for (int i = 0; i < n; ++i) {
-    // Stresses of the size of the strength (c = 10 kPa) and a tensile side, strain increments of 1e-3 (20 kPa).
+    // Stresses of the size of the strength (c = 10 kPa) and a tensile side, strain increments of 1e-3 (20
+    // kPa).
     for (int c = 0; c < 3; ++c) p.state.sigma[i].c[c] = 40e3 * u(gen) - 20e3;
     for (int c = 3; c < 6; ++c) p.state.sigma[i].c[c] = 15e3 * u(gen);
     if (Dim == 2 && !Axisymmetric) p.state.sigma[i](0, 2) = p.state.sigma[i](1, 2) = 0;
@@ -73,8 +74,8 @@ Branches expect_lanes_equal_one_particle_steps(const std::vector<Material>& mate
     Real V_start = p.V[i] / mpm::simd::determinant(step);
     if (Axisymmetric) V_start = V_start * p.state.stretch3[i];
     const Real hoop = Axisymmetric ? dt * (v_r[i] / r[i]) : 0;
-    expected[i] = mpm::rate_form_step<Dim>(law, p.state.sigma[i], p.state.eps_bar[i], p.state.stretch3[i], V_start,
-                                           dL, hoop, geometry);
+    expected[i] = mpm::rate_form_step<Dim>(law, p.state.sigma[i], p.state.eps_bar[i], p.state.stretch3[i],
+                                           V_start, dL, hoop, geometry);
     EXPECT_TRUE(expected[i].ok);
     if (!law.strength.constant()) {
       ++seen.softening;
@@ -138,7 +139,8 @@ TEST(DruckerPragerLanes, AxisymmetryWithSeveralMaterialsAndASofteningOne) {
   inner.match = mpm::ConeMatch::inner;
   DruckerPrager softening = soil<DruckerPrager>(true);
   softening.match = mpm::ConeMatch::plane_strain;
-  const Branches seen = expect_lanes_equal_one_particle_steps<2, true>({inner, softening, with_cut_off(2e3)}, 2);
+  const Branches seen =
+      expect_lanes_equal_one_particle_steps<2, true>({inner, softening, with_cut_off(2e3)}, 2);
   EXPECT_GT(seen.elastic, 0);
   EXPECT_GT(seen.cone, 0);
   EXPECT_GT(seen.at_largest_mean_stress, 0);

@@ -23,7 +23,8 @@ double exact_sum(const std::vector<double>& x) {
 TEST(ExactSum, CancellationThatDoubleAdditionLoses) {
   EXPECT_EQ(exact_sum({1e16, 1.0, -1e16}), 1.0);  // in doubles: 0
   EXPECT_EQ(exact_sum({1e308, 1e-308, -1e308}), 1e-308);
-  EXPECT_EQ(exact_sum({0.1, 0.2, -0.3}), std::ldexp(1.0, -55));  // the doubles nearest 0.1, 0.2, 0.3 differ by 2^-55
+  EXPECT_EQ(exact_sum({0.1, 0.2, -0.3}),
+            std::ldexp(1.0, -55));  // the doubles nearest 0.1, 0.2, 0.3 differ by 2^-55
   EXPECT_EQ(exact_sum({}), 0.0);
   EXPECT_EQ(exact_sum({-2.5}), -2.5);
 }

@@ -15,7 +15,7 @@ namespace mpm {
 namespace {
 
 constexpr Integrator all_integrators[] = {Integrator::usf, Integrator::usl, Integrator::cd, Integrator::musl};
-constexpr KernelKind all_kernels[] = {KernelKind::linear, KernelKind::ugimp, KernelKind::cpgimp,
+constexpr KernelKind all_kernels[] = {KernelKind::linear,   KernelKind::ugimp,    KernelKind::cpgimp,
                                       KernelKind::bspline2, KernelKind::bspline3, KernelKind::cpdi,
                                       KernelKind::cpdi2};
 
@@ -83,7 +83,7 @@ TEST(Integrators, FreeFlyingBodyConservesLinearMomentum2D) {
 TEST(Integrators, FreeFlyingBodyConservesLinearMomentum3D) {
   for (Integrator in : all_integrators)
     with_kernel<3>(KernelKind::cpgimp,
-                [&]<class K>() { expect_momentum_conserved<3, K>(KernelKind::cpgimp, in); });
+                   [&]<class K>() { expect_momentum_conserved<3, K>(KernelKind::cpgimp, in); });
 }
 
 template <int Dim, class Kernel>

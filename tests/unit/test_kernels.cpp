@@ -262,12 +262,13 @@ TEST_P(WideGimpHalfLength, gradient_equals_central_difference_of_weight) {
 }
 
 TEST_P(WideGimpHalfLength, equals_the_narrow_stencil_where_both_hold) {
-  // l_p <= 1/2: the same closed form on one node more, which gets 0; node by node to a few ulps (the wide kernel
-  // evaluates both corrections on every node, the narrow one only the one that can be non-zero).
+  // l_p <= 1/2: the same closed form on one node more, which gets 0; node by node to a few ulps (the wide
+  // kernel evaluates both corrections on every node, the narrow one only the one that can be non-zero).
   const Real l = GetParam();
   if (l > 0.5) GTEST_SKIP() << "the narrow stencil holds l_p <= 1/2";
   for (Real xi : sample_positions())
-    for (int node = static_cast<int>(std::floor(xi)) - 2; node <= static_cast<int>(std::floor(xi)) + 3; ++node) {
+    for (int node = static_cast<int>(std::floor(xi)) - 2; node <= static_cast<int>(std::floor(xi)) + 3;
+         ++node) {
       const auto wide = node_weight<mpm::WideGimpKernel>(xi, l, node);
       const auto narrow = node_weight<mpm::GimpKernel>(xi, l, node);
       EXPECT_NEAR(wide[0], narrow[0], 4 * kEps) << "xi = " << xi << ", node " << node;

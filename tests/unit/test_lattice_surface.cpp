@@ -15,8 +15,8 @@ using mpm::Mat;
 using mpm::Vec;
 
 TEST(LatticeSurface, ABoxShowsItsFacesAndItsCornersBothFaces) {
-  // 4 x 3 particles at spacing 0.5: 10 of the 12 are on the surface; the x-max column's vectors sum to (3 s, 0),
-  // the corners carry two faces each, and all the vectors sum to zero.
+  // 4 x 3 particles at spacing 0.5: 10 of the 12 are on the surface; the x-max column's vectors sum to (3 s,
+  // 0), the corners carry two faces each, and all the vectors sum to zero.
   mpm::ParticleSet<2> p;
   mpm::fill_box<2>(p, Vec<2>(0, 0), Vec<2>(2, 1.5), 0.5, 1, 0);
   const std::vector<Vec<2>> a = mpm::lattice_surface<2>(p.X, p.X.front(), 0.5);
@@ -39,7 +39,8 @@ TEST(LatticeSurface, ADisksRightHalfShowsItsProjectedHeight) {
   // A disk of radius 1 on a lattice of spacing 0.05: the x-components of the right half's vectors sum to the
   // height the lattice covers there (one s per occupied row), and the vectors of the whole disk sum to zero.
   mpm::ParticleSet<2> p;
-  mpm::fill_box<2>(p, Vec<2>(-1, -1), Vec<2>(1, 1), 0.05, 1, 0, {}, [](const Vec<2>& x) { return x.norm() <= 1; });
+  mpm::fill_box<2>(p, Vec<2>(-1, -1), Vec<2>(1, 1), 0.05, 1, 0, {},
+                   [](const Vec<2>& x) { return x.norm() <= 1; });
   const std::vector<Vec<2>> a = mpm::lattice_surface<2>(p.X, p.X.front(), 0.05);
   double right = 0, rows = 0;
   Vec<2> total = Vec<2>::Zero();
@@ -47,48 +48,52 @@ TEST(LatticeSurface, ADisksRightHalfShowsItsProjectedHeight) {
     total += a[i];
     if (a[i][0] > 0) right += a[i][0];
   }
-  for (int k = 0; k < 40; ++k) rows += std::abs(-1 + (k + 0.5) * 0.05) <= 1 ? 0.05 : 0;  // every row holds particles
+  for (int k = 0; k < 40; ++k)
+    rows += std::abs(-1 + (k + 0.5) * 0.05) <= 1 ? 0.05 : 0;  // every row holds particles
   EXPECT_NEAR(right, rows, 1e-12);
   EXPECT_NEAR(total.norm(), 0, 1e-12);
 }
 
 TEST(LatticeSurface, AxisymmetricFacesCarryTheirRadius) {
-  // One row of 2 particles at r = 0.25, 0.75 (spacing 0.5) in axisymmetry: the outer radial face lies at r = 1,
-  // the inner at r = 0 (area 0); each z-face of the cell at X_r has area X_r s.
+  // One row of 2 particles at r = 0.25, 0.75 (spacing 0.5) in axisymmetry: the outer radial face lies at r =
+  // 1, the inner at r = 0 (area 0); each z-face of the cell at X_r has area X_r s.
   mpm::ParticleSet<2> p;
   mpm::fill_box<2>(p, Vec<2>(0, 0), Vec<2>(1, 0.5), 0.5, 1, 0);
   const std::vector<Vec<2>> a = mpm::lattice_surface<2>(p.X, p.X.front(), 0.5, true);
-  EXPECT_NEAR(a[0][0], 0, 1e-15);         // inner face at r = 0
+  EXPECT_NEAR(a[0][0], 0, 1e-15);          // inner face at r = 0
   EXPECT_NEAR(a[1][0], 1.0 * 0.5, 1e-15);  // outer face at r = 1
   EXPECT_NEAR(a[0][1], 0, 1e-15);          // its z-faces cancel: 0.25 s up, 0.25 s down
 }
 
 TEST(PatchForce, PressureTurnsAndStretchesWithTheBodyAndATractionDoesNot) {
   // F = R(theta) diag(1, 2): the reference face N dA = e_x (area 1) has n da = J F^-T e_x = 2 R e_x (the face
-  // stretched twice along its length), so P = 3 gives -6 (cos, sin); the dead traction t = (1, 2) gives t |N dA|.
+  // stretched twice along its length), so P = 3 gives -6 (cos, sin); the dead traction t = (1, 2) gives t |N
+  // dA|.
   const double c = std::cos(0.3), s = std::sin(0.3);
   Mat<2> R;
   R << c, -s, s, c;
   const Mat<2> F = R * Vec<2>(1, 2).asDiagonal();
   mpm::SurfaceLoad<2> pressure;
   pressure.pressure = [](double) { return 3.0; };
-  const Vec<2> f = mpm::patch_force<2>(pressure, 3, Vec<2>::Zero(), Vec<2>(1, 0), F, Vec<2>(1, 1), Vec<2>(1, 1), false);
+  const Vec<2> f =
+      mpm::patch_force<2>(pressure, 3, Vec<2>::Zero(), Vec<2>(1, 0), F, Vec<2>(1, 1), Vec<2>(1, 1), false);
   EXPECT_NEAR(f[0], -6 * c, 1e-14);
   EXPECT_NEAR(f[1], -6 * s, 1e-14);
   mpm::SurfaceLoad<2> traction;
   traction.traction = [](double) { return Vec<2>(1, 2); };
-  EXPECT_EQ(mpm::patch_force<2>(traction, 0, Vec<2>(1, 2), Vec<2>(0, 0.5), F, Vec<2>(1, 1), Vec<2>(1, 1), false),
-            Vec<2>(0.5, 1));
+  EXPECT_EQ(
+      mpm::patch_force<2>(traction, 0, Vec<2>(1, 2), Vec<2>(0, 0.5), F, Vec<2>(1, 1), Vec<2>(1, 1), false),
+      Vec<2>(0.5, 1));
   // Axisymmetry: the hoop stretch x_r / X_r = 1.5 multiplies the current area.
-  const Vec<2> g = mpm::patch_force<2>(pressure, 3, Vec<2>::Zero(), Vec<2>(1, 0), Mat<2>::Identity(), Vec<2>(1.5, 0),
-                                       Vec<2>(1, 0), true);
+  const Vec<2> g = mpm::patch_force<2>(pressure, 3, Vec<2>::Zero(), Vec<2>(1, 0), Mat<2>::Identity(),
+                                       Vec<2>(1.5, 0), Vec<2>(1, 0), true);
   EXPECT_NEAR(g[0], -4.5, 1e-14);
   EXPECT_NEAR(g[1], 0, 1e-14);
 }
 
 TEST(SurfaceLoadSet, AccelerateAddsForceOverMassToTheLoadedParticlesByTheirIds) {
-  // Three particles of mass 2 stored in the order of ids 2, 0, 1; a pressure of 4 on ids 0 and 2 (area e_x) and a
-  // traction (0, 1) on id 2 (area 0.5 e_y): weight 0.5.
+  // Three particles of mass 2 stored in the order of ids 2, 0, 1; a pressure of 4 on ids 0 and 2 (area e_x)
+  // and a traction (0, 1) on id 2 (area 0.5 e_y): weight 0.5.
   mpm::ParticleSet<2> p;
   for (int k = 0; k < 3; ++k) p.add(Vec<2>(k + 1, 0), Vec<2>::Zero(), 2, 1, Vec<2>::Constant(0.5), 0);
   p.id = {2, 0, 1};

@@ -1,12 +1,12 @@
 // Mohr-Coulomb plasticity (de Souza Neto et al. 2008, Sec. 8.2) driven through strain paths at one material
 // point: triaxial compression and extension (the edge returns), simple shear, tension to the apex, the
 // dilatancy of the flow, softening of cohesion and friction angle, the tangent of tiny steps and the surface
-// after huge ones. Tolerances: a stress after a return is exact up to the round-off of a few operations (and of
-// the eigen-decomposition) on stresses of the size of the state: yield functions are asserted to 1e-12 of it.
+// after huge ones. Tolerances: a stress after a return is exact up to the round-off of a few operations (and
+// of the eigen-decomposition) on stresses of the size of the state: yield functions are asserted to 1e-12 of
+// it.
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <random>
-
-#include <Eigen/Eigenvalues>
 
 #include "frictional_paths.hpp"
 
@@ -111,8 +111,8 @@ TEST(MohrCoulomb, SofteningOfCohesionAndFrictionFollowsThePlasticStrain) {
 }
 
 TEST(MohrCoulomb, TinyStepsFollowTheContinuumTangentToSecondOrder) {
-  // On the main plane, d sigma = D de - D n (a : D de) / (a : D n), a and n in the current principal frame; the
-  // step rotates the frame (de has shear), so backward Euler differs by O(|de|^2).
+  // On the main plane, d sigma = D de - D n (a : D de) / (a : D n), a and n in the current principal frame;
+  // the step rotates the frame (de has shear), so backward Euler differs by O(|de|^2).
   const MohrCoulomb m = soil<MohrCoulomb>();
   const StressUpdate on = step(m, diagonal(-50e3, -100e3, -200e3), 0, diagonal(0.004, 0.0005, -0.01));
   const Eigen::SelfAdjointEigenSolver<Mat3> eigen(on.sigma);

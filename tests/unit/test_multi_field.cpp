@@ -1,6 +1,6 @@
-// Multi-field contact (contact/multi_field.hpp) by hand-computed cases: the normals of a pair, the momentum a pair
-// exchanges (Coulomb, stick), the correction at a node of two small grids with its force and dissipated power,
-// and the refusal of contact specs without meaning.
+// Multi-field contact (contact/multi_field.hpp) by hand-computed cases: the normals of a pair, the momentum a
+// pair exchanges (Coulomb, stick), the correction at a node of two small grids with its force and dissipated
+// power, and the refusal of contact specs without meaning.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -32,13 +32,14 @@ TEST(MultiFieldContact, NormalsOfAPair) {
 }
 
 TEST(MultiFieldContact, MomentumAPairExchanges) {
-  // m_a = 1 moving down at 2 m/s and sideways at 3 m/s onto m_b = 3 at rest; n from a into b is (0, -1). Reduced
-  // mass 3/4: frictionless, a gains 3/4 (0, 2); with mu = 0.5 also 3/4 (-1, 0); with no law both take the
-  // center-of-mass velocity (3/4, -1/2), a gaining 1 * ((3/4, -1/2) - (3, -2)).
+  // m_a = 1 moving down at 2 m/s and sideways at 3 m/s onto m_b = 3 at rest; n from a into b is (0, -1).
+  // Reduced mass 3/4: frictionless, a gains 3/4 (0, 2); with mu = 0.5 also 3/4 (-1, 0); with no law both take
+  // the center-of-mass velocity (3/4, -1/2), a gaining 1 * ((3/4, -1/2) - (3, -2)).
   const V2 n(0, -1), v_a(3, -2), v_b(0, 0);
   EXPECT_EQ(mpm::pair_momentum_change<2>(1, v_a, 3, v_b, n, 0.0), V2(0, 1.5));
   EXPECT_EQ(mpm::pair_momentum_change<2>(1, v_a, 3, v_b, n, 0.5), V2(-0.75, 1.5));
-  EXPECT_EQ(mpm::pair_momentum_change<2>(1, v_a, 3, v_b, n, std::numeric_limits<Real>::infinity()), V2(-2.25, 1.5));
+  EXPECT_EQ(mpm::pair_momentum_change<2>(1, v_a, 3, v_b, n, std::numeric_limits<Real>::infinity()),
+            V2(-2.25, 1.5));
   EXPECT_EQ(mpm::pair_momentum_change<2>(1, v_a, 3, v_b, n, -1), V2(-2.25, 1.5));
   // Moving apart: nothing unless they stick.
   EXPECT_EQ(mpm::pair_momentum_change<2>(1, V2(3, 2), 3, v_b, n, 0.5), V2::Zero());
@@ -46,8 +47,8 @@ TEST(MultiFieldContact, MomentumAPairExchanges) {
 }
 
 TEST(MultiFieldContact, CorrectsANodeWhereTwoFieldsMeet) {
-  // Two fields on a 1 x 1 grid (4 nodes): only node 0 holds both. Field 0 (m = 1) at v_new (3, -2) above field 1
-  // (m = 3) at rest, gradients (0, -1) and (0, 1): normal (0, -1), friction 0.5.
+  // Two fields on a 1 x 1 grid (4 nodes): only node 0 holds both. Field 0 (m = 1) at v_new (3, -2) above
+  // field 1 (m = 3) at rest, gradients (0, -1) and (0, 1): normal (0, -1), friction 0.5.
   mpm::GridGeometry<2> geometry{V2::Zero(), 1.0, {1, 1}, 0};
   mpm::Grid<2> a(geometry), b(geometry);
   a.nodes[0].m = 1, a.nodes[0].v_new = V2(0, -1);  // the volume gradients, where the mass pass leaves them
@@ -79,8 +80,8 @@ TEST(MultiFieldContact, CorrectsANodeWhereTwoFieldsMeet) {
 }
 
 TEST(MultiFieldContact, ThreeFieldsAtANodeKeepTheirMomentum) {
-  // Three fields at node 0, corrected pair by pair in field order: (0, 1) and (0, 2) by Coulomb friction, (1, 2)
-  // in no pair, so stuck together. Every pair moves momentum from one field to the other: the sum stays.
+  // Three fields at node 0, corrected pair by pair in field order: (0, 1) and (0, 2) by Coulomb friction, (1,
+  // 2) in no pair, so stuck together. Every pair moves momentum from one field to the other: the sum stays.
   mpm::GridGeometry<2> geometry{V2::Zero(), 1.0, {1, 1}, 0};
   std::vector<mpm::Grid<2>> grids(3, mpm::Grid<2>(geometry));
   const V2 gradient[3] = {V2(0, -1), V2(0, 1), V2(1, 1)}, velocity[3] = {V2(3, -2), V2(0, 0.5), V2(-1, -1)};
@@ -106,12 +107,13 @@ TEST(MultiFieldContact, ThreeFieldsAtANodeKeepTheirMomentum) {
 
 TEST(MultiFieldContact, SpecsWithoutMeaningAreRefused) {
   const Real nan = std::numeric_limits<Real>::quiet_NaN();
-  for (const mpm::ContactSpec& bad : {mpm::ContactSpec{0, {}}, mpm::ContactSpec{256, {}},
-                                      mpm::ContactSpec{2, {{0, 2, 0.1}}}, mpm::ContactSpec{2, {{1, 1, 0.1}}},
-                                      mpm::ContactSpec{2, {{0, 1, -0.1}}}, mpm::ContactSpec{2, {{0, 1, nan}}},
-                                      mpm::ContactSpec{3, {{0, 1, 0.1}, {1, 0, 0.2}}}})
+  for (const mpm::ContactSpec& bad :
+       {mpm::ContactSpec{0, {}}, mpm::ContactSpec{256, {}}, mpm::ContactSpec{2, {{0, 2, 0.1}}},
+        mpm::ContactSpec{2, {{1, 1, 0.1}}}, mpm::ContactSpec{2, {{0, 1, -0.1}}},
+        mpm::ContactSpec{2, {{0, 1, nan}}}, mpm::ContactSpec{3, {{0, 1, 0.1}, {1, 0, 0.2}}}})
     EXPECT_THROW(mpm::validate(bad), mpm::InputError);
-  EXPECT_NO_THROW(mpm::validate(mpm::ContactSpec{3, {{0, 1, 0.1}, {1, 2, std::numeric_limits<Real>::infinity()}}}));
+  EXPECT_NO_THROW(
+      mpm::validate(mpm::ContactSpec{3, {{0, 1, 0.1}, {1, 2, std::numeric_limits<Real>::infinity()}}}));
 }
 
 }  // namespace

@@ -648,8 +648,8 @@ TEST(Newton, JacobiPreconditionerReducesKrylovIterations) {
   }
 }
 
-// A lagged Jacobian preconditioner: the exact J(x) factorised at the last refresh point, starting from J(x_0) at
-// x_0 = 0, where the cubic term vanishes (J = A). Far from x_0 the frozen J goes stale.
+// A lagged Jacobian preconditioner: the exact J(x) factorised at the last refresh point, starting from J(x_0)
+// at x_0 = 0, where the cubic term vanishes (J = A). Far from x_0 the frozen J goes stale.
 class LaggedCubic : public Cubic {
  public:
   using Cubic::Cubic;

@@ -1,13 +1,13 @@
-// The Newtonian fluid of Sulsky & Kaul 2004, Eq. (2.1.7): its stress by hand, and a standing velocity mode that
-// decays as the closed form says, in the explicit and the implicit engine.
+// The Newtonian fluid of Sulsky & Kaul 2004, Eq. (2.1.7): its stress by hand, and a standing velocity mode
+// that decays as the closed form says, in the explicit and the implicit engine.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 
-#include "mpm/implicit/simulation.hpp"
 #include "mpm/explicit/simulation.hpp"
+#include "mpm/implicit/simulation.hpp"
 #include "mpm/materials/material_step.hpp"
 #include "mpm/particles/generate.hpp"
 
@@ -44,10 +44,10 @@ TEST(NewtonianFluid, StepUsesTheRateAndTheNewVolume) {
   EXPECT_NEAR(r.sigma(2, 2), 2.0 * std::log(J) - 0.2 * trD, 1e-15);
 }
 
-// A 1-D column [0, 1] between symmetry planes starts with v = V sin(pi x). With p = -K ln J and eta = lambda + 2 mu
-// the linearised motion is rho u_tt = K u_xx + eta u_txx, so each node of the mode moves as
-// v(t) = V (s1 e^{s1 t} - s2 e^{s2 t}) / (s1 - s2), s1,2 roots of rho s^2 + eta k^2 s + K k^2 = 0, k = pi
-// (overdamped here: eta = 0.01, K = 1e-4, rho = 1). The amplitude at t = 8, a decay to 0.46, is projected from the
+// A 1-D column [0, 1] between symmetry planes starts with v = V sin(pi x). With p = -K ln J and eta = lambda
+// + 2 mu the linearised motion is rho u_tt = K u_xx + eta u_txx, so each node of the mode moves as v(t) = V
+// (s1 e^{s1 t} - s2 e^{s2 t}) / (s1 - s2), s1,2 roots of rho s^2 + eta k^2 s + K k^2 = 0, k = pi (overdamped
+// here: eta = 0.01, K = 1e-4, rho = 1). The amplitude at t = 8, a decay to 0.46, is projected from the
 // particle velocities. Measured: 2.8e-3 (explicit USL, dt = 0.01) and 4.2e-3 (implicit theta = 1, dt = 0.05)
 // relative error, from the first-order steps and the O(h^2) grid; asserted 1% and 2%.
 struct Mode {

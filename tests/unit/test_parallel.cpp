@@ -1,4 +1,5 @@
-// The thread pool behind parallel_for: every index once, exceptions brought back, the same bits for any count.
+// The thread pool behind parallel_for: every index once, exceptions brought back, the same bits for any
+// count.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -36,7 +37,8 @@ TEST_P(ThreadCounts, EveryIndexRunsOnceOnAThreadOfThePool) {
 }
 
 // Loops of changing length back to back: a thread still finishing one loop must claim nothing of the next (a
-// claim that checked the next loop's chunk count against the previous loop's epoch ran a chunk twice and hung).
+// claim that checked the next loop's chunk count against the previous loop's epoch ran a chunk twice and
+// hung).
 TEST_P(ThreadCounts, BackToBackLoopsOfChangingLengthRunEachIndexOnce) {
   constexpr int loops = 4000;
   std::vector<int> runs(4096, 0), expected(4096, 0);
@@ -83,10 +85,12 @@ TEST_P(ThreadCounts, ReductionsGiveTheBitsOfOneThread) {
   set_num_threads(1);
   const double alone = parallel_reduce(n, 0.0, value, add);
   EXPECT_EQ(here, alone);
-  // The harmonic number H_n = ln n + gamma + 1/(2n) - ..., within the worst-case rounding n u H_n = 1.6e-9 of the sum.
-  EXPECT_NEAR(alone, std::log(static_cast<double>(n)) + 0.5772156649015329 + 0.5 / static_cast<double>(n), 1.6e-9);
-  EXPECT_EQ(parallel_reduce(n, false, [](std::ptrdiff_t i) { return i == n - 1; },
-                            [](bool a, bool b) { return a || b; }),
+  // The harmonic number H_n = ln n + gamma + 1/(2n) - ..., within the worst-case rounding n u H_n = 1.6e-9 of
+  // the sum.
+  EXPECT_NEAR(alone, std::log(static_cast<double>(n)) + 0.5772156649015329 + 0.5 / static_cast<double>(n),
+              1.6e-9);
+  EXPECT_EQ(parallel_reduce(
+                n, false, [](std::ptrdiff_t i) { return i == n - 1; }, [](bool a, bool b) { return a || b; }),
             true);
 }
 

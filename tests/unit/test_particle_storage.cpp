@@ -1,6 +1,7 @@
-// What the engines keep per particle: the reference half-lengths l0 only for the kernels that read them (GIMP and
-// CPDI; the current ones follow from l0 and F), in both engines, and counted that way; and the reorder into scatter order through a buffer of one 8-byte column
-// per particle, which permutes every array and leaves the ones of another size alone.
+// What the engines keep per particle: the reference half-lengths l0 only for the kernels that read them (GIMP
+// and CPDI; the current ones follow from l0 and F), in both engines, and counted that way; and the reorder
+// into scatter order through a buffer of one 8-byte column per particle, which permutes every array and
+// leaves the ones of another size alone.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -39,8 +40,8 @@ Spec on_four_cells(mpm::KernelKind kind) {
   return spec;
 }
 
-/// How a kernel kind's particles keep their half-lengths: none unless the kernel reads them, l_p = l_p^0 diag(F_p)
-/// for cpGIMP, l_p = l_p^0 otherwise.
+/// How a kernel kind's particles keep their half-lengths: none unless the kernel reads them, l_p = l_p^0
+/// diag(F_p) for cpGIMP, l_p = l_p^0 otherwise.
 template <class Kernel>
 mpm::HalfLengths expected_half_lengths(mpm::KernelKind kind) {
   if (!mpm::reads_half_lengths<Kernel>) return mpm::HalfLengths::none;
@@ -72,7 +73,8 @@ std::size_t implicit_half_lengths(mpm::KernelKind kind) {
 }
 
 TEST(ParticleStorage, HalfLengthsOnlyForTheKernelsThatReadThem) {
-  static_assert(!mpm::reads_half_lengths<mpm::LinearKernel> && !mpm::reads_half_lengths<mpm::QuadraticBSplineKernel> &&
+  static_assert(!mpm::reads_half_lengths<mpm::LinearKernel> &&
+                !mpm::reads_half_lengths<mpm::QuadraticBSplineKernel> &&
                 !mpm::reads_half_lengths<mpm::CubicBSplineKernel>);
   static_assert(mpm::reads_half_lengths<mpm::GimpKernel> && mpm::reads_half_lengths<mpm::WideGimpKernel> &&
                 mpm::reads_half_lengths<mpm::CpdiKernel<2>> && mpm::reads_half_lengths<mpm::Cpdi2Kernel<2>>);
@@ -83,14 +85,16 @@ TEST(ParticleStorage, HalfLengthsOnlyForTheKernelsThatReadThem) {
   EXPECT_EQ(implicit_half_lengths<mpm::LinearKernel>(mpm::KernelKind::linear), 0u);
   EXPECT_EQ(implicit_half_lengths<mpm::GimpKernel>(mpm::KernelKind::ugimp), 16u);
   // The counts follow: one Vec<2> (16 B) less per particle without l0.
-  EXPECT_EQ(ParticleSet<2>::bytes_per_particle(true) - ParticleSet<2>::bytes_per_particle(false), sizeof(Vec<2>));
-  // The budget's model: a tensor-product kernel's particle keeps its stencil's base node and tile (8 B), a CPDI
-  // particle its axis data; GIMP's particle differs from linear's by l0, and under USF with cpGIMP by the
-  // half-lengths of the locate too. The reorder's buffer is one 8-byte column for all.
+  EXPECT_EQ(ParticleSet<2>::bytes_per_particle(true) - ParticleSet<2>::bytes_per_particle(false),
+            sizeof(Vec<2>));
+  // The budget's model: a tensor-product kernel's particle keeps its stencil's base node and tile (8 B), a
+  // CPDI particle its axis data; GIMP's particle differs from linear's by l0, and under USF with cpGIMP by
+  // the half-lengths of the locate too. The reorder's buffer is one 8-byte column for all.
   static_assert(sizeof(mpm::StoredStencil<2, mpm::LinearKernel>) == 8 &&
                 sizeof(mpm::StoredStencil<2, mpm::CubicBSplineKernel>) == 8 &&
                 sizeof(mpm::StoredStencil<2, mpm::GimpKernel>) == 8);
-  static_assert(sizeof(mpm::StoredStencil<2, mpm::CpdiKernel<2>>) == sizeof(mpm::Stencil<2, mpm::CpdiKernel<2>>));
+  static_assert(sizeof(mpm::StoredStencil<2, mpm::CpdiKernel<2>>) ==
+                sizeof(mpm::Stencil<2, mpm::CpdiKernel<2>>));
   const double gimp = mpm::Simulation<2, mpm::GimpKernel>::memory_model(false, false, false).per_particle;
   const double gimp_usf = mpm::Simulation<2, mpm::GimpKernel>::memory_model(false, false, true).per_particle;
   const double linear = mpm::Simulation<2, mpm::LinearKernel>::memory_model(false, false, false).per_particle;
@@ -100,7 +104,8 @@ TEST(ParticleStorage, HalfLengthsOnlyForTheKernelsThatReadThem) {
 
 /// The weights `stencils` gives their particles, lane by lane, in particle order.
 template <class Kernel>
-std::vector<Real> weights_in_lanes(const mpm::ParticleStencils<2, Kernel>& stencils, const mpm::GridGeometry<2>& g) {
+std::vector<Real> weights_in_lanes(const mpm::ParticleStencils<2, Kernel>& stencils,
+                                   const mpm::GridGeometry<2>& g) {
   const mpm::NodeLayout<2> nl(g);
   const std::size_t n = stencils.size();
   std::vector<Real> w(n * 2 * Kernel::width);
@@ -116,16 +121,18 @@ std::vector<Real> weights_in_lanes(const mpm::ParticleStencils<2, Kernel>& stenc
 }
 
 TEST(ParticleStorage, GimpStencilsWeighWithTheHalfLengthsOfTheirLocate) {
-  // A GIMP particle keeps its stencil's base node and tile (8 B) and the transfers locate the rest again from its
-  // position and half-lengths. The weights must be those of make_stencil at the locate's half-lengths, bit for bit.
-  // When F, and with it cpGIMP's l_p = l_p^0 diag(F), changes before the stencil's last use (a USF step's
-  // deformation pass comes before its force pass), the half-lengths of the locate, handed over, keep them so.
+  // A GIMP particle keeps its stencil's base node and tile (8 B) and the transfers locate the rest again from
+  // its position and half-lengths. The weights must be those of make_stencil at the locate's half-lengths,
+  // bit for bit. When F, and with it cpGIMP's l_p = l_p^0 diag(F), changes before the stencil's last use (a
+  // USF step's deformation pass comes before its force pass), the half-lengths of the locate, handed over,
+  // keep them so.
   using K = mpm::GimpKernel;
   const mpm::GridGeometry<2> g{Vec<2>(0, 0), 1.0, {4, 4}, K::ghost};
   const mpm::NodeLayout<2> nl(g);
   ParticleSet<2> p = block();
   p.half_lengths = mpm::HalfLengths::deformed;
-  for (std::size_t i = 0; i < p.size(); ++i) p.F[i].diagonal() = Vec<2>(1.5 + 0.125 * static_cast<Real>(i % 3), 0.75);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    p.F[i].diagonal() = Vec<2>(1.5 + 0.125 * static_cast<Real>(i % 3), 0.75);
   std::vector<mpm::StoredStencil<2, K>> stored;
   mpm::build_stencils<2, K>(p, g, stored);
   const std::vector<Real> located = weights_in_lanes<K>(mpm::ParticleStencils<2, K>{stored, p}, g);
@@ -150,11 +157,12 @@ TEST(ParticleStorage, GimpStencilsWeighWithTheHalfLengthsOfTheirLocate) {
   EXPECT_NE(weights_in_lanes<K>(mpm::ParticleStencils<2, K>{stored, p}, g), located);
 }
 
-/// Reorder a row of 64 particles by `order`, with two arrays more (one of records shorter than a column, one of
-/// another size), and check every record moved; returns the bytes the buffer holds after.
+/// Reorder a row of 64 particles by `order`, with two arrays more (one of records shorter than a column, one
+/// of another size), and check every record moved; returns the bytes the buffer holds after.
 std::size_t expect_reordered(const std::vector<std::int32_t>& order) {
   ParticleSet<2> p;
-  for (int i = 0; i < 64; ++i) p.add(Vec<2>(0.5 + i, 0.5), Vec<2>::Zero(), 1.0, 1.0, Vec<2>::Constant(0.5), 0);
+  for (int i = 0; i < 64; ++i)
+    p.add(Vec<2>(0.5 + i, 0.5), Vec<2>::Zero(), 1.0, 1.0, Vec<2>::Constant(0.5), 0);
   p.B.assign(p.size(), mpm::Mat<2>::Zero());
   std::vector<std::int32_t> tile(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
@@ -182,8 +190,8 @@ std::size_t expect_reordered(const std::vector<std::int32_t>& order) {
 }
 
 TEST(ParticleStorage, ReordersMoveEveryRecordThroughOneColumn) {
-  // Particle 1 moved to place 40 and particle 60 to place 50, the records between shifted by one place (as when
-  // particles change tiles); and the reverse order.
+  // Particle 1 moved to place 40 and particle 60 to place 50, the records between shifted by one place (as
+  // when particles change tiles); and the reverse order.
   std::vector<std::int32_t> shifted(64), reverse(64);
   std::iota(shifted.begin(), shifted.end(), 0);
   shifted.erase(shifted.begin() + 1), shifted.insert(shifted.begin() + 40, 1);

@@ -1,17 +1,21 @@
-// Quadrature error of the internal force for a constant stress, Steffen et al. 2008, Sec. 4.2, Eq. (42) and Fig. 6,
-// for every basis: uGIMP with a free smoothing length (the paper's Fig. 6), linear MPM, cpGIMP and both B-splines.
+// Quadrature error of the internal force for a constant stress, Steffen et al. 2008, Sec. 4.2, Eq. (42) and
+// Fig. 6, for every basis: uGIMP with a free smoothing length (the paper's Fig. 6), linear MPM, cpGIMP and
+// both B-splines.
 //
 // For a constant stress sigma = 1 the exact nodal internal force f_i = -int grad phi_i sigma dx is zero
 // (phi_i vanishes at both ends of its support), so the force the library computes at an interior node,
 //     f_i = -sum_p grad phi_i(x_p) sigma_p V_p                                (Steffen et al. 2008, Eq. 42),
 // is the particle-quadrature error: a midpoint rule for grad phi_i over the particles' voxels (for GIMP, the
-// particle-averaged gradient). How fast it falls with the spacing dx is set by where grad phi_i is not smooth:
+// particle-averaged gradient). How fast it falls with the spacing dx is set by where grad phi_i is not
+// smooth:
 // - uGIMP with smoothing length l (full width): grad phi_i is continuous and piecewise linear with kinks at
-//   +-l/2 and +-(h -+ l/2): when dx < l a voxel spans at most one kink and the error is O(dx^2) (Eq. 41); when
-//   dx > l a voxel can span both kinks of a width-l region, and the error tends to O(dx) (Eq. 40).
-// - linear MPM (l = 0): grad phi_i jumps at the nodes, and a voxel that straddles a jump is weighted wholly on
+//   +-l/2 and +-(h -+ l/2): when dx < l a voxel spans at most one kink and the error is O(dx^2) (Eq. 41);
+//   when dx > l a voxel can span both kinks of a width-l region, and the error tends to O(dx) (Eq. 40).
+// - linear MPM (l = 0): grad phi_i jumps at the nodes, and a voxel that straddles a jump is weighted wholly
+// on
 //   one side: O(dx), the jump error of Sec. 4.2.
-// - cpGIMP: each particle's domain is its voxel, so sum_p V_p grad S_ip is the exact integral of grad phi_i over
+// - cpGIMP: each particle's domain is its voxel, so sum_p V_p grad S_ip is the exact integral of grad phi_i
+// over
 //   the tiled support: zero to round-off at any spacing.
 // - quadratic B-spline: grad phi_i is continuous with kinks at the knots: O(dx^2), like uGIMP with dx < l.
 // - cubic B-spline: grad phi_i is C1, piecewise quadratic with kinks of its derivative at the knots: measured
@@ -28,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "../verification/support.hpp"
 #include "mpm/core/parallel.hpp"
 #include "mpm/grid/grid.hpp"
 #include "mpm/particles/particles.hpp"
@@ -35,7 +40,6 @@
 #include "mpm/shape/stencil.hpp"
 #include "mpm/transfer/p2g.hpp"
 #include "mpm/transfer/scatter_order.hpp"
-#include "../verification/support.hpp"
 
 namespace {
 
@@ -63,7 +67,8 @@ std::vector<V1> internal_force(const mpm::ParticleSet<1>& p) {
   mpm::ScatterOrder<1> order(geometry, Kernel::width);
   order.build(mpm::StencilTiles<1, Kernel>{stencils}, p.id);
   const std::vector<V1> no_body_force;
-  mpm::p2g<mpm::Scatter{.mass_momentum = false, .force = true}>(p, mpm::ParticleStencils<1, Kernel>{stencils, p}, order, no_body_force, grid);
+  mpm::p2g<mpm::Scatter{.mass_momentum = false, .force = true}>(
+      p, mpm::ParticleStencils<1, Kernel>{stencils, p}, order, no_body_force, grid);
   std::vector<V1> force(grid.size());
   for (std::size_t n = 0; n < grid.size(); ++n) force[n] = grid.nodes[n].a;
   return force;
@@ -87,8 +92,8 @@ Real nodal_force_error(int ppc, Real phase, Size size) {
     const Real lo = first + static_cast<Real>(k / 2) * period + (k % 2 == 1 ? widths[0] : 0.0);
     if (lo >= node_x + 2 * kH) break;
     const Real w = widths[k % 2];
-    // V_p = voxel width; the GIMP half-length is l/2 for every particle (uGIMP with a free smoothing length) or
-    // half the voxel (cpGIMP: the domains tile the line). The other kernels ignore it.
+    // V_p = voxel width; the GIMP half-length is l/2 for every particle (uGIMP with a free smoothing length)
+    // or half the voxel (cpGIMP: the domains tile the line). The other kernels ignore it.
     p.add(V1(lo + 0.5 * w), V1::Zero(), 1.0, w, V1(size == Size::voxel ? 0.5 * w : 0.5 * kL), 0);
     p.sigma.back()(0, 0) = 1.0;
   }
@@ -103,7 +108,8 @@ Real nodal_force_error(int ppc, Real phase, Size size) {
 template <class Kernel = mpm::GimpKernel>
 Real max_error(int ppc, Size size = Size::smoothing_length) {
   Real e = 0;
-  for (int k = 0; k < kOffsets; ++k) e = std::max(e, nodal_force_error<Kernel>(ppc, (k + 0.37) / kOffsets, size));
+  for (int k = 0; k < kOffsets; ++k)
+    e = std::max(e, nodal_force_error<Kernel>(ppc, (k + 0.37) / kOffsets, size));
   return e;
 }
 
@@ -172,9 +178,9 @@ TEST_F(Quadrature, UgimpForceErrorOrder) {
   EXPECT_GT(pts.back().error, 1e-7);
 }
 
-// The other bases on the same lattices, PPC 3 to 41 (dx from h/3 to h/41). Each slope is fitted over the whole
-// range (measured: 1.000, 2.000 and 3.000; cpGIMP below 1e-15); the bounds allow for the scatter of the maximum
-// over offsets, as above.
+// The other bases on the same lattices, PPC 3 to 41 (dx from h/3 to h/41). Each slope is fitted over the
+// whole range (measured: 1.000, 2.000 and 3.000; cpGIMP below 1e-15); the bounds allow for the scatter of the
+// maximum over offsets, as above.
 template <class Kernel>
 void expect_order(const char* name, Real order, Real band) {
   const std::vector<Point> pts = errors<Kernel>(3, 41);
@@ -185,7 +191,9 @@ void expect_order(const char* name, Real order, Real band) {
   EXPECT_LE(slope, order + band);
 }
 
-TEST_F(Quadrature, LinearMpmJumpErrorIsFirstOrder) { expect_order<mpm::LinearKernel>("linear MPM", 1, 0.2); }
+TEST_F(Quadrature, LinearMpmJumpErrorIsFirstOrder) {
+  expect_order<mpm::LinearKernel>("linear MPM", 1, 0.2);
+}
 
 TEST_F(Quadrature, CpGimpIntegratesConstantStressExactly) {
   for (int ppc : {3, 5, 9, 21, 41}) {
@@ -198,6 +206,8 @@ TEST_F(Quadrature, QuadraticBSplineIsSecondOrder) {
   expect_order<mpm::QuadraticBSplineKernel>("quadratic B-spline", 2, 0.3);
 }
 
-TEST_F(Quadrature, CubicBSplineIsThirdOrder) { expect_order<mpm::CubicBSplineKernel>("cubic B-spline", 3, 0.3); }
+TEST_F(Quadrature, CubicBSplineIsThirdOrder) {
+  expect_order<mpm::CubicBSplineKernel>("cubic B-spline", 3, 0.3);
+}
 
 }  // namespace

@@ -29,7 +29,9 @@ std::int64_t ordered(Real x) {
 }
 
 /// Distance in ulps between two finite doubles.
-std::int64_t ulps(Real a, Real b) { return std::llabs(ordered(a) - ordered(b)); }
+std::int64_t ulps(Real a, Real b) {
+  return std::llabs(ordered(a) - ordered(b));
+}
 
 /// The vector logarithm of every x, lanes filled with consecutive entries (the last register padded with 1).
 std::vector<Real> log_lanes(const std::vector<Real>& x) {
@@ -105,8 +107,8 @@ TEST(simd_log, is_exactly_zero_at_one) {
 TEST(simd_log, special_values) {
   // Each special value in its own lane next to ordinary ones: the selection is per lane.
   using lim = std::numeric_limits<Real>;
-  const std::vector<Real> x = {kInf, 0.0, -0.0, -1.0, -lim::denorm_min(), -kInf, kNaN, -kNaN,
-                               lim::max(), lim::min(), 2.0};
+  const std::vector<Real> x = {kInf,  0.0,        -0.0,       -1.0, -lim::denorm_min(), -kInf, kNaN,
+                               -kNaN, lim::max(), lim::min(), 2.0};
   std::vector<Real> scalar;
   for (const Real v : x) scalar.push_back(mpm::simd::log(v));
   for (const std::vector<Real>& r : {log_lanes(x), scalar}) {

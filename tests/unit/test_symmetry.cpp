@@ -38,7 +38,8 @@ constexpr Real kE = 100.0;  // dilatational wave speed c ~ 11.6 h per unit time 
 constexpr Real kNu = 0.3;
 constexpr Real kDt = 0.01;  // CFL number ~ (11.6 + 2) * 0.01 / h ~ 0.14
 
-mpm::SimulationSpec<2> base_spec(mpm::KernelKind kernel, mpm::Integrator integrator, bool light_nodes = false) {
+mpm::SimulationSpec<2> base_spec(mpm::KernelKind kernel, mpm::Integrator integrator,
+                                 bool light_nodes = false) {
   mpm::SimulationSpec<2> s;
   s.reproject_light_nodes = light_nodes;
   s.h = kH;
@@ -282,10 +283,10 @@ TEST_P(SymmetryPlane, MatchesTwoMirrorBodies) {
   }
 }
 
-// With light nodes re-projected (linear kernel, USL and CD), a node on the plane holds the body's share of the
-// mass of the same node between two mirrored bodies; it is light by the mass of both
-// (KinematicConstraints::count_mirror_copies). Judging it by its own mass alone made the runs differ by 7e-4 of
-// the body width. Same tolerance as above.
+// With light nodes re-projected (linear kernel, USL and CD), a node on the plane holds the body's share of
+// the mass of the same node between two mirrored bodies; it is light by the mass of both
+// (KinematicConstraints::count_mirror_copies). Judging it by its own mass alone made the runs differ by 7e-4
+// of the body width. Same tolerance as above.
 class SymmetryPlaneLightNodes : public SerialTest<mpm::Integrator> {};
 
 TEST_P(SymmetryPlaneLightNodes, MatchesTwoMirrorBodies) {

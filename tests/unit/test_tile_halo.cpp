@@ -1,8 +1,8 @@
-// The halo sum after P2G (BoxHalo::sum): a grid divided into boxes of whole tiles, each box's particles scattered
-// into the box's own grid, and the sums of the tiles at its faces exchanged and added into the nodes they share in
-// colour order, gives every node of every box's grid the bits of one process's P2G, for every kernel in 2-D and
-// 3-D and 2 to 4 boxes. This is the determinism that the distributed run rests on, checked here in one process
-// with a thread per rank.
+// The halo sum after P2G (BoxHalo::sum): a grid divided into boxes of whole tiles, each box's particles
+// scattered into the box's own grid, and the sums of the tiles at its faces exchanged and added into the
+// nodes they share in colour order, gives every node of every box's grid the bits of one process's P2G, for
+// every kernel in 2-D and 3-D and 2 to 4 boxes. This is the determinism that the distributed run rests on,
+// checked here in one process with a thread per rank.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,6 +13,7 @@
 #include <thread>
 #include <vector>
 
+#include "kernel_cases.hpp"
 #include "mpm/distributed/box_halo.hpp"
 #include "mpm/distributed/decomposition.hpp"
 #include "mpm/grid/grid.hpp"
@@ -21,8 +22,6 @@
 #include "mpm/shape/stencil.hpp"
 #include "mpm/transfer/p2g.hpp"
 #include "mpm/transfer/scatter_order.hpp"
-
-#include "kernel_cases.hpp"
 
 namespace {
 
@@ -44,7 +43,8 @@ class ThreadRanks {
   class Rank final : public mpm::Alone {
    public:
     Rank(ThreadRanks& all, int rank) : mpm::Alone(rank, static_cast<int>(all.mail_.size())), all_(all) {}
-    std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& to) const override {
+    std::vector<std::vector<std::byte>> exchange(
+        const std::vector<std::vector<std::byte>>& to) const override {
       all_.mail_[static_cast<std::size_t>(rank())] = to;
       all_.sync_.arrive_and_wait();
       std::vector<std::vector<std::byte>> from;
@@ -52,8 +52,8 @@ class ThreadRanks {
       all_.sync_.arrive_and_wait();  // every rank has read its mail before the next exchange writes
       return from;
     }
-    std::vector<std::vector<std::byte>> exchange_with(const std::vector<int>& peers,
-                                                     const std::vector<std::vector<std::byte>>& to) const override {
+    std::vector<std::vector<std::byte>> exchange_with(
+        const std::vector<int>& peers, const std::vector<std::vector<std::byte>>& to) const override {
       std::vector<std::vector<std::byte>> all(all_.mail_.size());
       for (std::size_t k = 0; k < peers.size(); ++k) all[static_cast<std::size_t>(peers[k])] = to[k];
       const std::vector<std::vector<std::byte>> received = exchange(all);
@@ -71,8 +71,8 @@ class ThreadRanks {
   std::barrier<> sync_;
 };
 
-/// P2G of mass, momentum and internal force onto a cleared grid, as the explicit step's first scatter; the sums
-/// of the face tiles go to `kept` when it is given.
+/// P2G of mass, momentum and internal force onto a cleared grid, as the explicit step's first scatter; the
+/// sums of the face tiles go to `kept` when it is given.
 template <int Dim, class Kernel>
 void scatter(const mpm::ParticleSet<Dim>& p, mpm::Grid<Dim>& grid, std::vector<mpm::TileSums<Dim>>* kept) {
   std::vector<mpm::StoredStencil<Dim, Kernel>> stencils;
@@ -80,7 +80,8 @@ void scatter(const mpm::ParticleSet<Dim>& p, mpm::Grid<Dim>& grid, std::vector<m
   mpm::ScatterOrder<Dim> order(grid.geometry, Kernel::width);
   order.build(mpm::StencilTiles<Dim, Kernel>{stencils}, p.id);
   const mpm::FaceTileSums<Dim> keep(grid.geometry, order);
-  mpm::p2g_add_keeping(keep, mpm::ParticleStencils<Dim, Kernel>{stencils, p}, order, 0, grid, mpm::Momentum<Dim>{p.m, p.v},
+  mpm::p2g_add_keeping(keep, mpm::ParticleStencils<Dim, Kernel>{stencils, p}, order, 0, grid,
+                       mpm::Momentum<Dim>{p.m, p.v},
                        mpm::InternalForce<Dim, mpm::SymTensor<Dim>>{p.V, p.sigma});
   if (kept) *kept = keep.take();
 }

@@ -17,6 +17,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "kernel_cases.hpp"
 #include "mpm/core/errors.hpp"
 #include "mpm/grid/grid.hpp"
 #include "mpm/materials/neo_hookean.hpp"
@@ -27,8 +28,6 @@
 #include "mpm/transfer/g2p_stress.hpp"
 #include "mpm/transfer/p2g.hpp"
 #include "mpm/transfer/scatter_order.hpp"
-
-#include "kernel_cases.hpp"
 
 namespace {
 
@@ -139,11 +138,12 @@ TYPED_TEST(TransferTest, p2g_conserves_mass_and_momentum) {
   }
 }
 
-// The sum a P2G pass leaves in each node is fixed by the grid's tiles and the particle ids alone, not by how the
-// particles are divided between threads or ranks: it equals the sum of the tiles' separate P2G sums added in
-// colour order, f_i = ((P_i^0 + P_i^1) + ...) (mpm/transfer/scatter_order.hpp), to the last bit. Each P_i^c is
-// computed here by a P2G pass over only the particles of colour-c tiles (whose footprints do not overlap), as a
-// rank owning those tiles would; their colour-ordered sum must give the bits of the pass over all particles.
+// The sum a P2G pass leaves in each node is fixed by the grid's tiles and the particle ids alone, not by how
+// the particles are divided between threads or ranks: it equals the sum of the tiles' separate P2G sums added
+// in colour order, f_i = ((P_i^0 + P_i^1) + ...) (mpm/transfer/scatter_order.hpp), to the last bit. Each
+// P_i^c is computed here by a P2G pass over only the particles of colour-c tiles (whose footprints do not
+// overlap), as a rank owning those tiles would; their colour-ordered sum must give the bits of the pass over
+// all particles.
 TYPED_TEST(TransferTest, p2g_equals_the_colour_ordered_sum_of_separate_tile_sums) {
   using Kernel = typename TypeParam::Kernel;
   constexpr int Dim = TypeParam::dim;
@@ -188,12 +188,13 @@ TYPED_TEST(TransferTest, p2g_equals_the_colour_ordered_sum_of_separate_tile_sums
   EXPECT_EQ(colours_met, 1 << Dim);
   std::size_t differ = 0;
   for (std::size_t n = 0; n < sum.size(); ++n)
-    differ += sum.nodes[n].m != full.nodes[n].m || sum.nodes[n].v != full.nodes[n].v || sum.nodes[n].a != full.nodes[n].a;
+    differ += sum.nodes[n].m != full.nodes[n].m || sum.nodes[n].v != full.nodes[n].v ||
+              sum.nodes[n].a != full.nodes[n].a;
   EXPECT_EQ(differ, 0u) << "of " << sum.size() << " nodes";
 }
 
-// A stencil packs its tile's index in 22 bits (GridGeometry::max_tiles): a grid with more tiles is refused with
-// one line before anything is sized (its geometry alone is built here; 1,300^3 cells are 163^3 tiles).
+// A stencil packs its tile's index in 22 bits (GridGeometry::max_tiles): a grid with more tiles is refused
+// with one line before anything is sized (its geometry alone is built here; 1,300^3 cells are 163^3 tiles).
 TEST(ScatterOrderLimits, AGridWithMoreTilesThanAStencilCanIndexIsRefused) {
   mpm::GridGeometry<3> huge{Vec<3>::Zero(), 1.0, {1300, 1300, 1300}, 1};
   ASSERT_GT(huge.tile_count(), mpm::GridGeometry<3>::max_tiles);
@@ -253,7 +254,8 @@ TYPED_TEST(TransferTest, g2p_reproduces_linear_velocity_field_and_its_gradient) 
     const mpm::ParticleSet<Dim> before = p;
     const Transfer<Dim, Kernel> t(p, geo);
 
-    if constexpr (mpm::moves_corners<Kernel>)  // CPDI2 moves the corners first, and the particle to their centroid
+    if constexpr (mpm::moves_corners<Kernel>)  // CPDI2 moves the corners first, and the particle to their
+                                               // centroid
       mpm::g2p_corners(t.stencils(), grid, &mpm::GridNode<Dim>::v_new, dt, p.corners, p.corners);
     const mpm::ParticleFault fault =
         mpm::g2p<mpm::Gather{.velocity = false, .position = true, .deformation = true}>(
@@ -275,7 +277,8 @@ TYPED_TEST(TransferTest, g2p_reproduces_linear_velocity_field_and_its_gradient) 
       if constexpr (mpm::moves_corners<Kernel>)
         for (int c = 0; c < Kernel::corners; ++c) {
           const Vec<Dim> xc = before.corners[i].col(c);
-          EXPECT_LT((p.corners[i].col(c) - (xc + dt * (v0 + L * xc))).cwiseAbs().maxCoeff(), tol_x) << "corner " << c;
+          EXPECT_LT((p.corners[i].col(c) - (xc + dt * (v0 + L * xc))).cwiseAbs().maxCoeff(), tol_x)
+              << "corner " << c;
         }
       // G2P writes no half-lengths: the current ones follow from l0 (ParticleSet::half_length).
       EXPECT_EQ(p.l0[i], before.l0[i]);

@@ -1,7 +1,7 @@
 // The particle writers read back by VTK itself: a .vtp written by mpm::io::write_vtp is opened with
-// vtkXMLPolyDataReader (Debian's python3-vtk9) and every coordinate and field value must come back bit for bit;
-// the .pvd written by PvdSeries is parsed with Python's xml.etree and must list the times (bit for bit) and
-// files in order. PvdSeries::resume must keep exactly the entries with time <= t_max.
+// vtkXMLPolyDataReader (Debian's python3-vtk9) and every coordinate and field value must come back bit for
+// bit; the .pvd written by PvdSeries is parsed with Python's xml.etree and must list the times (bit for bit)
+// and files in order. PvdSeries::resume must keep exactly the entries with time <= t_max.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -59,7 +59,9 @@ for ds in ET.parse(sys.argv[2]).getroot().iter("DataSet"):
     print("dataset", ds.get("timestep"), ds.get("file"))
 )py";
 
-std::uint64_t bits(double x) { return std::bit_cast<std::uint64_t>(x); }
+std::uint64_t bits(double x) {
+  return std::bit_cast<std::uint64_t>(x);
+}
 
 /// One array as read back by VTK.
 struct ReadArray {
@@ -91,8 +93,8 @@ class VtkTest : public ::testing::Test {
   ReadBack read_with_vtk(const fs::path& vtp, const fs::path& pvd) {
     const fs::path script = dir_ / "read.py";
     std::ofstream(script) << kReaderScript;
-    const std::string command = "/usr/bin/python3 '" + script.string() + "' '" + vtp.string() + "' '" +
-                                pvd.string() + "' 2>&1";
+    const std::string command =
+        "/usr/bin/python3 '" + script.string() + "' '" + vtp.string() + "' '" + pvd.string() + "' 2>&1";
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) ADD_FAILURE() << "cannot run " << command;
     std::string output;
@@ -137,7 +139,8 @@ class VtkTest : public ::testing::Test {
 };
 
 /// Expect `read` to equal `written` bit for bit.
-void expect_bitwise_equal(const std::vector<double>& written, const ReadArray& read, const std::string& name) {
+void expect_bitwise_equal(const std::vector<double>& written, const ReadArray& read,
+                          const std::string& name) {
   ASSERT_EQ(read.values.size(), written.size()) << name;
   for (std::size_t i = 0; i < written.size(); ++i)
     EXPECT_EQ(bits(read.values[i]), bits(written[i]))
@@ -153,8 +156,18 @@ TEST_F(VtkTest, VtkReaderReadsBackEveryValueBitForBit) {
     J.push_back(1 + (p + 1) * std::numeric_limits<double>::epsilon());
   }
   // Extreme and awkward doubles: -0, the smallest subnormal, the largest finite, pi, values one ulp apart.
-  stress = {-0.0, 5e-324, 1.7976931348623157e308, M_PI, std::nextafter(1.0, 2.0), -1e-300,
-            -12345.678901234567, 1e5 / 3, 2.0 / 3, 0.1, 0.2, 0.30000000000000004};
+  stress = {-0.0,
+            5e-324,
+            1.7976931348623157e308,
+            M_PI,
+            std::nextafter(1.0, 2.0),
+            -1e-300,
+            -12345.678901234567,
+            1e5 / 3,
+            2.0 / 3,
+            0.1,
+            0.2,
+            0.30000000000000004};
   for (int i = 0; i < 3 * 6; ++i) stress.push_back(std::sin(1.0 + i) * std::pow(10.0, i % 7 - 3));
 
   const fs::path vtp = dir_ / "particles_0001.vtp", pvd = dir_ / "particles.pvd";

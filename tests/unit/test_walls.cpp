@@ -1,5 +1,6 @@
-// A particle centre the nodes carry past a wall face is put back on its plane (GridGeometry::walls); past a free
-// face it has left the grid. uGIMP: the weights of a particle on the wall reach the nodes inside the material.
+// A particle centre the nodes carry past a wall face is put back on its plane (GridGeometry::walls); past a
+// free face it has left the grid. uGIMP: the weights of a particle on the wall reach the nodes inside the
+// material.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -17,7 +18,8 @@ using mpm::Real;
 using mpm::Vec;
 
 /// One particle (half-length h/4) with its centre 1e-9 m above the face y = 0 of a 4 x 4 grid (h = 0.1) whose
-/// nodes all move at (0.2, -1) m/s, moved over dt = 1e-3 s: 1e-3 m down. The fault G2P reports, and the position.
+/// nodes all move at (0.2, -1) m/s, moved over dt = 1e-3 s: 1e-3 m down. The fault G2P reports, and the
+/// position.
 std::pair<bool, Vec<2>> moved(bool wall) {
   mpm::GridGeometry<2> geo{Vec<2>(0, 0), 0.1, mpm::IVec<2>{4, 4}, mpm::GimpKernel::ghost};
   geo.walls[2] = wall;
@@ -32,15 +34,17 @@ std::pair<bool, Vec<2>> moved(bool wall) {
   mpm::build_stencils<2, mpm::GimpKernel>(p, geo, stencils);
   std::vector<mpm::Mat<2>> grad_v(1);
   std::vector<Real> hoop(1);
-  const mpm::ParticleFault fault = mpm::g2p<mpm::Gather{.velocity = false, .position = true, .deformation = false}>(
-      p, mpm::ParticleStencils<2, mpm::GimpKernel>{stencils, p}, grid, &mpm::GridNode<2>::v_new, 1e-3, mpm::RecordRates<2>{grad_v, hoop, false});
+  const mpm::ParticleFault fault =
+      mpm::g2p<mpm::Gather{.velocity = false, .position = true, .deformation = false}>(
+          p, mpm::ParticleStencils<2, mpm::GimpKernel>{stencils, p}, grid, &mpm::GridNode<2>::v_new, 1e-3,
+          mpm::RecordRates<2>{grad_v, hoop, false});
   return {static_cast<bool>(fault), p.x[0]};
 }
 
 TEST(Walls, ACentreCarriedPastAWallStaysOnItsPlane) {
   const auto [fault, x] = moved(true);
   EXPECT_FALSE(fault);
-  EXPECT_EQ(x[1], 0.0);                 // on the wall
+  EXPECT_EQ(x[1], 0.0);                   // on the wall
   EXPECT_NEAR(x[0], 0.15 + 2e-4, 1e-15);  // and free along it
 }
 

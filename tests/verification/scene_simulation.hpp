@@ -1,5 +1,6 @@
 #pragma once
-// The engine a scene runs, for the verification tests that compare the explicit and implicit steps on one scene.
+// The engine a scene runs, for the verification tests that compare the explicit and implicit steps on one
+// scene.
 #include "mpm/explicit/simulation.hpp"
 #include "mpm/implicit/simulation.hpp"
 #include "mpm/scene/build.hpp"
@@ -7,8 +8,8 @@
 
 namespace mpm::testing {
 
-/// Build the scene's simulation (ImplicitSimulation when its integrator is "implicit", Simulation otherwise, with
-/// its kernel) from its seeded bodies, and call fn(simulation).
+/// Build the scene's simulation (ImplicitSimulation when its integrator is "implicit", Simulation otherwise,
+/// with its kernel) from its seeded bodies, and call fn(simulation).
 template <int Dim, class Fn>
 void with_scene_simulation(const Scene& sc, Fn&& fn) {
   with_kernel<Dim>(sc.kernel, [&]<class K>() {

@@ -23,9 +23,10 @@ inline Scene scene_from_text(const std::string& name, const std::string& text) {
   return sc;
 }
 
-/// The grid, material and body of a standing shear wave, to follow a scene's [simulation] and [implicit] tables:
-/// a 1 x 1 box periodic both ways, 8 x 8 cells, filled with hypoelastic material (E = 1000, nu = 0.25, rho = 10:
-/// shear wave speed c_s = sqrt(G / rho) = sqrt(40)) moving at v_x = 1e-4 sin(2 pi y), small enough to be linear.
+/// The grid, material and body of a standing shear wave, to follow a scene's [simulation] and [implicit]
+/// tables: a 1 x 1 box periodic both ways, 8 x 8 cells, filled with hypoelastic material (E = 1000, nu =
+/// 0.25, rho = 10: shear wave speed c_s = sqrt(G / rho) = sqrt(40)) moving at v_x = 1e-4 sin(2 pi y), small
+/// enough to be linear.
 inline constexpr const char* periodic_shear_wave = R"toml([grid]
 lo = [0.0, 0.0]
 hi = [1.0, 1.0]

@@ -44,26 +44,28 @@ void expect_second_order(KernelKind kernel) {
 }
 
 TEST(AxisAligned, CentredDifferenceCpdiConvergesAtSecondOrder) {
-  // CPDI (Sadeghirad et al. 2011) averages the hats over its domain's corners; on this axis-aligned deformation its
-  // domains stay rectangles, and its gradients are as continuous as GIMP's. Measured L_inf = 1.781e-2, 4.513e-3,
-  // 1.103e-3 on 8, 16, 32 cells (orders 1.98, 2.03; cpGIMP's 2.02, 2.03); 3-D, 8 -> 16 -> 32 cells: 2.434e-2,
-  // 6.524e-3, 1.585e-3 (orders 1.90, 2.04).
+  // CPDI (Sadeghirad et al. 2011) averages the hats over its domain's corners; on this axis-aligned
+  // deformation its domains stay rectangles, and its gradients are as continuous as GIMP's. Measured L_inf
+  // = 1.781e-2, 4.513e-3, 1.103e-3 on 8, 16, 32 cells (orders 1.98, 2.03; cpGIMP's 2.02, 2.03); 3-D, 8 -> 16
+  // -> 32 cells: 2.434e-2, 6.524e-3, 1.585e-3 (orders 1.90, 2.04).
   expect_second_order(KernelKind::cpdi);
 }
 
 TEST(AxisAligned, CentredDifferenceCpdi2ConvergesAtSecondOrder) {
-  // CPDI2 (Sadeghirad et al. 2013) moves the corners with the grid velocity, and this deformation is nearly affine
-  // over a particle: measured L_inf = 1.780e-2, 4.512e-3, 1.103e-3 on 8, 16, 32 cells (orders 1.98, 2.03, CPDI's to
-  // 3 digits); 3-D 2.432e-2, 6.522e-3 (1.90); one particle per cell 2.543e-2, 7.196e-3, 1.943e-3 (1.82, 1.89).
+  // CPDI2 (Sadeghirad et al. 2013) moves the corners with the grid velocity, and this deformation is nearly
+  // affine over a particle: measured L_inf = 1.780e-2, 4.512e-3, 1.103e-3 on 8, 16, 32 cells
+  // (orders 1.98, 2.03, CPDI's to 3 digits); 3-D 2.432e-2, 6.522e-3 (1.90); one particle per
+  // cell 2.543e-2, 7.196e-3, 1.943e-3 (1.82, 1.89).
   expect_second_order(KernelKind::cpdi2);
 }
 
 TEST(AxisAligned, OneParticlePerCellConvergesWithCpdiNotWithGimp) {
-  // One particle per cell: l_0 = h/2, so cpGIMP's l_0 F_dd passes h/2 wherever the body stretches and the start is
-  // refused (an input error naming the wide stencil and CPDI). The wide stencil starts, but GIMP with one particle
-  // per cell does not converge here, as the quadratic B-spline (uGIMP with l = h/2) does not: measured L_inf
-  // cpgimp-wide 2.29e-2, 1.25e-2, 8.74e-2 and bspline2 5.36e-2, 8.78e-2, 1.41e-1 on 8, 16, 32 cells. CPDI's corners
-  // sit on the nodes of the particle's cell and it converges: 2.546e-2, 7.197e-3, 1.943e-3 (orders 1.82, 1.89).
+  // One particle per cell: l_0 = h/2, so cpGIMP's l_0 F_dd passes h/2 wherever the body stretches and the
+  // start is refused (an input error naming the wide stencil and CPDI). The wide stencil starts, but GIMP
+  // with one particle per cell does not converge here, as the quadratic B-spline (uGIMP with l = h/2) does
+  // not: measured L_inf cpgimp-wide 2.29e-2, 1.25e-2, 8.74e-2 and bspline2 5.36e-2, 8.78e-2, 1.41e-1 on 8,
+  // 16, 32 cells. CPDI's corners sit on the nodes of the particle's cell and it
+  // converges: 2.546e-2, 7.197e-3, 1.943e-3 (orders 1.82, 1.89).
   VerifyOptions o;
   o.kernel = KernelKind::cpgimp;
   o.integrator = Integrator::cd;
@@ -73,9 +75,10 @@ TEST(AxisAligned, OneParticlePerCellConvergesWithCpdiNotWithGimp) {
     verify(VerifyCase::axis_aligned, o);
     ADD_FAILURE() << "cpGIMP started with one particle per cell";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("(0, h/2] (kernel = \"cpgimp-wide\" takes half-lengths up to h, kernel = "
-                                         "\"cpdi\" follows any deformation)"),
-              std::string::npos)
+    EXPECT_NE(
+        std::string(e.what()).find("(0, h/2] (kernel = \"cpgimp-wide\" takes half-lengths up to h, kernel = "
+                                   "\"cpdi\" follows any deformation)"),
+        std::string::npos)
         << e.what();
   }
   const auto linf_ppc1 = [&](KernelKind kernel, int cells) {
@@ -120,9 +123,9 @@ TEST(AxisAligned, ThreeDimensionalVersionConvergesAtSecondOrder) {
 }
 
 TEST(AxisAligned, ExactHalfStepStartWorksAsWellAsHalvingTheFirstAcceleration) {
-  // Wallstedt & Guilkey 2008, Sec. 4: starting CD from the exact v^{-1/2} or halving the first grid acceleration
-  // "works nearly as well". Measured L_inf on 16 cells at the paper's CFL 0.4 (c^2 = E/rho0): 4.141e-3 exact,
-  // 4.077e-3 halved (1.6% apart).
+  // Wallstedt & Guilkey 2008, Sec. 4: starting CD from the exact v^{-1/2} or halving the first grid
+  // acceleration "works nearly as well". Measured L_inf on 16 cells at the paper's CFL 0.4 (c^2 =
+  // E/rho0): 4.141e-3 exact, 4.077e-3 halved (1.6% apart).
   VerifyOptions o;
   o.cells = 16;
   o.cfl_speed = CflSpeed::reference;
@@ -135,8 +138,8 @@ TEST(AxisAligned, ExactHalfStepStartWorksAsWellAsHalvingTheFirstAcceleration) {
 }
 
 TEST(AxisAligned, NodalAccelerationErrorConvergesAtSecondOrderWithoutCellCrossings) {
-  // The nodal error of Wallstedt & Guilkey 2008, App. A: delta_i = |a_i - a_exact(X_i, t)| with X_i the root of
-  // Eq. (A.1). At A = 0.001 no particle crosses a cell, and CD-cpGIMP's nodal acceleration converges at
+  // The nodal error of Wallstedt & Guilkey 2008, App. A: delta_i = |a_i - a_exact(X_i, t)| with X_i the root
+  // of Eq. (A.1). At A = 0.001 no particle crosses a cell, and CD-cpGIMP's nodal acceleration converges at
   // second order: measured L_inf 13.25, 3.41, 0.904 on 8, 16, 32 cells (orders 1.96, 1.91; the peak exact
   // acceleration is (c pi)^2 A = 98.7). At A = 0.1 cell crossings stop it near 10% of the peak
   // (docs/verification.md), while the particle displacements still converge at second order.
@@ -170,12 +173,14 @@ TEST(AxisAligned, InitialStateIsTheExactSolution) {
 
 TEST(AxisAligned, ConstrainedAccelerationModesAreEquallyAccurate) {
   // Steffen et al. 2008, Sec. 3.4.1: the acceleration of constrained nodes set to zero or to Eq. (30),
-  // (v_prescribed - v_projected) / dt, "when both approaches are tested with the manufactured solution ... the
-  // superiority of either is not apparent". Here on the symmetry planes of the axis-aligned solution (CD-cpGIMP,
-  // the paper's CFL 0.4). Measured L_inf: zero 1.626e-2, 4.077e-3, 1.011e-3; Eq. (30) 1.840e-2, 4.476e-3,
-  // 1.062e-3 on 8, 16, 32 cells: both second order, within 13% of each other and closer as h falls.
+  // (v_prescribed - v_projected) / dt, "when both approaches are tested with the manufactured solution ...
+  // the superiority of either is not apparent". Here on the symmetry planes of the axis-aligned solution
+  // (CD-cpGIMP, the paper's CFL 0.4). Measured L_inf: zero 1.626e-2, 4.077e-3, 1.011e-3; Eq.
+  // (30) 1.840e-2, 4.476e-3, 1.062e-3 on 8, 16, 32 cells: both second order, within 13% of each other and
+  // closer as h falls.
   std::vector<Real> errors[2];
-  for (ConstrainedAcceleration mode : {ConstrainedAcceleration::zero, ConstrainedAcceleration::velocity_difference})
+  for (ConstrainedAcceleration mode :
+       {ConstrainedAcceleration::zero, ConstrainedAcceleration::velocity_difference})
     for (int cells : {8, 16, 32}) {
       VerifyOptions o;
       o.cells = cells;

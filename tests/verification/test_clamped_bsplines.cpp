@@ -1,8 +1,8 @@
-// B-splines with clamped knots at the grid's faces (kernel = "bspline2-clamped", "bspline3-clamped"; Steffen et al.
-// 2008, Sec. 4.3) in both engines: a fixed-free vibrating bar, whose fixed end the uniform B-splines get wrong to
-// first order because their support reaches the ghost nodes beyond the wall, which nothing constrains
-// (docs/hardening.md). The clamped splines put no weight beyond the wall, and their velocity on it is the wall
-// node's, so the bar's error falls to cpGIMP's.
+// B-splines with clamped knots at the grid's faces (kernel = "bspline2-clamped", "bspline3-clamped"; Steffen
+// et al. 2008, Sec. 4.3) in both engines: a fixed-free vibrating bar, whose fixed end the uniform B-splines
+// get wrong to first order because their support reaches the ghost nodes beyond the wall, which nothing
+// constrains (docs/hardening.md). The clamped splines put no weight beyond the wall, and their velocity on it
+// is the wall node's, so the bar's error falls to cpGIMP's.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -18,8 +18,8 @@ namespace {
 using namespace mpm;
 using K = KernelKind;
 
-// u = (v0 / omega) sin(omega t) sin(pi X / 2L), omega = pi c / 2L, c = 10, L = 1, v0 = 0.3 (the free end moves
-// 0.019 L); its centre of mass moves at v_cm = (2 v0 / pi) cos(omega t).
+// u = (v0 / omega) sin(omega t) sin(pi X / 2L), omega = pi c / 2L, c = 10, L = 1, v0 = 0.3 (the free end
+// moves 0.019 L); its centre of mass moves at v_cm = (2 v0 / pi) cos(omega t).
 constexpr Real kL = 1, kC = 10, kV = 0.3;
 
 /// Max over three periods of |v_cm - exact| / (2 v0 / pi), explicit USL (CFL 0.5) or implicit midpoint rule
@@ -41,7 +41,8 @@ Real bar_error(K kernel, bool implicit, int cells) {
       Real momentum = 0, mass = 0;
       for (std::size_t k = 0; k < sim.particles().size(); ++k)
         momentum += sim.particles().m[k] * sim.particles().v[k][0], mass += sim.particles().m[k];
-      worst = std::max(worst, std::abs(momentum / mass - amplitude * std::cos(omega * sim.time())) / amplitude);
+      worst =
+          std::max(worst, std::abs(momentum / mass - amplitude * std::cos(omega * sim.time())) / amplitude);
     }
   };
   auto common = [&](auto& spec) {  // the grid, kernel, material and boundary of either engine's spec
@@ -79,10 +80,11 @@ TEST(ClampedBSplines, FixedFreeBarConvergesLikeCpGimpInBothEngines) {
   //   implicit: bspline2 0.413 / 0.207 / 0.105, bspline3 0.543 / 0.271 / 0.137,
   //             bspline2-clamped 0.208 / 0.108 / 0.0550, bspline3-clamped 0.212 / 0.108 / 0.0549,
   //             cpgimp 0.206 / 0.107 / 0.0548.
-  // The implicit step's own first-order error (the same for every kernel) bounds its gain to 2x. Asserted: the
-  // clamped splines' observed order over 16 -> 64 is no worse than cpGIMP's (0.93 USL, 0.95 implicit; clamped
-  // 1.02 to 1.10 and 0.97 to 0.99) less 0.05; their error at 64 cells within 1.1x cpGIMP's (measured 1.00 to
-  // 1.07); and below the uniform splines' by 4x (USL, measured 5.7x and 7.4x) and 1.7x (implicit, 1.9x and 2.5x).
+  // The implicit step's own first-order error (the same for every kernel) bounds its gain to 2x. Asserted:
+  // the clamped splines' observed order over 16 -> 64 is no worse than cpGIMP's (0.93 USL, 0.95 implicit;
+  // clamped 1.02 to 1.10 and 0.97 to 0.99) less 0.05; their error at 64 cells within 1.1x cpGIMP's
+  // (measured 1.00 to 1.07); and below the uniform splines' by 4x (USL, measured 5.7x and 7.4x) and 1.7x
+  // (implicit, 1.9x and 2.5x).
   auto order = [](const std::array<Real, 3>& e) { return std::log2(e[0] / e[2]) / 2; };
   auto errors = [](K kernel, bool implicit) {
     std::array<Real, 3> e;

@@ -1,16 +1,16 @@
 // The consistent mass matrix of Sulsky & Kaul 2004, Eq. (2.2.6), M_ij = sum_p m_p N_i(x_p) N_j(x_p)
 // (implicit.mass = "consistent"), against the lumped mass of Eq. (2.2.12) that the paper runs with.
 //
-// A standing shear wave v_x = V sin(k y) with k h = pi / 4 in a periodic box. With linear elements and the lumped
-// mass the grid's frequency would be omega_L = (2 c_s / h) sin(kh / 2). The particles, 2 per cell per axis at the
-// quarter points, integrate the mass matrix: the element matrix is m_e [5/16, 3/16; 3/16, 5/16] (exact
-// integration: [1/3, 1/6; 1/6, 1/3]), whose eigenvalue per unit mass on the mode is s = 5/8 + 3/8 cos kh; the
-// stiffness is integrated exactly (its gradients are constant in a cell). So the consistent mass gives
-// omega^2 = omega_L^2 / s. The velocity formulation updates the particles by the grid's velocity change (Eq.
-// (2.3.3)) and projects them again at the next step: with the lumped mass that projection of the interpolated
-// change is M_L^-1 M, which scales it by s, so the lumped runs oscillate at omega^2 = s omega_L^2; the consistent
-// projection M^-1 M is the identity. The two frequencies differ by 1 / s = 1.1234 (exact integration would give
-// 1 / sqrt(s) = 1.0527 from the mass matrices alone).
+// A standing shear wave v_x = V sin(k y) with k h = pi / 4 in a periodic box. With linear elements and the
+// lumped mass the grid's frequency would be omega_L = (2 c_s / h) sin(kh / 2). The particles, 2 per cell per
+// axis at the quarter points, integrate the mass matrix: the element matrix is m_e [5/16, 3/16; 3/16, 5/16]
+// (exact integration: [1/3, 1/6; 1/6, 1/3]), whose eigenvalue per unit mass on the mode is s = 5/8 + 3/8 cos
+// kh; the stiffness is integrated exactly (its gradients are constant in a cell). So the consistent mass
+// gives omega^2 = omega_L^2 / s. The velocity formulation updates the particles by the grid's velocity change
+// (Eq. (2.3.3)) and projects them again at the next step: with the lumped mass that projection of the
+// interpolated change is M_L^-1 M, which scales it by s, so the lumped runs oscillate at omega^2 = s
+// omega_L^2; the consistent projection M^-1 M is the identity. The two frequencies differ by 1 / s = 1.1234
+// (exact integration would give 1 / sqrt(s) = 1.0527 from the mass matrices alone).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -29,9 +29,9 @@ namespace {
 using namespace mpm;
 constexpr double pi = 3.14159265358979323846;
 
-// A 1 x 1 box, periodic both ways, 8 x 8 cells (k h = 2 pi / 8), E = 1000, nu = 0.25, rho = 10: shear wave speed
-// c_s = sqrt(G / rho) = sqrt(40). theta = 0 (no numerical damping; the step is symplectic Euler, whose frequency
-// error (omega dt)^2 / 24 is 2e-5 at cfl = 0.05), V = 1e-4 keeps the strains near 1e-5.
+// A 1 x 1 box, periodic both ways, 8 x 8 cells (k h = 2 pi / 8), E = 1000, nu = 0.25, rho = 10: shear wave
+// speed c_s = sqrt(G / rho) = sqrt(40). theta = 0 (no numerical damping; the step is symplectic Euler, whose
+// frequency error (omega dt)^2 / 24 is 2e-5 at cfl = 0.05), V = 1e-4 keeps the strains near 1e-5.
 Scene shear_wave(const std::string& mass) {
   std::ostringstream text;
   text << R"toml([simulation]
@@ -45,12 +45,14 @@ theta = 0
 formulation = "velocity"
 newton_tolerance = 1e-12
 linear_tolerance = 1e-10
-mass = ")toml" << mass << "\"\n" << mpm::testing::periodic_shear_wave;
+mass = ")toml"
+       << mass << "\"\n"
+       << mpm::testing::periodic_shear_wave;
   return mpm::testing::scene_from_text("consistent_mass", text.str());
 }
 
-/// The grid's angular frequency from the peaks of the strain energy, which peaks every half period: pi over the
-/// mean spacing of the peak times (each refined by the parabola through its three samples).
+/// The grid's angular frequency from the peaks of the strain energy, which peaks every half period: pi over
+/// the mean spacing of the peak times (each refined by the parabola through its three samples).
 double frequency(const std::string& mass) {
   const Scene sc = shear_wave(mass);
   ImplicitSimulation<2, LinearKernel> sim(make_implicit_spec<2>(sc), seed_bodies<2>(sc));
@@ -82,8 +84,8 @@ TEST(ConsistentMass, StandingWaveFollowsEachMassMatrixsDispersion) {
   const double kh = 2 * pi / 8, h = 1.0 / 8, c_s = std::sqrt(40.0);
   const double omega_L = 2 * c_s / h * std::sin(kh / 2), s = 5.0 / 8 + 3.0 / 8 * std::cos(kh);
   const double lumped = frequency("lumped"), consistent = frequency("consistent");
-  std::printf("omega: lumped %.6f (theory %.6f), consistent %.6f (theory %.6f)\n", lumped, omega_L * std::sqrt(s),
-              consistent, omega_L / std::sqrt(s));
+  std::printf("omega: lumped %.6f (theory %.6f), consistent %.6f (theory %.6f)\n", lumped,
+              omega_L * std::sqrt(s), consistent, omega_L / std::sqrt(s));
   EXPECT_NEAR(lumped / (omega_L * std::sqrt(s)), 1, 1e-3);
   EXPECT_NEAR(consistent / (omega_L / std::sqrt(s)), 1, 1e-3);
 }
@@ -93,7 +95,8 @@ TEST(ConsistentMass, StandingWaveFollowsEachMassMatrixsDispersion) {
 // 2e-5 of it).
 TEST(ConsistentMass, ElasticBarReachesTheAnalyticStress) {
   const std::filesystem::path scene =
-      std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "examples/implicit/elastic-bar.toml";
+      std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() /
+      "examples/implicit/elastic-bar.toml";
   const Scene sc = read_scene(scene, {"implicit.formulation=\"velocity\"", "implicit.mass=\"consistent\"",
                                       "implicit.step_factor=100", "implicit.start_factor=100"});
   ImplicitSimulation<2, LinearKernel> sim(make_implicit_spec<2>(sc), seed_bodies<2>(sc));

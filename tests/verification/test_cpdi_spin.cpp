@@ -1,7 +1,7 @@
-// CPDI through a full turn (Sadeghirad, Brannon & Burghardt 2011): a freely spinning elastic disk. Its particles'
-// domains turn with F, so after one turn they are the squares they started as, while cpGIMP's half-lengths
-// l_0 F_dd reach 0 at a quarter turn and stop the run. CPDI2's corners (Sadeghirad, Brannon & Guilkey 2013) turn with
-// the grid velocity and keep the disk's area.
+// CPDI through a full turn (Sadeghirad, Brannon & Burghardt 2011): a freely spinning elastic disk. Its
+// particles' domains turn with F, so after one turn they are the squares they started as, while cpGIMP's
+// half-lengths l_0 F_dd reach 0 at a quarter turn and stop the run. CPDI2's corners (Sadeghirad, Brannon &
+// Guilkey 2013) turn with the grid velocity and keep the disk's area.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -21,22 +21,22 @@ namespace {
 using namespace mpm;
 constexpr Real kTurn = 2 * std::numbers::pi;  // one turn at 1 rad/s
 
-/// The spinning disk (spinning_disk.hpp) on 32 cells per axis, E = 10: rim speed 0.3 against a wave speed of 3.7, so
-/// the centrifugal stretch rho omega^2 R^2 / E is about 1%. Implicit steps are 8 explicit ones.
+/// The spinning disk (spinning_disk.hpp) on 32 cells per axis, E = 10: rim speed 0.3 against a wave speed
+/// of 3.7, so the centrifugal stretch rho omega^2 R^2 / E is about 1%. Implicit steps are 8 explicit ones.
 Scene spinning_disk(const std::string& integrator, const std::string& kernel, int step_factor = 8) {
   return mpm::testing::spinning_disk_scene({integrator, kernel, "", 32, 10, kTurn, step_factor});
 }
 
-/// What a run through the turn leaves: how far it got, its volume, and the worst partition of unity and linear
-/// reproduction of its particles' weights at the end.
+/// What a run through the turn leaves: how far it got, its volume, and the worst partition of unity and
+/// linear reproduction of its particles' weights at the end.
 struct Turn {
   Real time = 0;
   std::string failure;
-  Real dilation = 0;         ///< sum V_p / sum V_p0 - 1
-  Real unity = 0;            ///< max_p |sum_i S_ip - 1|
-  Real reproduction = 0;     ///< max_p |sum_i S_ip x_i - x_p| / h
-  Real corner_area = 0;      ///< CPDI2: sum_p |domain_p| / sum_p V_p - 1, the corners' area against V_0 det F
-  Real least_jacobian = 1;   ///< CPDI2: min_p of the smallest corner Jacobian over its value undeformed, l_0^2
+  Real dilation = 0;        ///< sum V_p / sum V_p0 - 1
+  Real unity = 0;           ///< max_p |sum_i S_ip - 1|
+  Real reproduction = 0;    ///< max_p |sum_i S_ip x_i - x_p| / h
+  Real corner_area = 0;     ///< CPDI2: sum_p |domain_p| / sum_p V_p - 1, the corners' area against V_0 det F
+  Real least_jacobian = 1;  ///< CPDI2: min_p of the smallest corner Jacobian over its value undeformed, l_0^2
 };
 
 Turn spin(const std::string& integrator, const std::string& kernel, int step_factor = 8) {
@@ -92,9 +92,10 @@ Turn spin(const std::string& integrator, const std::string& kernel, int step_fac
   return t;
 }
 
-/// The mean dilation of the disk spinning steadily, plane strain: div u = C - rho omega^2 r^2 / (2 M), M = lambda +
-/// 2 mu, C = rho omega^2 R^2 (lambda/2 + 3 mu/4) / ((lambda + mu) M) from sigma_rr(R) = 0, averaged over the disk:
-/// C - rho omega^2 R^2 / (4 M) = 2.34e-3. Started unstressed, the disk breathes about it, between 0 and twice it.
+/// The mean dilation of the disk spinning steadily, plane strain: div u = C - rho omega^2 r^2 / (2 M), M =
+/// lambda + 2 mu, C = rho omega^2 R^2 (lambda/2 + 3 mu/4) / ((lambda + mu) M) from sigma_rr(R) = 0, averaged
+/// over the disk: C - rho omega^2 R^2 / (4 M) = 2.34e-3. Started unstressed, the disk breathes about it,
+/// between 0 and twice it.
 Real steady_dilation() {
   const Real E = 10, nu = 0.3, rho_w2_R2 = 0.09;
   const Real lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu)), M = lambda + 2 * mu;
@@ -102,7 +103,8 @@ Real steady_dilation() {
   return C - rho_w2_R2 / (4 * M);
 }
 
-/// The turn completed, the disk breathing about its steady dilation, its weights a partition of unity reproducing x.
+/// The turn completed, the disk breathing about its steady dilation, its weights a partition of unity
+/// reproducing x.
 void expect_full_turn(const Turn& t) {
   EXPECT_TRUE(t.failure.empty()) << t.failure;
   EXPECT_NEAR(t.time, kTurn, 1e-9);
@@ -113,9 +115,10 @@ void expect_full_turn(const Turn& t) {
 }
 
 TEST(CpdiSpin, ExplicitRunsAFullTurnWhereCpGimpStopsAtAQuarter) {
-  // Measured (USL, 2013 steps): CPDI completes the turn with dilation 1.81e-3 (steady 2.34e-3); its weights sum to 1
-  // within 2.2e-16 and reproduce x_p within 7.9e-15 h (round-off of x ~ 25 h). cpGIMP stops at t = 1.506 (step
-  // 483), a rim particle's l_0 F_xx having crossed 0 just before the quarter turn (pi/2 = 1.571).
+  // Measured (USL, 2013 steps): CPDI completes the turn with dilation 1.81e-3 (steady 2.34e-3); its weights
+  // sum to 1 within 2.2e-16 and reproduce x_p within 7.9e-15 h (round-off of x ~ 25 h). cpGIMP stops at t
+  // = 1.506 (step 483), a rim particle's l_0 F_xx having crossed 0 just before the quarter turn (pi/2
+  // = 1.571).
   const Turn cpdi = spin("usl", "cpdi"), cpgimp = spin("usl", "cpgimp");
   expect_full_turn(cpdi);
   EXPECT_NE(cpgimp.failure.find("cpGIMP half-lengths"), std::string::npos) << cpgimp.failure;
@@ -125,10 +128,10 @@ TEST(CpdiSpin, ExplicitRunsAFullTurnWhereCpGimpStopsAtAQuarter) {
 }
 
 TEST(Cpdi2Spin, BothEnginesRunAFullTurn) {
-  // Measured: dilation 1.81e-3 (USL) and 2.42e-3 (implicit, moving with v^L); the corners' areas sum to sum_p V_p
-  // within 2.1e-15 and 2.7e-15; the smallest corner Jacobian is 0.974 and 0.970 of its undeformed value, so the
-  // domains are still nearly the squares they started as. Moved with the momentum formulation's own field instead
-  // (implicit.positions = "momentum", now refused with CPDI2), a domain folds at t = 2.39.
+  // Measured: dilation 1.81e-3 (USL) and 2.42e-3 (implicit, moving with v^L); the corners' areas sum to sum_p
+  // V_p within 2.1e-15 and 2.7e-15; the smallest corner Jacobian is 0.974 and 0.970 of its undeformed value,
+  // so the domains are still nearly the squares they started as. Moved with the momentum formulation's own
+  // field instead (implicit.positions = "momentum", now refused with CPDI2), a domain folds at t = 2.39.
   for (const char* integrator : {"usl", "implicit"}) {
     const Turn cpdi2 = spin(integrator, "cpdi2");
     SCOPED_TRACE(integrator);

@@ -29,10 +29,11 @@ Sim load(const std::string& scene, const std::vector<std::string>& overrides) {
 
 using mpm::testing::Spread;
 
-// The rigid body drives the node at x = 0.4 at v = 0.001 while the node at x = 0.7 stays put, so the bar strains
-// uniformly at rate v / l, l = 0.3, and the hypoelastic uniaxial stress is E' v t / l with E' = E in plane stress
-// and E / (1 - nu^2) in plane strain (the paper's Eq. 3.1.1 with Y = E'). Tolerance: the issue's 2%; measured
-// deviations are ~1e-9 implicit and ~2e-4 explicit (the explicit run carries small elastic waves).
+// The rigid body drives the node at x = 0.4 at v = 0.001 while the node at x = 0.7 stays put, so the bar
+// strains uniformly at rate v / l, l = 0.3, and the hypoelastic uniaxial stress is E' v t / l with E' = E in
+// plane stress and E / (1 - nu^2) in plane strain (the paper's Eq. 3.1.1 with Y = E'). Tolerance: the issue's
+// 2%; measured deviations are ~1e-9 implicit and ~2e-4 explicit (the explicit run carries small elastic
+// waves).
 struct BarCase {
   const char* name;
   const char* geometry;
@@ -55,8 +56,8 @@ TEST_P(ElasticBar, StressIsUniformAndUniaxialAtTheAnalyticValue) {
     sxx.add(s(0, 0));
     worst_lateral = std::max({worst_lateral, std::abs(s(1, 1)), std::abs(s(0, 1))});
   }
-  std::printf("%s: sigma_xx in [%.9g, %.9g], expected %.9g; |sigma_yy|, |sigma_xy| <= %.3g; %lld steps\n", c.name,
-              sxx.min, sxx.max, expected, worst_lateral, static_cast<long long>(sim.steps()));
+  std::printf("%s: sigma_xx in [%.9g, %.9g], expected %.9g; |sigma_yy|, |sigma_xy| <= %.3g; %lld steps\n",
+              c.name, sxx.min, sxx.max, expected, worst_lateral, static_cast<long long>(sim.steps()));
   EXPECT_NEAR(sxx.min, expected, 0.02 * expected);
   EXPECT_NEAR(sxx.max, expected, 0.02 * expected);
   EXPECT_LT(worst_lateral, 0.02 * expected);
@@ -79,11 +80,12 @@ INSTANTIATE_TEST_SUITE_P(
       return n;
     });
 
-// The linear CG solve (Alg. 2) of the velocity formulation, and Newton-CG (Algs 1 and 3), on the elastic bar at
-// 100x: the same analytic stress (plane stress) within the issue's 2%.
+// The linear CG solve (Alg. 2) of the velocity formulation, and Newton-CG (Algs 1 and 3), on the elastic bar
+// at 100x: the same analytic stress (plane stress) within the issue's 2%.
 TEST(ElasticBarCg, LinearAndNewtonCgReachTheAnalyticStress) {
   for (const char* solver : {"\"cg\"", "\"newton-cg\""}) {
-    Sim sim = load("elastic-bar.toml", {std::string("implicit.solver=") + solver, "implicit.formulation=\"velocity\""});
+    Sim sim = load("elastic-bar.toml",
+                   {std::string("implicit.solver=") + solver, "implicit.formulation=\"velocity\""});
     sim.run_until(10.0);
     Spread sxx;
     for (const SymTensor<3>& s : sim.state().sigma) sxx.add(s(0, 0));
@@ -94,8 +96,8 @@ TEST(ElasticBarCg, LinearAndNewtonCgReachTheAnalyticStress) {
   }
 }
 
-// Elastic-plastic bar (Sec. 3.1.2): uniaxial stress with linear hardening, sigma = (tau0 + c1 eps)/(1 + c1/E) past
-// yield, eps = v t / l (plane stress); eps_bar = eps - sigma / E. Tolerance: the issue's 2%.
+// Elastic-plastic bar (Sec. 3.1.2): uniaxial stress with linear hardening, sigma = (tau0 + c1 eps)/(1 + c1/E)
+// past yield, eps = v t / l (plane stress); eps_bar = eps - sigma / E. Tolerance: the issue's 2%.
 TEST(PlasticBar, FollowsTheBilinearLawAtTwentyFour) {
   Sim sim = load("plastic-bar.toml", {});
   sim.run_until(24.0);
@@ -105,20 +107,21 @@ TEST(PlasticBar, FollowsTheBilinearLawAtTwentyFour) {
     sxx.add(sim.state().sigma[i](0, 0));
     plastic.add(sim.state().eps_bar[i]);
   }
-  std::printf("sigma_xx in [%.9g, %.9g], expected %.9g; eps_bar in [%.9g, %.9g], expected %.9g\n", sxx.min, sxx.max,
-              expected, plastic.min, plastic.max, eps - expected / 1000);
+  std::printf("sigma_xx in [%.9g, %.9g], expected %.9g; eps_bar in [%.9g, %.9g], expected %.9g\n", sxx.min,
+              sxx.max, expected, plastic.min, plastic.max, eps - expected / 1000);
   EXPECT_NEAR(sxx.min, expected, 0.02 * expected);
   EXPECT_NEAR(sxx.max, expected, 0.02 * expected);
   EXPECT_NEAR(plastic.min, eps - expected / 1000, 0.02 * eps);
   EXPECT_NEAR(plastic.max, eps - expected / 1000, 0.02 * eps);
 }
 
-// Sulsky & Kaul 2004, Sec. 3.2: with the velocity formulation the upsetting cannot be completed, "the explicit solver
-// also does not work"; the momentum formulation was introduced for it. Ours: the explicit velocity-formulation run
-// fails at t = 4.57e-4 s (step 5416 of about 106,000) with a particle thrown out of the grid; the momentum
-// formulation's explicit run passes that time (and completes: docs/implicit.md).
+// Sulsky & Kaul 2004, Sec. 3.2: with the velocity formulation the upsetting cannot be completed, "the
+// explicit solver also does not work"; the momentum formulation was introduced for it. Ours: the explicit
+// velocity-formulation run fails at t = 4.57e-4 s (step 5416 of about 106,000) with a particle thrown out of
+// the grid; the momentum formulation's explicit run passes that time (and completes: docs/implicit.md).
 TEST(Upsetting, ExplicitVelocityFormulationFailsWhereTheMomentumOneGoesOn) {
-  const std::vector<std::string> explicit_step = {"implicit.theta=0", "implicit.step_factor=1", "implicit.start_factor=1"};
+  const std::vector<std::string> explicit_step = {"implicit.theta=0", "implicit.step_factor=1",
+                                                  "implicit.start_factor=1"};
   std::vector<std::string> velocity = explicit_step;
   velocity.push_back("implicit.formulation=\"velocity\"");
   Sim failing = load("upsetting.toml", velocity);
@@ -138,14 +141,15 @@ TEST(Upsetting, ExplicitVelocityFormulationFailsWhereTheMomentumOneGoesOn) {
 // algorithm has the line search (Sec. 3.2.3) but no step halving, which is ours. Ours without the halving
 // (max_retries = 0): Newton-CG in the velocity formulation at 1000x fails with the line search before the end
 // and without it at the first step, as the paper says; with the halving it completes (study, docs/implicit.md
-// Sec. 4), with or without the line search. Where the run with the line search fails is decided by the last bits
-// of the node sums: at step 34 (t = 2.8 ms of 9) when they were added strip by strip, at step 64 (t = 5.4 ms)
-// with the tile-ordered sums.
+// Sec. 4), with or without the line search. Where the run with the line search fails is decided by the last
+// bits of the node sums: at step 34 (t = 2.8 ms of 9) when they were added strip by strip, at step 64 (t
+// = 5.4 ms) with the tile-ordered sums.
 TEST(Upsetting, NewtonCgVelocityFormulationFailsWithoutStepHalving) {
   for (const char* line_search : {"on", "off"}) {
-    Sim sim = load("upsetting.toml", {"implicit.step_factor=1000", "implicit.start_factor=1000",
-                                      "implicit.solver=\"newton-cg\"", "implicit.formulation=\"velocity\"",
-                                      "implicit.max_retries=0", std::string("implicit.line_search=\"") + line_search + "\""});
+    Sim sim = load("upsetting.toml",
+                   {"implicit.step_factor=1000", "implicit.start_factor=1000",
+                    "implicit.solver=\"newton-cg\"", "implicit.formulation=\"velocity\"",
+                    "implicit.max_retries=0", std::string("implicit.line_search=\"") + line_search + "\""});
     try {
       sim.run_until(9e-3);
       ADD_FAILURE() << "Newton-CG reached the end, line search " << line_search;
@@ -161,8 +165,8 @@ TEST(Upsetting, NewtonCgVelocityFormulationFailsWithoutStepHalving) {
   }
 }
 
-// A solid cylinder r < 0.3, 0 < z < 0.2 between two symmetry planes (eps_zz = 0) on a 0.1 grid, 4 x 4 particles
-// per cell, E = 1000, nu = 0.3, rho = 10.
+// A solid cylinder r < 0.3, 0 < z < 0.2 between two symmetry planes (eps_zz = 0) on a 0.1 grid, 4 x 4
+// particles per cell, E = 1000, nu = 0.3, rho = 10.
 ImplicitSpec<2> cylinder_spec(ParticleSet<2>& p, bool with_ring) {
   ImplicitSpec<2> spec;
   spec.grid_lo = Vec<2>(0, 0);
@@ -197,10 +201,10 @@ ImplicitSpec<2> cylinder_spec(ParticleSet<2>& p, bool with_ring) {
   return spec;
 }
 
-// A uniform in-plane stress sigma_rr = sigma_thetatheta is in equilibrium: the hoop term -V sigma_thetatheta N / r
-// of the internal force cancels the radial term at every interior node exactly (the particle quadrature of the
-// cell-wise linear d(r N)/dr is exact at these symmetric points), so after one explicit step only the free outer
-// surface moves. Measured: interior speeds ~1e-22 against ~1e-6 at the surface.
+// A uniform in-plane stress sigma_rr = sigma_thetatheta is in equilibrium: the hoop term -V sigma_thetatheta
+// N / r of the internal force cancels the radial term at every interior node exactly (the particle quadrature
+// of the cell-wise linear d(r N)/dr is exact at these symmetric points), so after one explicit step only the
+// free outer surface moves. Measured: interior speeds ~1e-22 against ~1e-6 at the surface.
 TEST(Axisymmetric, UniformStressIsInEquilibrium) {
   ParticleSet<2> p;
   ImplicitSpec<2> spec = cylinder_spec(p, false);
@@ -222,11 +226,11 @@ TEST(Axisymmetric, UniformStressIsInEquilibrium) {
 }
 
 // The ring moves out at v: in one large implicit step (1000 explicit steps, quasi-static: inertia is
-// rho h^2 / (E dt^2) ~ 5e-6 of the stiffness) u_r is linear in r, so eps_rr = eps_thetatheta = v dt / R at every
-// particle: sigma_rr = sigma_thetatheta = 2 (lambda + mu) eps and sigma_zz = 2 lambda eps. This checks the hoop
-// strain rate v_r / r, the hoop stress in the internal force and the per-radian masses together. Measured
-// deviation 3e-6; asserted 1e-4. (Over many steps the particles drift off the symmetric quadrature points and
-// the stress loses uniformity by O(displacement / cell): docs/implicit.md.)
+// rho h^2 / (E dt^2) ~ 5e-6 of the stiffness) u_r is linear in r, so eps_rr = eps_thetatheta = v dt / R at
+// every particle: sigma_rr = sigma_thetatheta = 2 (lambda + mu) eps and sigma_zz = 2 lambda eps. This checks
+// the hoop strain rate v_r / r, the hoop stress in the internal force and the per-radian masses together.
+// Measured deviation 3e-6; asserted 1e-4. (Over many steps the particles drift off the symmetric quadrature
+// points and the stress loses uniformity by O(displacement / cell): docs/implicit.md.)
 TEST(Axisymmetric, UniformExpansionInOneStep) {
   ParticleSet<2> p;
   ImplicitSpec<2> spec = cylinder_spec(p, true);
@@ -238,14 +242,15 @@ TEST(Axisymmetric, UniformExpansionInOneStep) {
   double worst = 0;
   for (const SymTensor<3>& s : sim.state().sigma)
     worst = std::max({worst, std::abs(s(0, 0) / (2 * (lambda + mu) * eps) - 1),
-                      std::abs(s(2, 2) / (2 * (lambda + mu) * eps) - 1), std::abs(s(1, 1) / (2 * lambda * eps) - 1),
-                      std::abs(s(0, 1)) / (2 * lambda * eps)});
-  std::printf("worst relative stress error %.3g over %zu particles (eps = %.6g)\n", worst, sim.particles().size(), eps);
+                      std::abs(s(2, 2) / (2 * (lambda + mu) * eps) - 1),
+                      std::abs(s(1, 1) / (2 * lambda * eps) - 1), std::abs(s(0, 1)) / (2 * lambda * eps)});
+  std::printf("worst relative stress error %.3g over %zu particles (eps = %.6g)\n", worst,
+              sim.particles().size(), eps);
   EXPECT_LT(worst, 1e-4);
-  // Per-radian masses and volumes: the cylinder's volume per radian R^2 H / 2 times (1 + eps)^2, the volume the
-  // particles' motion gives. The engine updates V = V0 det F (r / R), the density update of Sulsky & Kaul 2004,
-  // Eq. (2.3.4), rho^L = rho^k / (1 + tr de), in exact form: the printed one would give 1 + 2 eps here, off by
-  // eps^2 (2e-4 relative, eps = 0.0144), which the 1e-9 tolerance tells apart.
+  // Per-radian masses and volumes: the cylinder's volume per radian R^2 H / 2 times (1 + eps)^2, the volume
+  // the particles' motion gives. The engine updates V = V0 det F (r / R), the density update of Sulsky & Kaul
+  // 2004, Eq. (2.3.4), rho^L = rho^k / (1 + tr de), in exact form: the printed one would give 1 + 2 eps here,
+  // off by eps^2 (2e-4 relative, eps = 0.0144), which the 1e-9 tolerance tells apart.
   double volume = 0;
   for (std::size_t i = 0; i < sim.particles().size(); ++i) volume += sim.particles().V[i];
   EXPECT_NEAR(volume, 0.5 * 0.09 * 0.2 * std::pow(1 + eps, 2), 1e-9 * volume);

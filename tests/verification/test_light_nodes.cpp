@@ -1,8 +1,9 @@
-// Light nodes (SimulationSpec::reproject_light_nodes): a node that a particle barely reaches gets, with the linear
-// kernel, an acceleration f_i / m_i ~ 1 / S_ip whose gradient term blows up (Wallstedt & Guilkey 2008, Eq. (39)).
-// USL and CD then move and deform the particles with the velocity re-projected from the updated particle
-// velocities at such nodes (Sulsky & Kaul 2004, Eq. (3.2.7)). Checked on two particles worked by hand and on a
-// fixed-free vibrating bar whose free end crosses cell faces, for every kernel and explicit integrator.
+// Light nodes (SimulationSpec::reproject_light_nodes): a node that a particle barely reaches gets, with the
+// linear kernel, an acceleration f_i / m_i ~ 1 / S_ip whose gradient term blows up (Wallstedt & Guilkey 2008,
+// Eq. (39)). USL and CD then move and deform the particles with the velocity re-projected from the updated
+// particle velocities at such nodes (Sulsky & Kaul 2004, Eq. (3.2.7)). Checked on two particles worked by
+// hand and on a fixed-free vibrating bar whose free end crosses cell faces, for every kernel and explicit
+// integrator.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -28,11 +29,15 @@ struct Particle {
 constexpr Real kE = 100, kH = 1, kDt = 1e-3, kMass = 1, kV0 = 1;
 
 // Linear hat weight and gradient of node i at x (h = 1).
-Real hat(int i, Real x) { return std::max(0.0, 1 - std::abs(x - i)); }
-Real hat_gradient(int i, Real x) { return std::abs(x - i) < 1 ? (x < i ? 1.0 : -1.0) / kH : 0.0; }
+Real hat(int i, Real x) {
+  return std::max(0.0, 1 - std::abs(x - i));
+}
+Real hat_gradient(int i, Real x) {
+  return std::abs(x - i) < 1 ? (x < i ? 1.0 : -1.0) / kH : 0.0;
+}
 
-/// One USL step (Wallstedt & Guilkey 2008, Eqs 8-9, 14-19) on nodes 0..3; with `reproject`, nodes lighter than
-/// a quarter particle move and deform the particles with the re-projected velocity.
+/// One USL step (Wallstedt & Guilkey 2008, Eqs 8-9, 14-19) on nodes 0..3; with `reproject`, nodes lighter
+/// than a quarter particle move and deform the particles with the re-projected velocity.
 std::vector<Particle> usl_by_hand(std::vector<Particle> p, bool reproject) {
   constexpr int nodes = 4;
   Real m[nodes] = {}, mv[nodes] = {}, f[nodes] = {};
@@ -88,8 +93,8 @@ std::vector<Particle> usl_step(const std::vector<Particle>& start, bool reprojec
 }
 
 TEST(LightNodes, TwoParticleStepMatchesTheHandComputation) {
-  // Particle b at x = 1.1 reaches node 2 with weight 0.1: m_2 = 0.1 m_p, a light node; node 0 gets 0.3 m_p from
-  // particle a and nodes 1 gets 1.6 m_p. b is stretched (F = 1.2), so f_2 / m_2 is ten times f_2 / m_p.
+  // Particle b at x = 1.1 reaches node 2 with weight 0.1: m_2 = 0.1 m_p, a light node; node 0 gets 0.3 m_p
+  // from particle a and nodes 1 gets 1.6 m_p. b is stretched (F = 1.2), so f_2 / m_2 is ten times f_2 / m_p.
   const std::vector<Particle> start = {{0.7, 0.2, 1.05}, {1.1, 0.5, 1.2}};
   for (bool reproject : {false, true}) {
     SCOPED_TRACE(reproject ? "re-projected light nodes" : "the paper's USL");
@@ -106,15 +111,16 @@ TEST(LightNodes, TwoParticleStepMatchesTheHandComputation) {
 }
 
 TEST(LightNodes, ReprojectionBoundsTheStretchThatGrowsLikeOneOverTheWeight) {
-  // Particle b at x = 1 + s reaches node 2 with weight s. At the CFL step of c = 10, h = 1 (dt = 0.05 would invert
-  // b in one step without the treatment) the hand-worked step with dt = 1e-3 shows the growth: the paper's
-  // change of F_b grows like 1 / s (Wallstedt & Guilkey 2008, Eq. (39)), the re-projected one stays put.
+  // Particle b at x = 1 + s reaches node 2 with weight s. At the CFL step of c = 10, h = 1 (dt = 0.05 would
+  // invert b in one step without the treatment) the hand-worked step with dt = 1e-3 shows the growth: the
+  // paper's change of F_b grows like 1 / s (Wallstedt & Guilkey 2008, Eq. (39)), the re-projected one stays
+  // put.
   auto stretch = [](Real s, bool reproject) {
     const std::vector<Particle> start = {{0.7, 0.2, 1.05}, {1 + s, 0.5, 1.2}};
     return usl_by_hand(start, reproject)[1].F - start[1].F;
   };
-  // dF ~ dt^2 F (f_2 / m_p) / s as s -> 0: ten times smaller s, ten times the change (within 2%; measured 10.49
-  // from s = 1e-2 to 1e-3, where the terms that do not grow still show).
+  // dF ~ dt^2 F (f_2 / m_p) / s as s -> 0: ten times smaller s, ten times the change (within 2%;
+  // measured 10.49 from s = 1e-2 to 1e-3, where the terms that do not grow still show).
   EXPECT_NEAR(stretch(1e-4, false) / stretch(1e-3, false), 10.0, 0.2);
   EXPECT_NEAR(stretch(1e-5, false) / stretch(1e-4, false), 10.0, 0.2);
   // Re-projected: the light node moves with particle b, bounded as s -> 0 (within 2% from s = 1e-2 to 1e-4).
@@ -123,9 +129,10 @@ TEST(LightNodes, ReprojectionBoundsTheStretchThatGrowsLikeOneOverTheWeight) {
 }
 
 // ---------------------------------------------------------------------------------------------------------------
-// Fixed-free bar, u = (v0 / omega) sin(omega t) sin(pi X / 2L), omega = pi c / 2L (small strain). Its centre of
-// mass moves at v_cm = (2 v0 / pi) cos(omega t). With v0 = 0.3 c / 10 the free end moves 0.019 L, more than a
-// quarter cell (the end particle's distance to the cell face at 2 particles per cell) at 16, 32 and 64 cells.
+// Fixed-free bar, u = (v0 / omega) sin(omega t) sin(pi X / 2L), omega = pi c / 2L (small strain). Its centre
+// of mass moves at v_cm = (2 v0 / pi) cos(omega t). With v0 = 0.3 c / 10 the free end moves 0.019 L, more
+// than a quarter cell (the end particle's distance to the cell face at 2 particles per cell) at 16, 32 and 64
+// cells.
 
 constexpr Real kL = 1, kC = 10, kV = 0.3;
 
@@ -159,7 +166,8 @@ BarResult run_bar(mpm::KernelKind kind, mpm::Integrator integrator, int cells) {
       Real momentum = 0, mass = 0;
       for (std::size_t k = 0; k < sim.particles().size(); ++k)
         momentum += sim.particles().m[k] * sim.particles().v[k][0], mass += sim.particles().m[k];
-      r.max_error = std::max(r.max_error, std::abs(momentum / mass - amplitude * std::cos(omega * sim.time())) / amplitude);
+      r.max_error = std::max(
+          r.max_error, std::abs(momentum / mass - amplitude * std::cos(omega * sim.time())) / amplitude);
     }
     r.ran = true;
   } catch (const mpm::SimulationFailure& e) {
@@ -174,14 +182,16 @@ BarResult run_bar(mpm::KernelKind kind, mpm::Integrator integrator, int cells) {
 
 TEST(LightNodes, FixedFreeBarRunsToTheEndAndFollowsTheExactCentreOfMassVelocity) {
   // Max over 3 periods of |v_cm - exact| / (2 v0 / pi), measured at 16 / 32 / 64 cells along the bar:
-  //   GIMP (ugimp, cpgimp):  USF 0.016 / 0.010 / 0.006, USL and CD 0.065 / 0.032 / 0.019, MUSL the same as USL
-  //   B-splines (bspline2, bspline3): 0.35-0.55 / 0.16-0.27 / 0.08-0.14 for every integrator; first order, the
-  //     error of the fixed end, whose ghost nodes the B-spline support reaches (seed 001); the clamped B-splines
-  //     remove it (test_clamped_bsplines.cpp)
-  //   linear: USL and CD 0.11 / 0.19 / 0.45, MUSL 0.12 / 0.24 / 0.68, USF 0.11 / 0.23 / 15.5: the grid-crossing
-  //     error of the linear hat grows with refinement; at 64 cells USF's energy grows twelvefold in three periods,
-  //     which no treatment of light nodes prevents (its gradients already use p_i / m_i), so USF with the linear
-  //     kernel is checked at 16 and 32 cells only (docs/hardening.md).
+  //   GIMP (ugimp, cpgimp):  USF 0.016 / 0.010 / 0.006, USL and CD 0.065 / 0.032 / 0.019, MUSL the same as
+  //   USL B-splines (bspline2, bspline3): 0.35-0.55 / 0.16-0.27 / 0.08-0.14 for every integrator; first
+  //   order, the
+  //     error of the fixed end, whose ghost nodes the B-spline support reaches (seed 001); the clamped
+  //     B-splines remove it (test_clamped_bsplines.cpp)
+  //   linear: USL and CD 0.11 / 0.19 / 0.45, MUSL 0.12 / 0.24 / 0.68, USF 0.11 / 0.23 / 15.5: the
+  //   grid-crossing
+  //     error of the linear hat grows with refinement; at 64 cells USF's energy grows twelvefold in three
+  //     periods, which no treatment of light nodes prevents (its gradients already use p_i / m_i), so USF
+  //     with the linear kernel is checked at 16 and 32 cells only (docs/hardening.md).
   using K = mpm::KernelKind;
   using I = mpm::Integrator;
   for (K kernel : {K::linear, K::ugimp, K::cpgimp, K::bspline2, K::bspline3})
@@ -189,8 +199,8 @@ TEST(LightNodes, FixedFreeBarRunsToTheEndAndFollowsTheExactCentreOfMassVelocity)
       Real errors[3];
       for (int level = 0; level < 3; ++level) {
         const int cells = 16 << level;
-        SCOPED_TRACE(std::string(mpm::to_string(kernel)) + " " + std::string(mpm::to_string(integrator)) + " " +
-                     std::to_string(cells) + " cells");
+        SCOPED_TRACE(std::string(mpm::to_string(kernel)) + " " + std::string(mpm::to_string(integrator)) +
+                     " " + std::to_string(cells) + " cells");
         const BarResult r = run_bar(kernel, integrator, cells);
         EXPECT_TRUE(r.ran) << r.failure;
         errors[level] = r.max_error;

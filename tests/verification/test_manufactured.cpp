@@ -82,8 +82,8 @@ TEST(Manufactured, AxisAligned3DBodyForceSatisfiesTheEquationOfMotion) {
 }
 
 TEST(Manufactured, DiagonalShearWaveNeedsNoBodyForceAtAnyAmplitude) {
-  // b = 0: rho0 a = Div P holds for the simple shear at gamma up to A k = 8.9 (A = 1); and F is I + du/dX (central
-  // differences over 1e-5, truncation (k dX)^2 / 6 ~ 1e-9).
+  // b = 0: rho0 a = Div P holds for the simple shear at gamma up to A k = 8.9 (A = 1); and F is I + du/dX
+  // (central differences over 1e-5, truncation (k dX)^2 / 6 ~ 1e-9).
   for (Real A : {0.1, 0.3, 1.0}) {
     const DiagonalShearWave wave{A, NeoHookean::from_young_poisson(1e7, 0.3, 1000)};
     expect_body_force_matches<2>(wave, in_unit_box<2>);
@@ -98,7 +98,8 @@ TEST(Manufactured, DiagonalShearWaveNeedsNoBodyForceAtAnyAmplitude) {
         F.col(J) += (wave.displacement(X + e, t) - wave.displacement(X - e, t)) / (2 * dX);
       }
       EXPECT_LT((F - wave.deformation_gradient(X, t)).norm(), 1e-8 * (1 + A * wave.k()));
-      EXPECT_NEAR(wave.deformation_gradient(X, t).determinant(), 1, 1e-14 * (1 + A * A * wave.k() * wave.k()));
+      EXPECT_NEAR(wave.deformation_gradient(X, t).determinant(), 1,
+                  1e-14 * (1 + A * A * wave.k() * wave.k()));
     }
   }
 }
@@ -138,10 +139,10 @@ Real bar_linf(KernelKind kernel, int cells) {
 TEST(Manufactured, BarConvergesAtSecondOrderWithSmoothKernels) {
   // CD, CFL 0.4, A = 0.01, 2 particles per cell. GIMP and B-spline gradients are continuous, so the
   // internal-force quadrature error is O(dx^2) (Steffen et al. 2008, Sec. 4.2). Measured orders 8->16->32:
-  // ugimp 1.93, 1.74; cpgimp 1.91, 1.76; bspline2 2.21, 2.03; bspline3 2.20, 2.07; bspline2-clamped 2.19, 2.01;
-  // bspline3-clamped 2.14, 2.04. The bar's ends are symmetry planes, whose mirrored ghost nodes extend this odd
-  // solution exactly, so clamping the knots there changes the error by under 2%; the fixed-free bar of
-  // test_clamped_bsplines.cpp is where it matters.
+  // ugimp 1.93, 1.74; cpgimp 1.91, 1.76; bspline2 2.21, 2.03; bspline3 2.20, 2.07;
+  // bspline2-clamped 2.19, 2.01; bspline3-clamped 2.14, 2.04. The bar's ends are symmetry planes, whose
+  // mirrored ghost nodes extend this odd solution exactly, so clamping the knots there changes the error by
+  // under 2%; the fixed-free bar of test_clamped_bsplines.cpp is where it matters.
   for (KernelKind k : {KernelKind::ugimp, KernelKind::cpgimp, KernelKind::bspline2, KernelKind::bspline3,
                        KernelKind::bspline2_clamped, KernelKind::bspline3_clamped}) {
     const Real e8 = bar_linf(k, 8), e16 = bar_linf(k, 16), e32 = bar_linf(k, 32);
@@ -171,8 +172,8 @@ TEST(Manufactured, RingConvergesAtAboutFirstOrderWithCentredDifferenceCpGimp) {
 
 TEST(Manufactured, RingConvergesWithClampedBSplinesAtLeastAsFastAsWithCpGimp) {
   // The same runs as the cpGIMP test above (CD, CFL 0.4, 8 and 64 cells). Measured L_inf 9.48e-3 -> 2.13e-3
-  // (bspline2-clamped, order 0.72) and 1.06e-2 -> 1.84e-3 (bspline3-clamped, 0.85), against cpGIMP's 1.02e-2 ->
-  // 2.29e-3 (0.72). Asserted at cpGIMP's bound, 0.65.
+  // (bspline2-clamped, order 0.72) and 1.06e-2 -> 1.84e-3 (bspline3-clamped, 0.85), against cpGIMP's 1.02e-2
+  // -> 2.29e-3 (0.72). Asserted at cpGIMP's bound, 0.65.
   for (KernelKind k : {KernelKind::bspline2_clamped, KernelKind::bspline3_clamped}) {
     auto ring_linf = [k](int cells) {
       VerifyOptions o;

@@ -28,18 +28,19 @@ Sim load(const std::string& scene, const std::vector<std::string>& overrides) {
   return Sim(make_implicit_spec<2>(sc), seed_bodies<2>(sc));
 }
 
-// The elastic bar at 100x (Table 4's "c" row): the same stress as Newton-GMRES, E v t / l = 33.33, with no Krylov
-// iteration. Measured: 24 steps, 25 Newton iterations (GMRES: 25 Newton, 125 GMRES), sigma_xx within 2e-6 of
-// 33.33.
+// The elastic bar at 100x (Table 4's "c" row): the same stress as Newton-GMRES, E v t / l = 33.33, with no
+// Krylov iteration. Measured: 24 steps, 25 Newton iterations (GMRES: 25 Newton, 125 GMRES), sigma_xx within
+// 2e-6 of 33.33.
 TEST(NewtonDirect, ElasticBarReachesTheAnalyticStressWithoutKrylovIterations) {
-  Sim sim = load("elastic-bar.toml",
-                 {"implicit.solver=\"newton-direct\"", "implicit.step_factor=100", "implicit.start_factor=100"});
+  Sim sim = load("elastic-bar.toml", {"implicit.solver=\"newton-direct\"", "implicit.step_factor=100",
+                                      "implicit.start_factor=100"});
   sim.run_until(10.0);
   Spread sxx;
   for (const SymTensor<3>& s : sim.state().sigma) sxx.add(s(0, 0));
   const auto& n = sim.counters();
-  std::printf("%lld steps, %lld Newton, %lld Krylov; sigma_xx in [%.7f, %.7f]\n", static_cast<long long>(sim.steps()),
-              static_cast<long long>(n.newton_iterations), static_cast<long long>(n.krylov_iterations), sxx.min, sxx.max);
+  std::printf("%lld steps, %lld Newton, %lld Krylov; sigma_xx in [%.7f, %.7f]\n",
+              static_cast<long long>(sim.steps()), static_cast<long long>(n.newton_iterations),
+              static_cast<long long>(n.krylov_iterations), sxx.min, sxx.max);
   const double expected = 1000 * 0.001 * 10 / 0.3;  // Sulsky & Kaul 2004, Eq. (3.1.1)
   EXPECT_NEAR(sxx.min, expected, 1e-5 * expected);
   EXPECT_NEAR(sxx.max, expected, 1e-5 * expected);
@@ -48,12 +49,12 @@ TEST(NewtonDirect, ElasticBarReachesTheAnalyticStressWithoutKrylovIterations) {
   EXPECT_LE(n.newton_iterations, 2 * sim.steps());
 }
 
-// The elastic-plastic bar at 100x to t = 24 with a tight tolerance (1e-10). Newton converges quadratically while
-// the scaled residual is above 1e-5, ||F_{n+1}|| <= C ||F_n||^2, as the paper's Fig. 5 shows for GMRES solved to
-// 1e-12; below that the assembled Jacobian's own error (its material tangent is a forward difference of the
-// stress update) takes over, and the last iterations contract linearly. Measured over the 55 steps that need two
-// or more iterations: C = 0.26 at most, and a linear contraction of at most 0.04 below 1e-5. The final stress is
-// the bilinear law's 67.67, as with GMRES.
+// The elastic-plastic bar at 100x to t = 24 with a tight tolerance (1e-10). Newton converges quadratically
+// while the scaled residual is above 1e-5, ||F_{n+1}|| <= C ||F_n||^2, as the paper's Fig. 5 shows for GMRES
+// solved to 1e-12; below that the assembled Jacobian's own error (its material tangent is a forward
+// difference of the stress update) takes over, and the last iterations contract linearly. Measured over the
+// 55 steps that need two or more iterations: C = 0.26 at most, and a linear contraction of at most 0.04 below
+// 1e-5. The final stress is the bilinear law's 67.67, as with GMRES.
 TEST(NewtonDirect, PlasticBarConvergesQuadratically) {
   const double floor = 1e-5;
   Sim sim = load("plastic-bar.toml", {"implicit.solver=\"newton-direct\"", "implicit.newton_tolerance=1e-10",
@@ -73,10 +74,12 @@ TEST(NewtonDirect, PlasticBarConvergesQuadratically) {
   }
   Spread sxx;
   for (const SymTensor<3>& s : sim.state().sigma) sxx.add(s(0, 0));
-  const double expected = (6 + 5000 * 0.08) / (1 + 5000.0 / 1000);  // Sulsky & Kaul 2004, Eq. (2.1.19), eps = 8%
-  std::printf("%d steps with two or more Newton iterations; largest ||F_n+1|| / ||F_n||^2 = %.3g above %g, "
-              "||F_n+1|| / ||F_n|| = %.3g below; sigma_xx in [%.4f, %.4f], expected %.4f\n",
-              multi, worst, floor, worst_linear, sxx.min, sxx.max, expected);
+  const double expected =
+      (6 + 5000 * 0.08) / (1 + 5000.0 / 1000);  // Sulsky & Kaul 2004, Eq. (2.1.19), eps = 8%
+  std::printf(
+      "%d steps with two or more Newton iterations; largest ||F_n+1|| / ||F_n||^2 = %.3g above %g, "
+      "||F_n+1|| / ||F_n|| = %.3g below; sigma_xx in [%.4f, %.4f], expected %.4f\n",
+      multi, worst, floor, worst_linear, sxx.min, sxx.max, expected);
   EXPECT_GT(multi, 0);
   EXPECT_LT(worst, 1.0);
   EXPECT_LT(worst_linear, 0.1);

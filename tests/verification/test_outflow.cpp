@@ -1,6 +1,6 @@
 // Outflow faces (faces = { x-max = "outflow" }): a free face that particles may cross (Steffen et al. 2008,
-// Sec. 3.4: material advects out through a free boundary); the engines remove the particles that have crossed and
-// count the mass, momentum and energy they carry out. With every integrator and kernel.
+// Sec. 3.4: material advects out through a free boundary); the engines remove the particles that have crossed
+// and count the mass, momentum and energy they carry out. With every integrator and kernel.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,13 +18,14 @@
 namespace {
 using namespace mpm;
 
-/// A hypoelastic block 0.4 x 0.4 (0.45 < x < 0.85) moving at about 1 m/s toward the outflow face x = 1 while it
-/// stretches and shears, in a 10 x 10 grid of width `width` (1: the face; 2: no particle reaches x-max in
+/// A hypoelastic block 0.4 x 0.4 (0.45 < x < 0.85) moving at about 1 m/s toward the outflow face x = 1 while
+/// it stretches and shears, in a 10 x 10 grid of width `width` (1: the face; 2: no particle reaches x-max in
 /// `end_time`).
 Scene block(const std::string& integrator, const std::string& kernel, double width, double end_time) {
   std::ostringstream text;
-  text << "[simulation]\nend_time = " << end_time << "\ncfl = 0.4\nintegrator = \"" << integrator << "\"\nkernel = \""
-       << kernel << "\"\n[grid]\nlo = [0.0, 0.0]\nhi = [" << width << ", 1.0]\ncells = [" << 10 * width << ", 10]\n"
+  text << "[simulation]\nend_time = " << end_time << "\ncfl = 0.4\nintegrator = \"" << integrator
+       << "\"\nkernel = \"" << kernel << "\"\n[grid]\nlo = [0.0, 0.0]\nhi = [" << width << ", 1.0]\ncells = ["
+       << 10 * width << ", 10]\n"
        << R"toml(faces = { x-max = "outflow" }
 [[materials]]
 name = "m"
@@ -80,13 +81,14 @@ using Case = std::tuple<const char*, const char*>;  // integrator, kernel
 class OutflowFace : public ::testing::TestWithParam<Case> {};
 
 // Mass and momentum: the particles that remain and those that left hold what the block held (no gravity, no
-// constraint: the step conserves both), to round-off (measured: below 3e-14 of the momentum, the implicit runs'
-// from their Newton tolerance). Energy: the balance kinetic + strain + what left closes as well as the integrator
-// conserves energy on a grid twice as long, which no particle leaves, to 5e-5 of the initial energy E0 (measured:
-// USL, CD and implicit lose 0.9e-3 to 1.9e-3 E0 on the long grid and up to 1.3e-4 E0 less with the outflow, as
-// the particles that left dissipate no more; USF and MUSL keep energy to 7e-5 E0 either way, the outflow runs'
-// error at most 2.8e-5 E0 above the long runs'). The strain energy carried out, 2.2e-4 to 8.8e-4 E0, breaks
-// that balance if it goes uncounted. The same 40 of the 64 particles leave as cross x = 1 on the long grid.
+// constraint: the step conserves both), to round-off (measured: below 3e-14 of the momentum, the implicit
+// runs' from their Newton tolerance). Energy: the balance kinetic + strain + what left closes as well as the
+// integrator conserves energy on a grid twice as long, which no particle leaves, to 5e-5 of the initial
+// energy E0 (measured: USL, CD and implicit lose 0.9e-3 to 1.9e-3 E0 on the long grid and up to 1.3e-4 E0
+// less with the outflow, as the particles that left dissipate no more; USF and MUSL keep energy to 7e-5 E0
+// either way, the outflow runs' error at most 2.8e-5 E0 above the long runs'). The strain energy carried
+// out, 2.2e-4 to 8.8e-4 E0, breaks that balance if it goes uncounted. The same 40 of the 64 particles leave
+// as cross x = 1 on the long grid.
 TEST_P(OutflowFace, WhatLeavesIsCountedAndTheBalancesClose) {
   const auto [integrator, kernel] = GetParam();
   const auto [start, end] = run(block(integrator, kernel, 1.0, 0.4));
@@ -97,16 +99,18 @@ TEST_P(OutflowFace, WhatLeavesIsCountedAndTheBalancesClose) {
   EXPECT_EQ(end.particles + static_cast<std::size_t>(end.out.particles), start.particles);
   EXPECT_NEAR(end.mass + end.out.mass, start.mass, 1e-14 * start.mass);
   EXPECT_LT((end.momentum + end.out.momentum - start.momentum).norm(), 1e-12 * start.momentum.norm());
-  const double error = (end.energy + end.out.kinetic_energy + end.out.strain_energy - start.energy) / start.energy;
+  const double error =
+      (end.energy + end.out.kinetic_energy + end.out.strain_energy - start.energy) / start.energy;
   const double drift = (long_end.energy - long_start.energy) / long_start.energy;
   EXPECT_LT(std::abs(error), std::abs(drift) + 5e-5) << error << " against " << drift;
   EXPECT_GT(end.out.strain_energy, 2e-4 * start.energy);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Integrators, OutflowFace,
-    ::testing::Combine(::testing::Values("usf", "usl", "cd", "musl", "implicit"),
-                       ::testing::Values("linear", "cpgimp", "bspline2", "bspline3")),
-    [](const auto& test) { return std::string(std::get<0>(test.param)) + "_" + std::get<1>(test.param); });
+INSTANTIATE_TEST_SUITE_P(Integrators, OutflowFace,
+                         ::testing::Combine(::testing::Values("usf", "usl", "cd", "musl", "implicit"),
+                                            ::testing::Values("linear", "cpgimp", "bspline2", "bspline3")),
+                         [](const auto& test) {
+                           return std::string(std::get<0>(test.param)) + "_" + std::get<1>(test.param);
+                         });
 
 }  // namespace

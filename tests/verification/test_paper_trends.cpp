@@ -1,8 +1,8 @@
-// The trends of Wallstedt & Guilkey 2008, Sec. 6, at the paper's set-up: 56^2 cells for the CFL sweeps, CFL 0.4
-// for the mesh sweeps, A = 0.1, 2 x 2 particles per cell, and the paper's CFL number dt = CFL h / c with c the
-// wave speed of its manufactured solutions, c^2 = E / rho0 (Sec. 5). Every number quoted below is a measured
-// value of this build (docs/verification.md has the full tables); each bound leaves the measured value a
-// margin and still fails if the trend the paper states is lost.
+// The trends of Wallstedt & Guilkey 2008, Sec. 6, at the paper's set-up: 56^2 cells for the CFL sweeps, CFL
+// 0.4 for the mesh sweeps, A = 0.1, 2 x 2 particles per cell, and the paper's CFL number dt = CFL h / c with
+// c the wave speed of its manufactured solutions, c^2 = E / rho0 (Sec. 5). Every number quoted below is a
+// measured value of this build (docs/verification.md has the full tables); each bound leaves the measured
+// value a margin and still fails if the trend the paper states is lost.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -28,8 +28,8 @@ VerifyResult paper_run(VerifyCase c, KernelKind kernel, Integrator integrator, i
 /// L_inf of a run that must complete.
 Real linf(VerifyCase c, KernelKind kernel, Integrator integrator, int cells, Real cfl) {
   const VerifyResult r = paper_run(c, kernel, integrator, cells, cfl);
-  EXPECT_TRUE(r.ok) << to_string(kernel) << "-" << to_string(integrator) << ", " << cells << " cells, CFL " << cfl
-                    << ": " << r.failure;
+  EXPECT_TRUE(r.ok) << to_string(kernel) << "-" << to_string(integrator) << ", " << cells << " cells, CFL "
+                    << cfl << ": " << r.failure;
   return r.error.linf;
 }
 Real axis(KernelKind kernel, Integrator integrator, int cells, Real cfl) {
@@ -47,9 +47,9 @@ bool completes(VerifyCase c, KernelKind kernel, Integrator integrator, Real cfl)
 TEST(PaperTrends, CdAndUslCpGimpAreStableToCflSevenTenthsAndCrashAbove) {
   // Sec. 6.1.1: USL-cpGIMP "does not crash until CFL > 0.7 or thereabouts"; CD-cpGIMP has "the same accuracy
   // regardless of CFL right up until CFL exceeds the stable limit of roughly 0.7". Measured: both complete at
-  // 0.7 (L_inf 1.67e-3 and 3.01e-4) and fail at 0.8 (cpGIMP half-lengths beyond h/2 at step 33 for CD). As in the
-  // paper's test code (Sec. 6.1.1: "an error of one is returned whenever a particular solution crashes"), the
-  // crashed run reports L_inf = 1.
+  // 0.7 (L_inf 1.67e-3 and 3.01e-4) and fail at 0.8 (cpGIMP half-lengths beyond h/2 at step 33 for CD). As in
+  // the paper's test code (Sec. 6.1.1: "an error of one is returned whenever a particular solution crashes"),
+  // the crashed run reports L_inf = 1.
   for (Integrator i : {Integrator::cd, Integrator::usl}) {
     EXPECT_TRUE(completes(VerifyCase::axis_aligned, KernelKind::cpgimp, i, 0.7)) << to_string(i);
     const VerifyResult crashed = paper_run(VerifyCase::axis_aligned, KernelKind::cpgimp, i, 56, 0.8);
@@ -70,11 +70,12 @@ TEST(PaperTrends, UslCpGimpHasAnElbowNearCflTwoTenths) {
 }
 
 TEST(PaperTrends, UsfCpGimpDegradesWithCflFarBeyondUsl) {
-  // Sec. 6.1.1: USF-cpGIMP's accuracy "gets dramatically worse with increasing values of CFL", USL reduces the
-  // error "up to three orders of magnitude". Measured USF / USL: 3.0x at CFL 0.1 (1.02e-3 / 3.34e-4), 46x at
-  // 0.7 (7.73e-2 / 1.67e-3): the ratio grows with CFL as in Fig. 3. Between 0.7 and USL's own limit USF crashes
-  // and USL does not: at CFL 0.75 USF's error is 1 by the paper's convention for a crashed run (Sec. 6.1.1) and
-  // USL's 1.81e-3, so the error the paper plots drops by 550x (2.7 orders), its "up to three", where USF crashes.
+  // Sec. 6.1.1: USF-cpGIMP's accuracy "gets dramatically worse with increasing values of CFL", USL reduces
+  // the error "up to three orders of magnitude". Measured USF / USL: 3.0x at CFL 0.1 (1.02e-3 / 3.34e-4), 46x
+  // at 0.7 (7.73e-2 / 1.67e-3): the ratio grows with CFL as in Fig. 3. Between 0.7 and USL's own limit USF
+  // crashes and USL does not: at CFL 0.75 USF's error is 1 by the paper's convention for a crashed run
+  // (Sec. 6.1.1) and USL's 1.81e-3, so the error the paper plots drops by 550x (2.7 orders), its "up to
+  // three", where USF crashes.
   const Real usf01 = axis(KernelKind::cpgimp, Integrator::usf, 56, 0.1);
   const Real usl01 = axis(KernelKind::cpgimp, Integrator::usl, 56, 0.1);
   const Real usf07 = axis(KernelKind::cpgimp, Integrator::usf, 56, 0.7);
@@ -82,7 +83,8 @@ TEST(PaperTrends, UsfCpGimpDegradesWithCflFarBeyondUsl) {
   EXPECT_LT(usf01 / usl01, 5);
   EXPECT_GT(usf07 / usl07, 30);
   EXPECT_GT(usf07 / usf01, 30);
-  const VerifyResult usf075 = paper_run(VerifyCase::axis_aligned, KernelKind::cpgimp, Integrator::usf, 56, 0.75);
+  const VerifyResult usf075 =
+      paper_run(VerifyCase::axis_aligned, KernelKind::cpgimp, Integrator::usf, 56, 0.75);
   const Real usl075 = axis(KernelKind::cpgimp, Integrator::usl, 56, 0.75);
   EXPECT_FALSE(usf075.ok);
   EXPECT_EQ(usf075.error.linf, 1.0);
@@ -92,24 +94,28 @@ TEST(PaperTrends, UsfCpGimpDegradesWithCflFarBeyondUsl) {
 TEST(PaperTrends, CdUgimpIsAnOrderOfMagnitudeWorseThanCdCpGimp) {
   // Sec. 6.1.1 and Fig. 3: uGIMP loses about an order of magnitude. Measured at CFL 0.4: 6.25e-3 against
   // 3.32e-4 (19x).
-  EXPECT_GT(axis(KernelKind::ugimp, Integrator::cd, 56, 0.4), 10 * axis(KernelKind::cpgimp, Integrator::cd, 56, 0.4));
+  EXPECT_GT(axis(KernelKind::ugimp, Integrator::cd, 56, 0.4),
+            10 * axis(KernelKind::cpgimp, Integrator::cd, 56, 0.4));
 }
 
 TEST(PaperTrends, LinearMpmUsfBeatsUslAndOnlyUvfCompletesCflSixTenths) {
   // Sec. 6.1.1: "USF-MPM performs better than USL-MPM" and "neither ... performs better than the UVF-MPM".
-  // Measured at CFL 0.3: USF-MPM 0.121 < USL-MPM 0.145 (UVF-MPM at 0.4: 0.149). USF-MPM completes at every CFL
-  // from 0.2 to 0.35 (0.118-0.129, USL-MPM 0.143-0.147) and, from 0.36 to 0.42, fails or completes by the last
-  // bits of the node sums: a particle next to a face leaves the grid or inverts in the last tenth of the period
-  // (at 0.4 it completed with 0.131 when the node sums were added strip by strip, and leaves the grid at step
-  // 277 of 280 with the tile-ordered sums; docs/verification.md). At CFL 0.6 UVF-MPM completes (0.172) and
-  // USF-MPM and USL-MPM both crash. What holds of the paper's ranking is USF over USL, and UVF-MPM over both in
-  // the range of CFL it survives. The paper does not state Poisson's ratio; USF-MPM stays more accurate than
-  // UVF-MPM for nu = 0 and 0.2 at CFL 0.4 (0.141 < 0.150, 0.126 < 0.134), so none of these gives the paper's
-  // order.
-  EXPECT_LT(axis(KernelKind::linear, Integrator::usf, 56, 0.3), axis(KernelKind::linear, Integrator::usl, 56, 0.3));
+  // Measured at CFL 0.3: USF-MPM 0.121 < USL-MPM 0.145 (UVF-MPM at 0.4: 0.149). USF-MPM completes at every
+  // CFL from 0.2 to 0.35 (0.118-0.129, USL-MPM 0.143-0.147) and, from 0.36 to 0.42, fails or completes by the
+  // last bits of the node sums: a particle next to a face leaves the grid or inverts in the last tenth of the
+  // period (at 0.4 it completed with 0.131 when the node sums were added strip by strip, and leaves the grid
+  // at step 277 of 280 with the tile-ordered sums; docs/verification.md). At CFL 0.6 UVF-MPM completes
+  // (0.172) and USF-MPM and USL-MPM both crash. What holds of the paper's ranking is USF over USL, and
+  // UVF-MPM over both in the range of CFL it survives. The paper does not state Poisson's ratio; USF-MPM
+  // stays more accurate than UVF-MPM for nu = 0 and 0.2 at CFL 0.4 (0.141 < 0.150, 0.126 < 0.134), so none of
+  // these gives the paper's order.
+  EXPECT_LT(axis(KernelKind::linear, Integrator::usf, 56, 0.3),
+            axis(KernelKind::linear, Integrator::usl, 56, 0.3));
   for (Real nu : {0.0, 0.2}) {
-    const VerifyResult usf = paper_run(VerifyCase::axis_aligned, KernelKind::linear, Integrator::usf, 56, 0.4, nu);
-    const VerifyResult uvf = paper_run(VerifyCase::axis_aligned, KernelKind::linear, Integrator::musl, 56, 0.4, nu);
+    const VerifyResult usf =
+        paper_run(VerifyCase::axis_aligned, KernelKind::linear, Integrator::usf, 56, 0.4, nu);
+    const VerifyResult uvf =
+        paper_run(VerifyCase::axis_aligned, KernelKind::linear, Integrator::musl, 56, 0.4, nu);
     ASSERT_TRUE(usf.ok && uvf.ok) << "nu = " << nu << ": " << usf.failure << uvf.failure;
     EXPECT_LT(usf.error.linf, uvf.error.linf) << "nu = " << nu;
   }
@@ -151,7 +157,8 @@ TEST(PaperTrends, UsfCpGimpAndUvfMpmDoNotConvergeInSpace) {
   const Real uvf32 = axis(KernelKind::linear, Integrator::musl, 32, 0.4);
   EXPECT_GT(uvf16, uvf8);
   EXPECT_GT(uvf32, uvf16);
-  EXPECT_GT(axis(KernelKind::cpgimp, Integrator::usf, 64, 0.4), axis(KernelKind::cpgimp, Integrator::usf, 32, 0.4));
+  EXPECT_GT(axis(KernelKind::cpgimp, Integrator::usf, 64, 0.4),
+            axis(KernelKind::cpgimp, Integrator::usf, 32, 0.4));
 }
 
 // ---- Expanding ring, Fig. 6 (error against CFL on 56^2 cells) ----

@@ -1,6 +1,6 @@
-// Periodic face pairs (Steffen et al. 2008, Sec. 4.3: faces = { x-min = "periodic", x-max = "periodic" }): the
-// grid's halo adds the contributions its images receive into their owners one period away, and particles leaving
-// through one face enter through the other, with every kernel and every integrator.
+// Periodic face pairs (Steffen et al. 2008, Sec. 4.3: faces = { x-min = "periodic", x-max = "periodic" }):
+// the grid's halo adds the contributions its images receive into their owners one period away, and particles
+// leaving through one face enter through the other, with every kernel and every integrator.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -22,14 +22,14 @@ using namespace mpm;
 constexpr double h = 0.1;       // the cell size
 constexpr double length = 1.0;  // the period along x
 
-/// A hypoelastic block 0.4 x 0.4 with its left edge at `left`, translating at 1 m/s along x while it stretches
-/// and shears, in a 10 x 10 grid periodic along x and free along y; run for 0.25 s.
+/// A hypoelastic block 0.4 x 0.4 with its left edge at `left`, translating at 1 m/s along x while it
+/// stretches and shears, in a 10 x 10 grid periodic along x and free along y; run for 0.25 s.
 Scene block(const std::string& integrator, const std::string& kernel, double left) {
   const double xc = left + 0.2;
   std::ostringstream text;
-  text << "[simulation]\nend_time = 0.25\ncfl = 0.4\nintegrator = \"" << integrator
-                      << "\"\nkernel = \"" << kernel << "\"\n"
-                      << R"toml(
+  text << "[simulation]\nend_time = 0.25\ncfl = 0.4\nintegrator = \"" << integrator << "\"\nkernel = \""
+       << kernel << "\"\n"
+       << R"toml(
 [grid]
 lo = [0.0, 0.0]
 hi = [1.0, 1.0]
@@ -43,8 +43,9 @@ nu = 0.3
 density = 1000
 [[bodies]]
 shape = "box"
-)toml" << "lo = [" << left << ", 0.3]\nhi = [" << left + 0.4 << ", 0.7]\n"
-                      << "velocity = [\"1 + 0.4 * (x - " << xc << ") - 0.3 * (y - 0.5)\", \"0.3 * (x - " << xc << ")\"]\n";
+)toml"
+       << "lo = [" << left << ", 0.3]\nhi = [" << left + 0.4 << ", 0.7]\n"
+       << "velocity = [\"1 + 0.4 * (x - " << xc << ") - 0.3 * (y - 0.5)\", \"0.3 * (x - " << xc << ")\"]\n";
   return mpm::testing::scene_from_text("periodic", text.str());
 }
 
@@ -74,11 +75,11 @@ Final run(const Scene& sc) {
 using Case = std::tuple<const char*, const char*>;  // integrator, kernel
 class Periodic : public ::testing::TestWithParam<Case> {};
 
-// A periodic grid maps onto itself under a shift of whole cells, so a block started two cells further along must
-// move exactly as the first one, two cells on. The first block (0.2 < x < 0.6) stays clear of the faces for the
-// 0.25 m it travels; the second (0.4 < x < 0.8) crosses x = 1 and comes back in at x = 0, so its particles and
-// its grid contributions pass through the images. Measured: the two agree to round-off (below 6e-15 m); with the
-// images' contributions left out of their owners, the second block ends up to 0.09 m off.
+// A periodic grid maps onto itself under a shift of whole cells, so a block started two cells further along
+// must move exactly as the first one, two cells on. The first block (0.2 < x < 0.6) stays clear of the faces
+// for the 0.25 m it travels; the second (0.4 < x < 0.8) crosses x = 1 and comes back in at x = 0, so its
+// particles and its grid contributions pass through the images. Measured: the two agree to round-off (below
+// 6e-15 m); with the images' contributions left out of their owners, the second block ends up to 0.09 m off.
 TEST_P(Periodic, ShiftByWholeCellsAcrossTheFaceGivesTheSameMotion) {
   const auto [integrator, kernel] = GetParam();
   const double shift = 2 * h;
@@ -94,8 +95,8 @@ TEST_P(Periodic, ShiftByWholeCellsAcrossTheFaceGivesTheSameMotion) {
     worst_v = std::max(worst_v, (b.v[i] - a.v[i]).norm());
     if (b.x[i][0] < 0.3) ++crossed;
   }
-  std::printf("%s, %s: %g of %zu particles crossed; max |dx| = %.3g m, max |dv| = %.3g m/s\n", integrator, kernel,
-              crossed, a.x.size(), worst_x, worst_v);
+  std::printf("%s, %s: %g of %zu particles crossed; max |dx| = %.3g m, max |dv| = %.3g m/s\n", integrator,
+              kernel, crossed, a.x.size(), worst_x, worst_v);
   EXPECT_GT(crossed, 0);
   EXPECT_LT(worst_x, 1e-10 * h);
   EXPECT_LT(worst_v, 1e-9);
@@ -105,8 +106,9 @@ INSTANTIATE_TEST_SUITE_P(EveryIntegratorAndKernel, Periodic,
                          ::testing::Combine(::testing::Values("usf", "usl", "cd", "musl", "implicit"),
                                             ::testing::Values("linear", "cpgimp", "bspline2", "bspline3")));
 
-// USL conserves momentum exactly on a grid without constraints, and a periodic pair adds none: the images hand
-// their momentum to the owners and back. Measured: sum m v changes by below 1e-15 of its size over the run.
+// USL conserves momentum exactly on a grid without constraints, and a periodic pair adds none: the images
+// hand their momentum to the owners and back. Measured: sum m v changes by below 1e-15 of its size over the
+// run.
 TEST(PeriodicMomentum, IsConservedThroughTheFace) {
   for (const char* kernel : {"linear", "cpgimp", "bspline3"}) {
     const Scene sc = block("usl", kernel, 0.4);
@@ -117,7 +119,8 @@ TEST(PeriodicMomentum, IsConservedThroughTheFace) {
       Simulation<2, K> sim(make_spec<2>(sc), seed_bodies<2>(sc));
       sim.run_until(sc.end_time);
       Vec<2> p1 = Vec<2>::Zero();
-      for (std::size_t i = 0; i < sim.particles().size(); ++i) p1 += sim.particles().m[i] * sim.particles().v[i];
+      for (std::size_t i = 0; i < sim.particles().size(); ++i)
+        p1 += sim.particles().m[i] * sim.particles().v[i];
       EXPECT_LT((p1 - p0).norm(), 1e-13 * p0.norm()) << kernel;
     });
   }

@@ -26,9 +26,9 @@ struct Expected {
   Real l1_cells;       ///< int |rho - 1| over the grid [-0.2, 1.2], in units of h
 };
 
-// Every loaded node has rho_i = m_i / V_i = 1 exactly, so rho(x) = sum over loaded nodes of phi_i(x): 1 inside
-// the body (partition of unity) and a tail outside. With 3 particles per cell the outermost particle sits h/6
-// inside the body, so the loaded nodes are those within the particle weight's radius of it:
+// Every loaded node has rho_i = m_i / V_i = 1 exactly, so rho(x) = sum over loaded nodes of phi_i(x): 1
+// inside the body (partition of unity) and a tail outside. With 3 particles per cell the outermost particle
+// sits h/6 inside the body, so the loaded nodes are those within the particle weight's radius of it:
 // - linear and GIMP (grid basis: linear hat): nodes 0..N; tail int_{-h}^0 phi_0 = h/2 per side.
 // - quadratic B-spline (radius 1.5h): nodes -1..N+1; per side int_{-inf}^0 (phi_{-1} + phi_0 + phi_1) =
 //   h (1 - 1/48) + h/2 + h/48 = 1.5 h, minus the part beyond the grid end at -2h, int_{1h}^{1.5h} of the
@@ -69,12 +69,13 @@ TEST(ProjectedDensity, GeometricErrorIsFirstOrderInH) {
   }
 }
 
-// The boundary-aligned case (Steffen et al. 2008, Sec. 4.3): the grid is the bar [0, 1] itself. Linear MPM and
-// GIMP with the particles' own width project nothing beyond it: the outermost particle sits l_p/2 inside the
-// end, and the extra node h outside is h + l_p/2 from it, where its GIMP weight reaches zero. uGIMP with a
-// smoothing length wider than the particles, and both B-splines, load the extra nodes. With 3 particles per
+// The boundary-aligned case (Steffen et al. 2008, Sec. 4.3): the grid is the bar [0, 1] itself. Linear MPM
+// and GIMP with the particles' own width project nothing beyond it: the outermost particle sits l_p/2 inside
+// the end, and the extra node h outside is h + l_p/2 from it, where its GIMP weight reaches zero. uGIMP with
+// a smoothing length wider than the particles, and both B-splines, load the extra nodes. With 3 particles per
 // cell (m_p = h/3, the outermost at h/6, 3h/6, 5h/6, ...), per end:
-// - quadratic B-spline, and uGIMP with l = h (the same basis): only the outermost particle reaches the node at
+// - quadratic B-spline, and uGIMP with l = h (the same basis): only the outermost particle reaches the node
+// at
 //   -h, at 7h/6 with weight (1.5 - 7/6)^2 / 2 = 1/18: mass h/54.
 // - cubic B-spline: the node at -h gets (2 - r/h)^3 / 6 from r = 7h/6, 9h/6 and 11h/6, i.e.
 //   (125 + 27 + 1) / 1296 = 153/1296; the node at -2h is beyond 2h of every particle: mass (h/3) 153/1296.
@@ -87,15 +88,15 @@ TEST(ProjectedDensity, BoundaryAlignedExtraNodesGetMassOnlyFromWideBases) {
     std::optional<Real> gimp_length;
     Real outside_mass;
   };
-  for (const Aligned& a : {Aligned{"linear", KernelKind::linear, {}, 0.0},
-                           Aligned{"cpgimp", KernelKind::cpgimp, {}, 0.0},
-                           Aligned{"ugimp, l = l_p", KernelKind::ugimp, {}, 0.0},
-                           Aligned{"ugimp, l = h", KernelKind::ugimp, h, 2 * h / 54},
-                           Aligned{"bspline2", KernelKind::bspline2, {}, 2 * h / 54},
-                           Aligned{"bspline3", KernelKind::bspline3, {}, 2 * (h / 3) * 153.0 / 1296},
-                           // The clamped splines have no node beyond the grid's faces (docs/kernels.md).
-                           Aligned{"bspline2-clamped", KernelKind::bspline2_clamped, {}, 0.0},
-                           Aligned{"bspline3-clamped", KernelKind::bspline3_clamped, {}, 0.0}}) {
+  for (const Aligned& a :
+       {Aligned{"linear", KernelKind::linear, {}, 0.0}, Aligned{"cpgimp", KernelKind::cpgimp, {}, 0.0},
+        Aligned{"ugimp, l = l_p", KernelKind::ugimp, {}, 0.0},
+        Aligned{"ugimp, l = h", KernelKind::ugimp, h, 2 * h / 54},
+        Aligned{"bspline2", KernelKind::bspline2, {}, 2 * h / 54},
+        Aligned{"bspline3", KernelKind::bspline3, {}, 2 * (h / 3) * 153.0 / 1296},
+        // The clamped splines have no node beyond the grid's faces (docs/kernels.md).
+        Aligned{"bspline2-clamped", KernelKind::bspline2_clamped, {}, 0.0},
+        Aligned{"bspline3-clamped", KernelKind::bspline3_clamped, {}, 0.0}}) {
     SCOPED_TRACE(a.name);
     DensityCase c = bar(a.kernel, 10, 1000);
     c.boundary_aligned = true;

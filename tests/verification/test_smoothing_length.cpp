@@ -1,6 +1,6 @@
-// The uGIMP smoothing length l of Steffen et al. 2008, Sec. 4.1 (`simulation.gimp_length`): l = 0 is linear MPM,
-// l = l_p is GIMP with the particles' own size, l = h is the quadratic B-spline. Each identity is checked by
-// runs of a stretching and rotating block with every integrator, the implicit one included.
+// The uGIMP smoothing length l of Steffen et al. 2008, Sec. 4.1 (`simulation.gimp_length`): l = 0 is linear
+// MPM, l = l_p is GIMP with the particles' own size, l = h is the quadratic B-spline. Each identity is
+// checked by runs of a stretching and rotating block with every integrator, the implicit one included.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -20,12 +20,12 @@ using namespace mpm;
 
 constexpr double h = 0.1;  // the scene's cell size
 
-/// A hypoelastic block in the middle of a 10 x 10 grid of cells h = 0.1 (2 x 2 particles per cell, spacing h/2),
-/// stretched and rotated by its initial velocity, crossing cells, run for 0.2 s (about 16 steps).
+/// A hypoelastic block in the middle of a 10 x 10 grid of cells h = 0.1 (2 x 2 particles per cell, spacing
+/// h/2), stretched and rotated by its initial velocity, crossing cells, run for 0.2 s (about 16 steps).
 Scene block(const std::string& integrator, const std::string& kernel) {
   std::ostringstream text;
   text << "[simulation]\nend_time = 0.2\ncfl = 0.5\nintegrator = \"" << integrator << "\"\n"
-                      << kernel << R"toml(
+       << kernel << R"toml(
 [grid]
 lo = [0.0, 0.0]
 hi = [1.0, 1.0]
@@ -67,27 +67,30 @@ class SmoothingLength : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(SmoothingLength, ZeroIsLinearMpm) {
   // l = 0: the reader selects the linear kernel, so the run is linear MPM bit for bit. And the uGIMP kernel
-  // tends to it: with l = 1e-6 h the weights differ from the hat only within l/2 of a node (by at most l/(4h)),
-  // measured 0 difference in these runs (no particle lands that close to a node line at a step).
+  // tends to it: with l = 1e-6 h the weights differ from the hat only within l/2 of a node (by at most
+  // l/(4h)), measured 0 difference in these runs (no particle lands that close to a node line at a step).
   const Scene zero = block(GetParam(), "kernel = \"ugimp\"\ngimp_length = 0.0");
   EXPECT_EQ(zero.kernel, KernelKind::linear);
   const std::vector<Vec<2>> linear = final_positions(block(GetParam(), "kernel = \"linear\""));
   EXPECT_EQ(largest_difference(final_positions(zero), linear), 0.0);
-  const std::vector<Vec<2>> tiny = final_positions(block(GetParam(), "kernel = \"ugimp\"\ngimp_length = 1e-7"));
+  const std::vector<Vec<2>> tiny =
+      final_positions(block(GetParam(), "kernel = \"ugimp\"\ngimp_length = 1e-7"));
   EXPECT_LT(largest_difference(tiny, linear), 1e-6 * h);
 }
 
 TEST_P(SmoothingLength, ParticleSizeIsGimp) {
   // l = l_p: the particles' own width (spacing h/2), so the run is the default uGIMP run bit for bit.
   const std::vector<Vec<2>> gimp = final_positions(block(GetParam(), "kernel = \"ugimp\""));
-  const std::vector<Vec<2>> l_p = final_positions(block(GetParam(), "kernel = \"ugimp\"\ngimp_length = 0.05"));
+  const std::vector<Vec<2>> l_p =
+      final_positions(block(GetParam(), "kernel = \"ugimp\"\ngimp_length = 0.05"));
   EXPECT_EQ(largest_difference(gimp, l_p), 0.0);
 }
 
 TEST_P(SmoothingLength, CellSizeIsTheQuadraticBSpline) {
-  // l = h: the hat convolved with a top-hat of width h is the quadratic B-spline (Steffen et al. 2008, Eq. (19),
-  // Eq. (20)); the two kernels evaluate it by different formulas, so the runs agree to round-off (measured below
-  // 1e-15 m after 16 steps), far from the 1e-3 h by which the particle-size run (l = h/2) differs.
+  // l = h: the hat convolved with a top-hat of width h is the quadratic B-spline (Steffen et al. 2008, Eq.
+  // (19), Eq. (20)); the two kernels evaluate it by different formulas, so the runs agree to round-off
+  // (measured below 1e-15 m after 16 steps), far from the 1e-3 h by which the particle-size run (l = h/2)
+  // differs.
   const std::vector<Vec<2>> b2 = final_positions(block(GetParam(), "kernel = \"bspline2\""));
   const std::vector<Vec<2>> l_h = final_positions(block(GetParam(), "kernel = \"ugimp\"\ngimp_length = 0.1"));
   const std::vector<Vec<2>> l_p = final_positions(block(GetParam(), "kernel = \"ugimp\""));
@@ -95,6 +98,7 @@ TEST_P(SmoothingLength, CellSizeIsTheQuadraticBSpline) {
   EXPECT_GT(largest_difference(b2, l_p), 1e-4 * h);
 }
 
-INSTANTIATE_TEST_SUITE_P(EveryIntegrator, SmoothingLength, ::testing::Values("usf", "usl", "cd", "musl", "implicit"));
+INSTANTIATE_TEST_SUITE_P(EveryIntegrator, SmoothingLength,
+                         ::testing::Values("usf", "usl", "cd", "musl", "implicit"));
 
 }  // namespace

@@ -1,6 +1,6 @@
 #pragma once
-/// RigidBodies::locate: the nodes each rigid body's points touch through a kernel's stencil. Included where an engine
-/// is compiled (src/explicit/simulation_impl.hpp, src/implicit/simulation_impl.hpp).
+/// RigidBodies::locate: the nodes each rigid body's points touch through a kernel's stencil. Included where
+/// an engine is compiled (src/explicit/simulation_impl.hpp, src/implicit/simulation_impl.hpp).
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -21,8 +21,10 @@ void RigidBodies<Dim>::locate(const GridGeometry<Dim>& g, const std::string& whe
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
     const RigidBody<Dim>& body = bodies_[b];
     std::vector<std::pair<std::int32_t, bool>> touched;
-    std::vector<std::pair<std::int32_t, Vec<Dim>>> gradients;  // a Coulomb body's: sum_p grad S_i(x_p), by node
-    if (body.holds_inside) touched = nodes_inside(g, body.lo + displacement_[b], body.hi + displacement_[b], owned);
+    std::vector<std::pair<std::int32_t, Vec<Dim>>>
+        gradients;  // a Coulomb body's: sum_p grad S_i(x_p), by node
+    if (body.holds_inside)
+      touched = nodes_inside(g, body.lo + displacement_[b], body.hi + displacement_[b], owned);
     for (const Vec<Dim>& x0 : body.points) {
       const Vec<Dim> x = x0 + displacement_[b];
       if (!g.contains(x)) throw SimulationFailure(when + ": rigid body '" + body.name + "' left the grid");
@@ -34,8 +36,8 @@ void RigidBodies<Dim>::locate(const GridGeometry<Dim>& g, const std::string& whe
       Real w[Dim][N], dw[Dim][N];
       for (int d = 0; d < Dim; ++d) {
         typename Point::Axis axis;
-        first[d] = locate_axis<Point>(g, d, (x[d] - g.lo[d]) * inv_h, body.half_length[d] * inv_h, axis) + g.ghost -
-                   g.offset[d];
+        first[d] = locate_axis<Point>(g, d, (x[d] - g.lo[d]) * inv_h, body.half_length[d] * inv_h, axis) +
+                   g.ghost - g.offset[d];
         Point::weights_at(axis, w[d], dw[d]);
       }
       std::array<int, 3> k{};
@@ -55,7 +57,8 @@ void RigidBodies<Dim>::locate(const GridGeometry<Dim>& g, const std::string& whe
               flat = flat * g.nodes_along(d) + layers[d];
             }
             if (!inside) continue;
-            touched.emplace_back(flat, mine && !repeats_another<Dim>(faces_, g.cells, global_node(g, layers)));
+            touched.emplace_back(flat,
+                                 mine && !repeats_another<Dim>(faces_, g.cells, global_node(g, layers)));
             if (body.friction < 0) continue;
             Vec<Dim> grad;
             for (int d = 0; d < Dim; ++d) {
@@ -76,8 +79,8 @@ void RigidBodies<Dim>::locate(const GridGeometry<Dim>& g, const std::string& whe
     }
     normals_[b].assign(nodes_[b].size(), Vec<Dim>::Zero());
     if (body.friction < 0) continue;
-    // The points' gradient at a node points out of the body; the material meets it along minus that. Added per
-    // node in the points' order, so the normals do not depend on how the grid is divided.
+    // The points' gradient at a node points out of the body; the material meets it along minus that. Added
+    // per node in the points' order, so the normals do not depend on how the grid is divided.
     std::stable_sort(gradients.begin(), gradients.end(),
                      [](const auto& a, const auto& c) { return a.first < c.first; });
     std::size_t at = 0;

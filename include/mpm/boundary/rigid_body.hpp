@@ -1,7 +1,7 @@
 #pragma once
-/// A rigid body's description: material points moving at a prescribed velocity that impose it on every node they
-/// touch (no-slip contact through the single velocity field, Sulsky & Kaul 2004 Secs 3.1.1 and 3.2.7), in both
-/// engines. What a run does with them is RigidBodies (boundary/rigid_bodies.hpp).
+/// A rigid body's description: material points moving at a prescribed velocity that impose it on every node
+/// they touch (no-slip contact through the single velocity field, Sulsky & Kaul 2004 Secs 3.1.1 and 3.2.7),
+/// in both engines. What a run does with them is RigidBodies (boundary/rigid_bodies.hpp).
 #include <array>
 #include <string>
 #include <vector>
@@ -26,11 +26,13 @@ struct RigidBody {
   VelocityFn<Dim> velocity;                 ///< v(t) [m/s]
   /// Components the body imposes: all (no-slip contact, the default), or some (free slip along the others).
   std::array<bool, Dim> imposes = filled<Dim>(true);
-  /// >= 0: a Coulomb body instead (coulomb_contact, contact/coulomb.hpp), whose normal at a node is the gradient of
-  /// its points' shape functions there; the material may leave it and slides along it against friction.
+  /// >= 0: a Coulomb body instead (coulomb_contact, contact/coulomb.hpp), whose normal at a node is the
+  /// gradient of its points' shape functions there; the material may leave it and slides along it against
+  /// friction.
   Real friction = -1;
-  /// Whether the body holds the nodes inside its box [lo, hi] (moved with it) rather than every node its points
-  /// touch: a footing or platen whose width is its box's, not the box's widened by the kernel's support.
+  /// Whether the body holds the nodes inside its box [lo, hi] (moved with it) rather than every node its
+  /// points touch: a footing or platen whose width is its box's, not the box's widened by the kernel's
+  /// support.
   bool holds_inside = false;
   Vec<Dim> lo = Vec<Dim>::Zero(), hi = Vec<Dim>::Zero();  ///< the box at t = 0 [m] (used when holds_inside)
 };

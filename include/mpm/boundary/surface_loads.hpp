@@ -1,6 +1,7 @@
 #pragma once
 /// Loads on the surface of a body: a pressure that follows the deforming surface, or a dead traction per unit
-/// reference area. Each is carried by the surface particles as a force; both engines add it to the body force.
+/// reference area. Each is carried by the surface particles as a force; both engines add it to the body
+/// force.
 #include <algorithm>
 #include <cstdint>
 #include <functional>
@@ -13,7 +14,8 @@
 
 namespace mpm {
 
-/// A particle's share of a loaded surface: its id and its outward reference area vector N dA (lattice_surface).
+/// A particle's share of a loaded surface: its id and its outward reference area vector N dA
+/// (lattice_surface).
 template <int Dim>
 struct SurfacePatch {
   std::int64_t id = 0;
@@ -30,12 +32,14 @@ struct SurfaceLoad {
 };
 
 /// The force of a load on one patch of a particle with deformation gradient F:
-/// - pressure: -P n da with the current area vector n da = J F^-T N dA (Nanson's relation); in axisymmetry F is
+/// - pressure: -P n da with the current area vector n da = J F^-T N dA (Nanson's relation); in axisymmetry F
+/// is
 ///   the in-plane gradient, the areas are per radian, and the hoop stretch x_r / X_r multiplies J F^-T;
 /// - traction: t |N dA|.
 template <int Dim>
-Vec<Dim> patch_force(const SurfaceLoad<Dim>& load, Real magnitude, const Vec<Dim>& traction, const Vec<Dim>& area,
-                     const Mat<Dim>& F, const Vec<Dim>& x, const Vec<Dim>& X, bool axisymmetric) {
+Vec<Dim> patch_force(const SurfaceLoad<Dim>& load, Real magnitude, const Vec<Dim>& traction,
+                     const Vec<Dim>& area, const Mat<Dim>& F, const Vec<Dim>& x, const Vec<Dim>& X,
+                     bool axisymmetric) {
   if (!load.pressure) return traction * area.norm();
   const Mat<Dim> cofactor = F.determinant() * F.inverse().transpose();
   return -magnitude * (axisymmetric ? x[0] / X[0] : 1.0) * (cofactor * area);
@@ -58,7 +62,8 @@ class SurfaceLoads {
     entries_.resize(first_.back());
     std::vector<std::int32_t> next(first_.begin(), first_.end() - 1);
     for (std::size_t l = 0; l < loads_.size(); ++l)
-      for (const SurfacePatch<Dim>& s : loads_[l].patches) entries_[next[s.id]++] = {static_cast<int>(l), s.area};
+      for (const SurfacePatch<Dim>& s : loads_[l].patches)
+        entries_[next[s.id]++] = {static_cast<int>(l), s.area};
   }
 
   bool empty() const { return loads_.empty(); }
@@ -66,7 +71,8 @@ class SurfaceLoads {
 
   /// Add weight times each loaded particle's surface force at time t over its mass to accel (sized to the
   /// particles), the deformation of the particles as they stand.
-  void accelerate(const ParticleSet<Dim>& p, Real t, Real weight, Geometry geometry, std::vector<Vec<Dim>>& accel) const {
+  void accelerate(const ParticleSet<Dim>& p, Real t, Real weight, Geometry geometry,
+                  std::vector<Vec<Dim>>& accel) const {
     if (loads_.empty()) return;
     std::vector<Real> magnitude(loads_.size(), 0);
     std::vector<Vec<Dim>> traction(loads_.size(), Vec<Dim>::Zero());
@@ -80,8 +86,8 @@ class SurfaceLoads {
       if (id + 1 >= static_cast<std::int64_t>(first_.size())) return;
       for (std::int32_t e = first_[id]; e < first_[id + 1]; ++e) {
         const Entry& en = entries_[e];
-        const Vec<Dim> f = patch_force(loads_[en.load], magnitude[en.load], traction[en.load], en.area, p.F[i],
-                                       p.x[i], p.X[i], axisymmetric);
+        const Vec<Dim> f = patch_force(loads_[en.load], magnitude[en.load], traction[en.load], en.area,
+                                       p.F[i], p.x[i], p.X[i], axisymmetric);
         accel[i] += weight / p.m[i] * f;
       }
     });

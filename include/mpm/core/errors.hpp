@@ -1,7 +1,7 @@
 #pragma once
-/// The ways a command can stop early: bad input (exit 2), numerical failure or an output that cannot be written
-/// (exit 1), a missing or failing helper tool such as python3 for plots (exit 3), and a run interrupted by
-/// SIGINT or SIGTERM (exit 128 + the signal: 130, 143).
+/// The ways a command can stop early: bad input (exit 2), numerical failure or an output that cannot be
+/// written (exit 1), a missing or failing helper tool such as python3 for plots (exit 3), and a run
+/// interrupted by SIGINT or SIGTERM (exit 128 + the signal: 130, 143).
 #include <cstddef>
 #include <stdexcept>
 #include <string>
@@ -35,8 +35,8 @@ inline void require(bool ok, const std::string& message) {
   if (!ok) throw InputError(message);
 }
 
-/// A text the user gave, for messages: cut to 80 characters (a 10,000-character value would otherwise fill the
-/// message).
+/// A text the user gave, for messages: cut to 80 characters (a 10,000-character value would otherwise fill
+/// the message).
 inline std::string shortened(std::string_view text) {
   return text.size() > 80 ? std::string(text.substr(0, 77)) + "..." : std::string(text);
 }
@@ -49,7 +49,8 @@ inline std::string in_quotes(std::string_view text) {
   return out;
 }
 
-/// The Enum whose index in `names` is that of `name`; otherwise InputError naming `key` and the expected names.
+/// The Enum whose index in `names` is that of `name`; otherwise InputError naming `key` and the expected
+/// names.
 template <class Enum, class Names>
 Enum parse_name(const Names& names, std::string_view name, std::string_view key) {
   std::string list;
@@ -57,14 +58,18 @@ Enum parse_name(const Names& names, std::string_view name, std::string_view key)
     if (name == names[k]) return static_cast<Enum>(k);
     list += (k ? ", " : "") + std::string(names[k]);
   }
-  throw InputError(std::string(key) + ": unknown name " + in_quotes(name) + " (expected one of " + list + ")");
+  throw InputError(std::string(key) + ": unknown name " + in_quotes(name) + " (expected one of " + list +
+                   ")");
 }
 
 inline constexpr int exit_input_error = 2;
 inline constexpr int exit_tool_error = 3;
 inline constexpr int exit_simulation_failure = 1;
 inline constexpr int exit_output_failure = 1;
-/// The exit status of a run stopped by signal `signal` (the shell's convention): 130 for SIGINT, 143 for SIGTERM.
-inline constexpr int exit_interrupted(int signal) { return 128 + signal; }
+/// The exit status of a run stopped by signal `signal` (the shell's convention): 130 for SIGINT, 143 for
+/// SIGTERM.
+inline constexpr int exit_interrupted(int signal) {
+  return 128 + signal;
+}
 
 }  // namespace mpm

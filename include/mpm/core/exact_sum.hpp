@@ -2,8 +2,8 @@
 /// The exact sum of doubles, rounded once when read: a fixed-point number wide enough for every finite double
 /// (2^-1074 to 2^1024) held in 32-bit limbs of 64-bit integers, so that no term is rounded when it is added.
 /// Integer addition is associative, so the sum is the same bits in any order and any grouping: over threads,
-/// over ranks (Communicator::sum adds the limbs), over tiles. A global figure of a distributed run (an energy,
-/// a momentum, a reaction) is the same bits whatever the division (docs/scaling.md).
+/// over ranks (Communicator::sum adds the limbs), over tiles. A global figure of a distributed run (an
+/// energy, a momentum, a reaction) is the same bits whatever the division (docs/scaling.md).
 #include <array>
 #include <bit>
 #include <cmath>
@@ -27,7 +27,8 @@ class ExactSum {
     std::uint64_t mantissa = bits & ((std::uint64_t{1} << 52) - 1);
     if (exponent > 0) mantissa |= std::uint64_t{1} << 52;
     if (mantissa == 0) return;
-    // x = +-mantissa * 2^(max(exponent, 1) - 1075): its lowest bit sits at position max(exponent, 1) - 1 above 2^-1074.
+    // x = +-mantissa * 2^(max(exponent, 1) - 1075): its lowest bit sits at position max(exponent, 1) - 1
+    // above 2^-1074.
     const int position = (exponent > 0 ? exponent : 1) - 1;
     const int k = position >> 5, shift = position & 31;
     // mantissa * 2^shift, up to 84 bits: the low 64 and the rest.
@@ -69,9 +70,12 @@ class ExactSum {
     if (top >= limbs - 2) return negative ? -INFINITY : INFINITY;  // at least 2^1038
     // The top 64 bits of the top three limbs (each below 2^32 once settled), with every bit below them ORed
     // into the lowest: converting those 64 bits to 53 then rounds as the exact value would.
-    const auto limb = [&](int k) { return k >= 0 ? static_cast<std::uint64_t>(m.limb_[k]) : std::uint64_t{0}; };
+    const auto limb = [&](int k) {
+      return k >= 0 ? static_cast<std::uint64_t>(m.limb_[k]) : std::uint64_t{0};
+    };
     const int width = static_cast<int>(std::bit_width(limb(top)));  // 1 .. 32
-    std::uint64_t kept = (limb(top) << (64 - width)) | (limb(top - 1) << (32 - width)) | (limb(top - 2) >> width);
+    std::uint64_t kept =
+        (limb(top) << (64 - width)) | (limb(top - 1) << (32 - width)) | (limb(top - 2) >> width);
     bool sticky = (limb(top - 2) & ((std::uint64_t{1} << width) - 1)) != 0;
     for (int k = 0; k < top - 2; ++k) sticky = sticky || m.limb_[k] != 0;
     if (sticky) kept |= 1;

@@ -52,7 +52,9 @@ inline bool any(const MaskLanes& m) {
 }
 
 /// All lanes equal to v.
-inline RealLanes broadcast(Real v) { return RealLanes{} + v; }
+inline RealLanes broadcast(Real v) {
+  return RealLanes{} + v;
+}
 
 /// Lane k of the result is base[offset[k]] (a hardware gather where the ISA has one).
 [[gnu::always_inline]] inline RealLanes gather(const Real* base, const IntLanes& offset) {
@@ -61,8 +63,9 @@ inline RealLanes broadcast(Real v) { return RealLanes{} + v; }
   return reinterpret_cast<RealLanes>(
       _mm512_mask_i64gather_pd(_mm512_setzero_pd(), 0xff, reinterpret_cast<__m512i>(offset), base, 8));
 #elif defined(__AVX2__)
-  return reinterpret_cast<RealLanes>(_mm256_mask_i64gather_pd(
-      _mm256_setzero_pd(), base, reinterpret_cast<__m256i>(offset), _mm256_castsi256_pd(_mm256_set1_epi64x(-1)), 8));
+  return reinterpret_cast<RealLanes>(
+      _mm256_mask_i64gather_pd(_mm256_setzero_pd(), base, reinterpret_cast<__m256i>(offset),
+                               _mm256_castsi256_pd(_mm256_set1_epi64x(-1)), 8));
 #else
   RealLanes v;
   for (int k = 0; k < lanes; ++k) v[k] = base[offset[k]];
@@ -71,7 +74,8 @@ inline RealLanes broadcast(Real v) { return RealLanes{} + v; }
 }
 
 /// base[offset[k]] = v[k] for the first `active` lanes, in lane order.
-[[gnu::always_inline]] inline void scatter(Real* base, const IntLanes& offset, const RealLanes& v, int active) {
+[[gnu::always_inline]] inline void scatter(Real* base, const IntLanes& offset, const RealLanes& v,
+                                           int active) {
 #if defined(__AVX512F__)
   const auto mask = static_cast<__mmask8>((1u << active) - 1);
   _mm512_mask_i64scatter_pd(base, mask, reinterpret_cast<__m512i>(offset), reinterpret_cast<__m512d>(v), 8);
@@ -135,7 +139,7 @@ struct RecordTables {
   }
   for (int i = 0; i < 2; ++i)
     for (int j = 0; j < 2; ++j) {
-      u[4 * i + j] = _mm512_shuffle_f64x2(t[4 * i + j], t[4 * i + j + 2], 0x88);  // 128-bit lanes 0, 2
+      u[4 * i + j] = _mm512_shuffle_f64x2(t[4 * i + j], t[4 * i + j + 2], 0x88);      // 128-bit lanes 0, 2
       u[4 * i + j + 2] = _mm512_shuffle_f64x2(t[4 * i + j], t[4 * i + j + 2], 0xdd);  // lanes 1, 3
     }
   std::array<RealLanes, 8> out;
@@ -147,8 +151,8 @@ struct RecordTables {
 }
 
 template <int R>
-[[gnu::always_inline]] inline std::array<RealLanes, R> permute_records(const std::array<RealLanes, R>& source,
-                                         const typename RecordTables<R>::Table& table) {
+[[gnu::always_inline]] inline std::array<RealLanes, R> permute_records(
+    const std::array<RealLanes, R>& source, const typename RecordTables<R>::Table& table) {
   if constexpr (R == 8) return transpose8(source);  // both directions are the transpose
   std::array<RealLanes, R> target;
   for (int t = 0; t < R; ++t) {
@@ -158,7 +162,8 @@ template <int R>
       const __m512i index = _mm512_loadu_si512(table.index[t][q]);
       const __m512d a = reinterpret_cast<__m512d>(source[2 * q]);
       const __m512d b = reinterpret_cast<__m512d>(source[std::min(2 * q + 1, R - 1)]);
-      r = _mm512_mask_blend_pd(static_cast<__mmask8>(table.mask[t][q]), r, _mm512_permutex2var_pd(a, index, b));
+      r = _mm512_mask_blend_pd(static_cast<__mmask8>(table.mask[t][q]), r,
+                               _mm512_permutex2var_pd(a, index, b));
     }
     target[t] = reinterpret_cast<RealLanes>(r);
   }
@@ -168,17 +173,19 @@ template <int R>
 
 template <int R>
 [[gnu::always_inline]] inline std::array<RealLanes, R> load_records(const Real* records) {
-  // Full-mask loads (and stores below): GCC turns a loop of plain ones into a copy through the stack in 32-byte
-  // halves, whose 64-byte reloads miss store forwarding.
+  // Full-mask loads (and stores below): GCC turns a loop of plain ones into a copy through the stack in
+  // 32-byte halves, whose 64-byte reloads miss store forwarding.
   std::array<RealLanes, R> source;
-  for (int s = 0; s < R; ++s) source[s] = reinterpret_cast<RealLanes>(_mm512_maskz_loadu_pd(0xff, records + 8 * s));
+  for (int s = 0; s < R; ++s)
+    source[s] = reinterpret_cast<RealLanes>(_mm512_maskz_loadu_pd(0xff, records + 8 * s));
   return detail::permute_records<R>(source, detail::RecordTables<R>::load);
 }
 
 template <int R>
 [[gnu::always_inline]] inline void store_records(Real* records, const std::array<RealLanes, R>& members) {
   const std::array<RealLanes, R> blocks = detail::permute_records<R>(members, detail::RecordTables<R>::store);
-  for (int s = 0; s < R; ++s) _mm512_mask_storeu_pd(records + 8 * s, 0xff, reinterpret_cast<__m512d>(blocks[s]));
+  for (int s = 0; s < R; ++s)
+    _mm512_mask_storeu_pd(records + 8 * s, 0xff, reinterpret_cast<__m512d>(blocks[s]));
 }
 #else
 template <int R>
@@ -197,15 +204,15 @@ template <int R>
 #endif
 
 /// Add the contributions of a block of particles to the nodes of their stencils, particle after particle:
-/// records[(base[k] + offset[o]) * R + c] += members[o][c][k] for lane k = 0 .. active-1, c < W (the leading W of a
-/// record's R Reals), and for each lane over its nodes o in order. A node thus receives its contributions in the same order as from one particle
-/// at a time. Neighbouring lanes usually share nodes; visiting all of one lane's (distinct) nodes before the
-/// next lane's keeps the read-add-write of a shared node several instructions apart.
+/// records[(base[k] + offset[o]) * R + c] += members[o][c][k] for lane k = 0 .. active-1, c < W (the leading
+/// W of a record's R Reals), and for each lane over its nodes o in order. A node thus receives its
+/// contributions in the same order as from one particle at a time. Neighbouring lanes usually share nodes;
+/// visiting all of one lane's (distinct) nodes before the next lane's keeps the read-add-write of a shared
+/// node several instructions apart.
 template <int R, std::size_t W, std::size_t Nodes>
-[[gnu::always_inline]] inline void add_stencil_records(Real* records, const IntLanes& base,
-                                                       const std::array<std::int32_t, Nodes>& offset,
-                                                       const std::array<std::array<RealLanes, W>, Nodes>& members,
-                                                       int active) {
+[[gnu::always_inline]] inline void add_stencil_records(
+    Real* records, const IntLanes& base, const std::array<std::int32_t, Nodes>& offset,
+    const std::array<std::array<RealLanes, W>, Nodes>& members, int active) {
   static_assert(W <= R, "a record holds the members added to it");
 #if defined(__AVX512F__)
   if constexpr (W == std::size_t{lanes}) {  // a record's leading W Reals per register
@@ -214,7 +221,8 @@ template <int R, std::size_t W, std::size_t Nodes>
     for (int k = 0; k < active; ++k)
       for (std::size_t o = 0; o < Nodes; ++o) {
         Real* record = records + (base[k] + offset[o]) * R;
-        _mm512_storeu_pd(record, _mm512_add_pd(_mm512_loadu_pd(record), reinterpret_cast<__m512d>(by_record[o][k])));
+        _mm512_storeu_pd(record,
+                         _mm512_add_pd(_mm512_loadu_pd(record), reinterpret_cast<__m512d>(by_record[o][k])));
       }
     return;
   }
@@ -230,10 +238,11 @@ template <int R, std::size_t W, std::size_t Nodes>
 /// floor(v) for v > -16, without a libm call on baseline x86-64. Grid coordinates of particles inside the
 /// grid are >= -1. Rounding in v + 16 can only overshoot by one (just below an integer), which the comparison
 /// corrects.
-/// The scalar overload clamps a coordinate outside [-16, 2^30] (a particle far off the grid, or NaN, which maps to
-/// 2^30) first, so that its conversion to int is defined. The lanes overload subtracts in unsigned arithmetic, so
-/// that a non-finite lane (converted to INT64_MIN by the instruction) wraps instead of overflowing; its index is
-/// never used, because the G2P pass that moved the particle reports it before the next transfer.
+/// The scalar overload clamps a coordinate outside [-16, 2^30] (a particle far off the grid, or NaN, which
+/// maps to 2^30) first, so that its conversion to int is defined. The lanes overload subtracts in unsigned
+/// arithmetic, so that a non-finite lane (converted to INT64_MIN by the instruction) wraps instead of
+/// overflowing; its index is never used, because the G2P pass that moved the particle reports it before the
+/// next transfer.
 inline constexpr Real floor_index_limit = 1 << 30;
 inline int floor_index(Real v) {
   const Real c = v < floor_index_limit ? (v > -16 ? v : -16) : floor_index_limit;
@@ -242,13 +251,17 @@ inline int floor_index(Real v) {
 }
 inline IntLanes floor_index(const RealLanes& v) {
   using Unsigned = std::uint64_t __attribute__((vector_size(sizeof(IntLanes))));
-  const IntLanes b = (IntLanes)((Unsigned)__builtin_convertvector(v + 16, IntLanes) - 16);
+  const IntLanes b = (IntLanes)((Unsigned) __builtin_convertvector(v + 16, IntLanes) - 16);
   return b + (v < __builtin_convertvector(b, RealLanes));  // true is -1
 }
 
 /// An index as a Real, for one value or lanes.
-inline Real to_real(int i) { return i; }
-inline RealLanes to_real(const IntLanes& i) { return __builtin_convertvector(i, RealLanes); }
+inline Real to_real(int i) {
+  return i;
+}
+inline RealLanes to_real(const IntLanes& i) {
+  return __builtin_convertvector(i, RealLanes);
+}
 
 /// std::min and std::max, for one value or lanes (same comparisons, so the same results).
 template <class T>
@@ -261,7 +274,9 @@ T max(const T& a, const T& b) {
 }
 
 /// The square root, for one value or lanes: IEEE's correctly rounded one either way, so the same bits.
-inline Real sqrt(Real x) { return std::sqrt(x); }
+inline Real sqrt(Real x) {
+  return std::sqrt(x);
+}
 [[gnu::always_inline]] inline RealLanes sqrt(const RealLanes& x) {
 #if defined(__AVX512F__)
   return reinterpret_cast<RealLanes>(_mm512_sqrt_pd(reinterpret_cast<__m512d>(x)));
@@ -275,10 +290,15 @@ inline Real sqrt(Real x) { return std::sqrt(x); }
 }
 
 /// |x| and copysign(x, y) through the sign bit, for one value or lanes.
-inline Real abs(Real x) { return std::fabs(x); }
-inline Real copysign(Real x, Real y) { return std::copysign(x, y); }
+inline Real abs(Real x) {
+  return std::fabs(x);
+}
+inline Real copysign(Real x, Real y) {
+  return std::copysign(x, y);
+}
 inline RealLanes abs(const RealLanes& x) {
-  return reinterpret_cast<RealLanes>(reinterpret_cast<IntLanes>(x) & std::numeric_limits<std::int64_t>::max());
+  return reinterpret_cast<RealLanes>(reinterpret_cast<IntLanes>(x) &
+                                     std::numeric_limits<std::int64_t>::max());
 }
 inline RealLanes copysign(const RealLanes& x, const RealLanes& y) {
   constexpr std::int64_t magnitude = std::numeric_limits<std::int64_t>::max();
@@ -294,7 +314,8 @@ T determinant(const T (&F)[Dim][Dim]) {
   else if constexpr (Dim == 2)
     return F[0][0] * F[1][1] - F[1][0] * F[0][1];
   else
-    return F[0][0] * (F[1][1] * F[2][2] - F[2][1] * F[1][2]) - F[1][0] * (F[0][1] * F[2][2] - F[2][1] * F[0][2]) +
+    return F[0][0] * (F[1][1] * F[2][2] - F[2][1] * F[1][2]) -
+           F[1][0] * (F[0][1] * F[2][2] - F[2][1] * F[0][2]) +
            F[2][0] * (F[0][1] * F[1][2] - F[1][1] * F[0][2]);
 }
 
@@ -356,10 +377,14 @@ template <class V, class U>
 
 /// Natural logarithm of every lane, < 1 ulp (see detail::log). log(+inf) = +inf, log(+-0) = -inf,
 /// log(x < 0) = NaN, log(NaN) = NaN; subnormals to the same bound.
-[[gnu::always_inline]] inline RealLanes log(RealLanes x) { return detail::log<RealLanes, detail::UIntLanes>(x); }
+[[gnu::always_inline]] inline RealLanes log(RealLanes x) {
+  return detail::log<RealLanes, detail::UIntLanes>(x);
+}
 
 /// Natural logarithm of one value: bit-for-bit the vector logarithm of a lane holding x (the algorithm
 /// instantiated on Real, measured 1.3-1.9x faster than taking lane 0 of the vector version).
-inline Real log(Real x) { return detail::log<Real, std::uint64_t>(x); }
+inline Real log(Real x) {
+  return detail::log<Real, std::uint64_t>(x);
+}
 
 }  // namespace mpm::simd

@@ -1,6 +1,6 @@
 #pragma once
-/// Small fixed-size vectors and tensors used throughout the engine. Eigen's Core with LU (inverse and determinant):
-/// the decompositions of <Eigen/Dense> are included only where they are used.
+/// Small fixed-size vectors and tensors used throughout the engine. Eigen's Core with LU (inverse and
+/// determinant): the decompositions of <Eigen/Dense> are included only where they are used.
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <array>

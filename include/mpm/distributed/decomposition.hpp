@@ -1,8 +1,9 @@
 #pragma once
-/// The division of a grid between ranks: boxes of whole tiles (GridGeometry::tile_width node layers per axis),
-/// one per rank, found by recursive coordinate bisection weighted by the particles in each tile. Whole tiles,
-/// because a P2G pass sums each tile's particles apart (ScatterOrder): a rank that owns a set of whole tiles
-/// computes the same tile sums as one process, so the node sums are the same bits whatever the division.
+/// The division of a grid between ranks: boxes of whole tiles (GridGeometry::tile_width node layers per
+/// axis), one per rank, found by recursive coordinate bisection weighted by the particles in each tile. Whole
+/// tiles, because a P2G pass sums each tile's particles apart (ScatterOrder): a rank that owns a set of whole
+/// tiles computes the same tile sums as one process, so the node sums are the same bits whatever the
+/// division.
 #include <cstdint>
 #include <vector>
 
@@ -47,6 +48,7 @@ std::vector<TileBox<Dim>> bisect(const IVec<Dim>& tiles, const std::vector<std::
 
 /// The largest box's weight over the mean weight per rank (1: balanced; 1 when there is no weight at all).
 template <int Dim>
-double imbalance(const IVec<Dim>& tiles, const std::vector<std::int64_t>& weight, const std::vector<TileBox<Dim>>& boxes);
+double imbalance(const IVec<Dim>& tiles, const std::vector<std::int64_t>& weight,
+                 const std::vector<TileBox<Dim>>& boxes);
 
 }  // namespace mpm

@@ -1,12 +1,13 @@
 #pragma once
 /// The grid of one box and the halo sum after P2G, kept equal to one process's sums bit for bit.
 ///
-/// A box (whole tiles, decomposition.hpp) holds its tiles' node layers and the width - 1 layers above them that
-/// its particles' stencils reach. Its P2G gives every node the sums of the box's own tiles. A node near the box's
-/// lower faces is also reached by tiles of the boxes below, and the node above the box's upper faces belong to
-/// other boxes: there the value of one process, the tiles' sums added in colour order (ScatterOrder), needs the
-/// sums of each tile apart. So each box keeps the sums of its face tiles (TileSums), and every box that holds a
-/// node that tiles of several boxes reach adds all their sums in colour order (BoxHalo::sum exchanges them).
+/// A box (whole tiles, decomposition.hpp) holds its tiles' node layers and the width - 1 layers above them
+/// that its particles' stencils reach. Its P2G gives every node the sums of the box's own tiles. A node near
+/// the box's lower faces is also reached by tiles of the boxes below, and the node above the box's upper
+/// faces belong to other boxes: there the value of one process, the tiles' sums added in colour order
+/// (ScatterOrder), needs the sums of each tile apart. So each box keeps the sums of its face tiles
+/// (TileSums), and every box that holds a node that tiles of several boxes reach adds all their sums in
+/// colour order (BoxHalo::sum exchanges them).
 #include <algorithm>
 #include <cstdint>
 #include <optional>
@@ -35,15 +36,15 @@ GridGeometry<Dim> box_geometry(const GridGeometry<Dim>& g, const TileBox<Dim>& b
 /// The sums of one tile of a box at its footprint's nodes, for the owners of those nodes.
 template <int Dim>
 struct TileSums {
-  int colour = 0;            ///< the tile's colour (ScatterOrder::colour_of)
-  IVec<Dim> first{};         ///< global storage layer of the footprint's first node, per axis
-  IVec<Dim> extent{};        ///< node layers of the footprint inside the grid, per axis
+  int colour = 0;                      ///< the tile's colour (ScatterOrder::colour_of)
+  IVec<Dim> first{};                   ///< global storage layer of the footprint's first node, per axis
+  IVec<Dim> extent{};                  ///< node layers of the footprint inside the grid, per axis
   std::vector<GridNode<Dim>> records;  ///< extent^Dim records, axis 0 fastest
 };
 
-/// Whether local tile t of a box whose grid holds `tiles` tiles per axis lies at one of the box's faces: its first
-/// tile, or its last (the grid's last tile holds only the layers above the box, unless the box ends at the
-/// grid's last layer; either way the last two are kept).
+/// Whether local tile t of a box whose grid holds `tiles` tiles per axis lies at one of the box's faces: its
+/// first tile, or its last (the grid's last tile holds only the layers above the box, unless the box ends at
+/// the grid's last layer; either way the last two are kept).
 template <int Dim>
 bool face_tile(std::int32_t t, const IVec<Dim>& tiles) {
   for (int d = 0; d < Dim; ++d) {
@@ -54,8 +55,8 @@ bool face_tile(std::int32_t t, const IVec<Dim>& tiles) {
   return false;
 }
 
-/// Keeps the sums of a box's face tiles during a P2G pass (the `keep` of p2g_add_keeping); tiles run in parallel,
-/// each writes its own entry.
+/// Keeps the sums of a box's face tiles during a P2G pass (the `keep` of p2g_add_keeping); tiles run in
+/// parallel, each writes its own entry.
 template <int Dim>
 class FaceTileSums {
  public:
@@ -84,7 +85,8 @@ class FaceTileSums {
     IVec<Dim> i{};
     for (std::size_t k = 0; k < count; ++k) {
       std::size_t from = 0;
-      for (int d = Dim - 1; d >= 0; --d) from = from * static_cast<std::size_t>(F) + static_cast<std::size_t>(i[d]);
+      for (int d = Dim - 1; d >= 0; --d)
+        from = from * static_cast<std::size_t>(F) + static_cast<std::size_t>(i[d]);
       ts.records[k] = buffer[from];
       for (int d = 0; d < Dim; ++d) {
         if (++i[d] < ts.extent[d]) break;
@@ -107,8 +109,8 @@ class FaceTileSums {
   mutable std::vector<TileSums<Dim>> sums_;
 };
 
-/// The `keep` of an engine's P2G passes: the face tiles' sums of a divided grid, or nothing in one box. Chosen at run
-/// time (one test per tile), so that each pass is compiled once rather than once per keep.
+/// The `keep` of an engine's P2G passes: the face tiles' sums of a divided grid, or nothing in one box.
+/// Chosen at run time (one test per tile), so that each pass is compiled once rather than once per keep.
 template <int Dim>
 struct KeepFaceTiles {
   explicit KeepFaceTiles(const std::optional<FaceTileSums<Dim>>& kept) : sums(kept ? &*kept : nullptr) {}

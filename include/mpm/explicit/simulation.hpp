@@ -14,9 +14,9 @@
 #include "mpm/core/memory.hpp"
 #include "mpm/distributed/box_halo.hpp"
 #include "mpm/distributed/communicator.hpp"
+#include "mpm/explicit/spec.hpp"
 #include "mpm/grid/grid.hpp"
 #include "mpm/grid/periodic_halo.hpp"
-#include "mpm/explicit/spec.hpp"
 #include "mpm/particles/outflow.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/particles/reorder.hpp"
@@ -35,12 +35,13 @@ class Simulation {
   /// (`comm`), every rank passes all the particles: the grid is divided into one box per rank by bisection
   /// weighted by the particles (BoxHalo), and each rank keeps the particles of its box; periodic faces are
   /// refused there for now.
-  Simulation(const SimulationSpec<Dim>& spec, ParticleSet<Dim> particles, const Communicator& comm = one_process());
+  Simulation(const SimulationSpec<Dim>& spec, ParticleSet<Dim> particles,
+             const Communicator& comm = one_process());
 
   /// Advance one time step of min(next_dt(), max_dt). Throws SimulationFailure (naming step, time, particle
-  /// and cause) on a non-finite value, J <= 0, or a particle leaving the grid other than through an outflow face.
-  /// Particles that crossed an outflow face stay in particles(), beyond the grid, until remove_outflow() or the
-  /// next step, which begins with it.
+  /// and cause) on a non-finite value, J <= 0, or a particle leaving the grid other than through an outflow
+  /// face. Particles that crossed an outflow face stay in particles(), beyond the grid, until
+  /// remove_outflow() or the next step, which begins with it.
   void step(Real max_dt = std::numeric_limits<Real>::infinity());
   /// Remove the particles beyond outflow faces, adding what they carry to outflow().
   void remove_outflow();
@@ -69,8 +70,8 @@ class Simulation {
   const BoxHalo<Dim>& boxes() const { return box_halo_; }
   /// Times the grid was divided again since the start (rebalance()).
   int rebalances() const { return rebalances_; }
-  /// Mutable particles (restarts, scene set-up): settle() or the next step recomputes their stencils and their
-  /// scatter order.
+  /// Mutable particles (restarts, scene set-up): settle() or the next step recomputes their stencils and
+  /// their scatter order.
   ParticleSet<Dim>& particles() {
     stencils_current_ = false;
     tiles_changed_ = true;
@@ -84,14 +85,14 @@ class Simulation {
   }
   /// Locate the particles and store them in scatter order (by tile, then id), as every step leaves them.
   void settle();
-  /// The power of gravity and the body force over the last step, sum_p m_p (g + b_p) . (v_p^n + v_p^{n+1}) / 2
-  /// over every rank's particles (each particle's load and velocities, however the particles moved between
+  /// The power of gravity and the body force over the last step, sum_p m_p (g + b_p) . (v_p^n + v_p^{n+1}) /
+  /// 2 over every rank's particles (each particle's load and velocities, however the particles moved between
   /// ranks after it) [W]; zero without loads or unless SimulationSpec::account_load_power.
   Real load_power() const { return load_power_; }
   /// The sums over all the particles, every rank's, of the N values fn(i) gives particle i, the same bits
   /// whatever the division of the grid and the thread count: each tile's particles are added in id order from
-  /// zero, and the tiles' sums exactly (ExactSum), over tiles and ranks. The particles must be settled (as every
-  /// step, outflow removal and settle() leave them).
+  /// zero, and the tiles' sums exactly (ExactSum), over tiles and ranks. The particles must be settled (as
+  /// every step, outflow removal and settle() leave them).
   template <std::size_t N, class Fn>
   std::array<Real, N> particle_sum(Fn&& fn) const {
     const StencilTiles<Dim, Kernel> tiles{stencils_};
@@ -122,7 +123,8 @@ class Simulation {
     std::array<Real, N> out;
     for (std::size_t k = 0; k < N; ++k) {
       const auto first = integers.begin() + static_cast<std::ptrdiff_t>(k * ExactSum::integer_count);
-      out[k] = ExactSum::from_integers({first, first + static_cast<std::ptrdiff_t>(ExactSum::integer_count)}).value();
+      out[k] = ExactSum::from_integers({first, first + static_cast<std::ptrdiff_t>(ExactSum::integer_count)})
+                   .value();
     }
     return out;
   }
@@ -130,18 +132,19 @@ class Simulation {
  public:
   /// The grid of velocity field 0 (the only one without contact).
   const Grid<Dim>& grid() const { return grid_; }
-  /// What each pair of SimulationSpec::contact's pairs transmitted in the last step, over all ranks (the force on
-  /// the pair's first field by its second).
+  /// What each pair of SimulationSpec::contact's pairs transmitted in the last step, over all ranks (the
+  /// force on the pair's first field by its second).
   std::vector<PairForces<Dim>> contact_forces() const;
   /// The nodes where velocity fields met in the last step, on this rank.
   std::size_t contact_nodes() const { return contact_.contact_nodes(); }
   /// Nodes at or below this mass are treated as empty (their acceleration is zero) [kg].
   Real min_node_mass() const { return min_node_mass_; }
   const KinematicConstraints<Dim>& constraints() const { return constraints_; }
-  /// The reaction of each face and region constraint (constraints().names()) in the last step, over all ranks [N].
+  /// The reaction of each face and region constraint (constraints().names()) in the last step, over all ranks
+  /// [N].
   std::vector<Vec<Dim>> face_reactions() const;
-  /// The power friction dissipated in the last step, over all ranks [W]: on the Coulomb walls and rigid bodies
-  /// (friction_power of KinematicConstraints) and between the contact fields.
+  /// The power friction dissipated in the last step, over all ranks [W]: on the Coulomb walls and rigid
+  /// bodies (friction_power of KinematicConstraints) and between the contact fields.
   Real friction_power() const;
   /// The spread of each face and region constraint's normal force in the last step, over all ranks [m]
   /// (contact_spread of the Coulomb walls; 0 for the other constraints).
@@ -165,19 +168,20 @@ class Simulation {
   /// Heap bytes held by the simulation (particles, stencils, scatter order, grid) per particle.
   double bytes_per_particle() const;
   /// The bytes a simulation will hold, from the arrays the constructor sizes (a body force adds one
-  /// acceleration per particle; a rate-form material its state and the rates the stress update reads; USF with
-  /// cpGIMP the half-lengths of the locate, `located_half_lengths`; `grids` node records per node: one per velocity
-  /// field of contact, and one more each when contact measures gaps).
+  /// acceleration per particle; a rate-form material its state and the rates the stress update reads; USF
+  /// with cpGIMP the half-lengths of the locate, `located_half_lengths`; `grids` node records per node: one
+  /// per velocity field of contact, and one more each when contact measures gaps).
   static MemoryModel memory_model(bool body_force, bool rate_form, bool located_half_lengths, int grids = 1) {
     // Particles, their stencils and scatter order, the reorder's column; one node record per node.
     const std::size_t particle =
-        ParticleSet<Dim>::bytes_per_particle(reads_half_lengths<Kernel>) + sizeof(StoredStencil<Dim, Kernel>) +
-        sizeof(std::int32_t) + (located_half_lengths ? sizeof(Vec<Dim>) : 0) +
-        (body_force ? sizeof(Vec<Dim>) : 0) +
+        ParticleSet<Dim>::bytes_per_particle(reads_half_lengths<Kernel>) +
+        sizeof(StoredStencil<Dim, Kernel>) + sizeof(std::int32_t) +
+        (located_half_lengths ? sizeof(Vec<Dim>) : 0) + (body_force ? sizeof(Vec<Dim>) : 0) +
         (rate_form ? MaterialState::bytes_per_particle() + sizeof(Mat<Dim>) + sizeof(Real) : 0) +
         ReorderBuffer::column;
     // A node's mirror copies (1 B) when light nodes are re-projected.
-    return {static_cast<double>(particle), static_cast<double>(grids * sizeof(GridNode<Dim>) + sizeof(std::uint8_t))};
+    return {static_cast<double>(particle),
+            static_cast<double>(grids * sizeof(GridNode<Dim>) + sizeof(std::uint8_t))};
   }
 
  private:
@@ -191,7 +195,8 @@ class Simulation {
   void step_usl(Real dt, Real accel_scale);
   void step_musl(Real dt, Real accel_scale);
   void reproject_velocity(Real t_new);
-  /// Impose the faces' and the rigid bodies' velocities at t_new on the advanced grid velocity of every field.
+  /// Impose the faces' and the rigid bodies' velocities at t_new on the advanced grid velocity of every
+  /// field.
   void constrain_update(Real t_new, Real dt);
   /// Impose them at time t on the node velocity `v` of every field (a projected velocity).
   void constrain_velocity(NodeVelocity<Dim> v, Real t);
@@ -209,10 +214,11 @@ class Simulation {
 
   // Stages shared by the integrators.
   /// What a step needs before its first pass: the stencils located and the particles settled into the scatter
-  /// order (settle), the body force evaluated, the loads' start velocities and tiles kept, the rigid bodies located.
+  /// order (settle), the body force evaluated, the loads' start velocities and tiles kept, the rigid bodies
+  /// located.
   void prepare_step();
-  /// Keep the half-lengths the stencils were located with, where a pass changes them before the stencils' last
-  /// use (USF with cpGIMP): located_half_lengths_, until the step ends.
+  /// Keep the half-lengths the stencils were located with, where a pass changes them before the stencils'
+  /// last use (USF with cpGIMP): located_half_lengths_, until the step ends.
   void keep_located_half_lengths();
   /// A P2G pass with its hoop force in axisymmetry, the halo sum and the symmetry folds.
   template <Scatter what>
@@ -220,16 +226,18 @@ class Simulation {
   /// The hoop force's pass in axisymmetry (HoopForce) of field `field`'s particles, after the main force pass
   /// and its halo sum.
   void scatter_hoop_force(Grid<Dim>& grid, int field) requires(Dim == 2);
-  /// A G2P pass after the halo copy; one that moves the particles also computes their stencils at the new positions.
+  /// A G2P pass after the halo copy; one that moves the particles also computes their stencils at the new
+  /// positions.
   template <Gather what>
   void gather(NodeVelocity<Dim> v_grid, Real dt);
   void evaluate_body_force();
   /// load_power_ of the step just taken, before the particles move between ranks.
   void account_load_power();
-  /// The stress update of the rate-form (and, in a mixed table, Neo-Hookean) particles from the rates the last
-  /// deforming G2P pass recorded.
+  /// The stress update of the rate-form (and, in a mixed table, Neo-Hookean) particles from the rates the
+  /// last deforming G2P pass recorded.
   ParticleFault update_stress(Real dt);
-  /// Stop every rank with the failure of the first faulty particle (a SimulationFailure naming step, time, id, cause).
+  /// Stop every rank with the failure of the first faulty particle (a SimulationFailure naming step, time,
+  /// id, cause).
   void check(ParticleFault fault, Real dt) const;
   std::string failure_message(std::size_t i, Real dt) const;
   /// Remove the particles at `gone` (ascending) with their per-particle arrays.
@@ -265,16 +273,18 @@ class Simulation {
   /// Every material Drucker-Prager: their rows, for the step in G2P's lanes (empty otherwise).
   std::vector<DruckerPragerRow> drucker_prager_;
   bool axisymmetric_;
-  /// Rates the stress update reads when a material is rate-form, unless all are Drucker-Prager: grad v [1/s] and
-  /// v_r / r [1/s].
+  /// Rates the stress update reads when a material is rate-form, unless all are Drucker-Prager: grad v [1/s]
+  /// and v_r / r [1/s].
   std::vector<Mat<Dim>> grad_v_;
   std::vector<Real> hoop_rate_;
   std::vector<Vec<Dim>> pic_velocity_;  ///< flip_fraction < 1: sum_i S_ip v_i of the velocity update
   Real min_node_mass_;
-  /// Nodes with less mass get the re-projected velocity for positions and gradients (USL, CD); none when unset.
+  /// Nodes with less mass get the re-projected velocity for positions and gradients (USL, CD); none when
+  /// unset.
   LightMass<Dim> light_node_mass_;
   std::vector<Vec<Dim>> hoop_base_;  ///< divided axisymmetric runs: the node forces before the hoop pass
-  std::vector<std::uint8_t> mirror_copies_;  ///< per node, with light nodes: KinematicConstraints::count_mirror_copies
+  std::vector<std::uint8_t>
+      mirror_copies_;  ///< per node, with light nodes: KinematicConstraints::count_mirror_copies
   std::vector<StencilT> stencils_;
   /// The stencils match the particles' positions (the last moving G2P pass computed them), and whether a
   /// particle changed tile since the scatter order was built.

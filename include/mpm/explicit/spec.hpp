@@ -41,8 +41,9 @@ struct SimulationSpec {
   /// ParticleSet::field.
   ContactSpec contact;
   Vec<Dim> gravity = Vec<Dim>::Zero();  ///< [m/s^2]
-  /// Local non-viscous damping alpha in [0, 1) of the grid update (node_update; Cundall 1987): 0 is none. It brings
-  /// a body quasi-statically to equilibrium (a gravity ramp, a slope), and it is not energy-conserving.
+  /// Local non-viscous damping alpha in [0, 1) of the grid update (node_update; Cundall 1987): 0 is none. It
+  /// brings a body quasi-statically to equilibrium (a gravity ramp, a slope), and it is not
+  /// energy-conserving.
   Real local_damping = 0;
   /// alpha of the FLIP-PIC blend of the particle velocity update, in [0, 1]:
   /// v_p = alpha (v_p + dt sum_i S_ip a_i) + (1 - alpha) sum_i S_ip v_i. 1 is FLIP (Wallstedt & Guilkey 2008,
@@ -50,25 +51,27 @@ struct SimulationSpec {
   /// dissipates; docs/transfers.md).
   Real flip_fraction = 1;
   /// APIC: v_p = sum_i S_ip v_i and B_p = sum_i S_ip v_i (x) (x_i - x_p) after the velocity update, P2G with
-  /// m_p (v_p + B_p D_p^-1 (x_i - x_p)) (transfer/g2p.hpp, p2g.hpp; docs/transfers.md). flip_fraction stays 1.
+  /// m_p (v_p + B_p D_p^-1 (x_i - x_p)) (transfer/g2p.hpp, p2g.hpp; docs/transfers.md). flip_fraction
+  /// stays 1.
   Transfer transfer = Transfer::flip;
-  BodyForceFn<Dim> body_force;          ///< optional b(X, t), evaluated at the start of each step
+  BodyForceFn<Dim> body_force;  ///< optional b(X, t), evaluated at the start of each step
   /// Pressures and tractions on the surfaces of bodies, carried by their surface particles as body forces.
   SurfaceLoads<Dim> surface_loads;
-  Real dt = 0;                          ///< fixed time step [s], or 0 to use the CFL number
-  Real cfl = 0;                         ///< dt = cfl h / max_p (c_p + |v_p|) when dt == 0
+  Real dt = 0;   ///< fixed time step [s], or 0 to use the CFL number
+  Real cfl = 0;  ///< dt = cfl h / max_p (c_p + |v_p|) when dt == 0
   /// CD and UVF-MPM: the particle velocities given are v^{-1/2}, so the first grid acceleration is not halved
   /// (Wallstedt & Guilkey 2008, Sec. 4: the start from exact half-step data); false starts from v^0.
   bool half_step_velocity_given = false;
-  /// USL and CD with the linear kernel: move and deform particles with the re-projected velocity on nodes that
-  /// carry less than a quarter of the lightest particle's mass (Sulsky & Kaul 2004, Eq. (3.2.7)); false runs
-  /// the papers' algorithms unchanged (Wallstedt & Guilkey 2008, Eq. (37), Eq. (38), Eq. (39)). Scenes default to true.
+  /// USL and CD with the linear kernel: move and deform particles with the re-projected velocity on nodes
+  /// that carry less than a quarter of the lightest particle's mass (Sulsky & Kaul 2004, Eq. (3.2.7)); false
+  /// runs the papers' algorithms unchanged (Wallstedt & Guilkey 2008, Eq. (37), Eq. (38), Eq. (39)). Scenes
+  /// default to true.
   bool reproject_light_nodes = false;
   /// Account the power of gravity and the body force in each step (Simulation::load_power), for an energy
   /// balance; scenes do, the benchmark does not.
   bool account_load_power = false;
-  /// Divided between ranks: the grid is divided again when the rank holding the most particles holds more than
-  /// this many times the mean (checked after every step, at most once every rebalance_interval steps).
+  /// Divided between ranks: the grid is divided again when the rank holding the most particles holds more
+  /// than this many times the mean (checked after every step, at most once every rebalance_interval steps).
   Real rebalance_above = 1.2;
   int rebalance_interval = 10;
 };

@@ -14,33 +14,35 @@ namespace mpm {
 /// (Steffen et al. 2008, Sec. 3.4.2). Node (i_0, ..., i_{D-1}) with -ghost <= i_d <= cells_d + ghost.
 template <int Dim>
 struct GridGeometry {
-  Vec<Dim> lo = Vec<Dim>::Zero();  ///< position of the grid's node (0,...,0) [m] (a box's node 0 is at lo + h offset)
-  Real h = 1.0;                    ///< cell width [m], equal along every axis
-  IVec<Dim> cells{};               ///< cells per axis in the physical domain
-  int ghost = 1;                   ///< extra node layers beyond each face
+  Vec<Dim> lo =
+      Vec<Dim>::Zero();  ///< position of the grid's node (0,...,0) [m] (a box's node 0 is at lo + h offset)
+  Real h = 1.0;          ///< cell width [m], equal along every axis
+  IVec<Dim> cells{};     ///< cells per axis in the physical domain
+  int ghost = 1;         ///< extra node layers beyond each face
   /// Global index of node (0, ..., 0): the arrays are local to this box of the grid, node and cell indices in
   /// messages, checkpoints and outputs are global (zero in one process).
   IVec<Dim> offset{};
-  /// Axes whose two faces are one periodic pair (Steffen et al. 2008, Sec. 4.3): node cells_d is node 0 again,
-  /// and a particle leaving through one face enters through the other.
+  /// Axes whose two faces are one periodic pair (Steffen et al. 2008, Sec. 4.3): node cells_d is node 0
+  /// again, and a particle leaving through one face enters through the other.
   std::array<bool, Dim> periodic{};
-  /// Faces (x-min, x-max, y-min, ...) that particles may cross: one that has is outside the grid and is removed
-  /// after the step (Steffen et al. 2008, Sec. 3.4: material leaves through a free boundary).
+  /// Faces (x-min, x-max, y-min, ...) that particles may cross: one that has is outside the grid and is
+  /// removed after the step (Steffen et al. 2008, Sec. 3.4: material leaves through a free boundary).
   std::array<bool, 2 * Dim> outflow{};
-  /// Faces that hold the material (a prescribed velocity, a Coulomb wall, a symmetry plane): a particle centre the
-  /// nodes' velocity carries past one is put back on its plane. GIMP and B-spline weights reach beyond a
-  /// particle's centre, so a centre pressed onto a wall moves with nodes inside the material and can cross it.
+  /// Faces that hold the material (a prescribed velocity, a Coulomb wall, a symmetry plane): a particle
+  /// centre the nodes' velocity carries past one is put back on its plane. GIMP and B-spline weights reach
+  /// beyond a particle's centre, so a centre pressed onto a wall moves with nodes inside the material and can
+  /// cross it.
   std::array<bool, 2 * Dim> walls{};
-  /// Faces where the B-spline kernels clamp their knots (bspline2-clamped, bspline3-clamped; Steffen et al. 2008,
-  /// Sec. 4.3): no particle reaches a node beyond one, so the ghost layers there stay empty.
+  /// Faces where the B-spline kernels clamp their knots (bspline2-clamped, bspline3-clamped; Steffen et al.
+  /// 2008, Sec. 4.3): no particle reaches a node beyond one, so the ghost layers there stay empty.
   std::array<bool, 2 * Dim> clamped{};
 
   /// Tiles: cubes of tile_width node layers per axis, the first starting at the first ghost layer (storage
-  /// index 0). A P2G pass sums each tile's particles apart and adds the tiles' sums into the nodes in an order
-  /// fixed by the tiles (ScatterOrder), so a box of whole tiles computes the same sums.
+  /// index 0). A P2G pass sums each tile's particles apart and adds the tiles' sums into the nodes in an
+  /// order fixed by the tiles (ScatterOrder), so a box of whole tiles computes the same sums.
   static constexpr int tile_shift = 3, tile_width = 1 << tile_shift;
-  /// A stencil packs its tile's flat index and its base node's coordinates in the tile (tile_shift bits per axis,
-  /// for three axes) in 32 bits: (tile << slot_bits) | slot.
+  /// A stencil packs its tile's flat index and its base node's coordinates in the tile (tile_shift bits per
+  /// axis, for three axes) in 32 bits: (tile << slot_bits) | slot.
   static constexpr int slot_bits = 3 * tile_shift;
   static constexpr std::size_t max_tiles = std::size_t{1} << (31 - slot_bits);
 
@@ -97,13 +99,16 @@ struct GridGeometry {
     for (int d = 0; d < Dim; ++d) x[d] = lo[d] + h * cells[d];
     return x;
   }
-  /// x brought into [lo, hi) along the periodic axes by one period (a particle moves less than a cell a step).
+  /// x brought into [lo, hi) along the periodic axes by one period (a particle moves less than a cell a
+  /// step).
   Vec<Dim> wrap(Vec<Dim> x) const {
     for (int d = 0; d < Dim; ++d)
       if (periodic[d]) {
         const Real length = h * cells[d];
-        if (x[d] >= lo[d] + length) x[d] -= length;
-        else if (x[d] < lo[d]) x[d] += length;
+        if (x[d] >= lo[d] + length)
+          x[d] -= length;
+        else if (x[d] < lo[d])
+          x[d] += length;
       }
     return x;
   }
@@ -126,7 +131,7 @@ struct GridGeometry {
   bool beyond_outflow(const Vec<Dim>& x) const {
     bool beyond = false;
     for (int d = 0; d < Dim; ++d) {
-      const bool below = x[d] < lo[d], above = x[d] > lo[d] + h * cells[d];
+      const bool below = x[d]<lo[d], above = x[d]> lo[d] + h * cells[d];
       if ((below && !outflow[2 * d]) || (above && !outflow[2 * d + 1]) || !(x[d] == x[d])) return false;
       beyond = beyond || below || above;
     }
@@ -147,8 +152,9 @@ struct alignas(sizeof(Real) * (Dim == 2 ? 8 : 1)) GridNode {
   Vec<Dim> v_new = Vec<Dim>::Zero();  ///< time-advanced velocity v_i^* [m/s]
 };
 
-/// Where each field of a GridNode starts, in Reals from m (fixed-size Eigen vectors may be aligned to more than
-/// one Real): the transfers add whole node records and address the fields by these slots (transfer/p2g.hpp).
+/// Where each field of a GridNode starts, in Reals from m (fixed-size Eigen vectors may be aligned to more
+/// than one Real): the transfers add whole node records and address the fields by these slots
+/// (transfer/p2g.hpp).
 template <int Dim>
 struct NodeSlots {
   static constexpr int align = static_cast<int>(alignof(Vec<Dim>) / sizeof(Real));

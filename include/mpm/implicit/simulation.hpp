@@ -27,8 +27,8 @@ struct ImplicitCounters {
   std::int64_t newton_iterations = 0;
   std::int64_t krylov_iterations = 0;
   std::int64_t residual_evaluations = 0;
-  std::int64_t backtracks = 0;     ///< line-search step halvings
-  std::int64_t retries = 0;        ///< time steps retried with half the step
+  std::int64_t backtracks = 0;             ///< line-search step halvings
+  std::int64_t retries = 0;                ///< time steps retried with half the step
   std::int64_t preconditioner_builds = 0;  ///< frozen-Jacobian assemblies and factorisations
 };
 
@@ -42,14 +42,14 @@ struct NewtonAttempt {
 template <int Dim, class Kernel>
 class ImplicitSimulation {
  public:
-  /// Validate the spec and the particles (InputError on bad input). In axisymmetric runs the particles' masses
-  /// and volumes are areas times density and areas; they become per-radian values (times r).
+  /// Validate the spec and the particles (InputError on bad input). In axisymmetric runs the particles'
+  /// masses and volumes are areas times density and areas; they become per-radian values (times r).
   ImplicitSimulation(const ImplicitSpec<Dim>& spec, ParticleSet<Dim> particles);
 
   /// Advance one step of min(next_dt(), max_dt), halving and retrying when the solve fails. Throws
-  /// SimulationFailure when the retries run out or a particle leaves the grid other than through an outflow face.
-  /// Particles that crossed an outflow face stay in particles(), beyond the grid, until remove_outflow() or the
-  /// next step, which begins with it.
+  /// SimulationFailure when the retries run out or a particle leaves the grid other than through an outflow
+  /// face. Particles that crossed an outflow face stay in particles(), beyond the grid, until
+  /// remove_outflow() or the next step, which begins with it.
   void step(Real max_dt = std::numeric_limits<Real>::infinity());
   /// Remove the particles beyond outflow faces, adding what they carry to outflow().
   void remove_outflow();
@@ -66,7 +66,8 @@ class ImplicitSimulation {
   static MemoryModel memory_model(int krylov_restart, bool frozen_jacobian) {
     constexpr double vec = sizeof(Vec<Dim>), real = sizeof(Real);
     const double state = MaterialState::bytes_per_particle();
-    const double trial = sizeof(SymTensor<3>) + 4 * real + sizeof(InternalState) + sizeof(Mat<Dim>) + 2 * vec + 1;  // Trial
+    const double trial =
+        sizeof(SymTensor<3>) + 4 * real + sizeof(InternalState) + sizeof(Mat<Dim>) + 2 * vec + 1;  // Trial
     const double particle = ParticleSet<Dim>::bytes_per_particle(reads_half_lengths<Kernel>) + state + trial +
                             sizeof(StoredStencil<Dim, Kernel>) + sizeof(std::int32_t);
     double node = sizeof(GridNode<Dim>) + 4 * vec + Dim * (sizeof(std::int32_t) + sizeof(std::int8_t)) +
@@ -105,12 +106,14 @@ class ImplicitSimulation {
   const std::vector<Vec<Dim>>& rigid_displacements() const { return rigid_.displacements(); }
   /// Newton iterations of the last step (0 for theta = 0).
   int last_newton_iterations() const { return last_newton_; }
-  /// ||F|| at each Newton iterate of the last step's solve, the initial guess first (empty for theta = 0 and cg).
+  /// ||F|| at each Newton iterate of the last step's solve, the initial guess first (empty for theta = 0 and
+  /// cg).
   const std::vector<double>& last_residual_norms() const { return attempts_.back().residual_norms; }
   /// The tries at the last step, halved ones first; after a SimulationFailure, those of the step that failed.
   const std::vector<NewtonAttempt>& last_step_attempts() const { return attempts_; }
 
-  /// Continue from a saved state (particles and material state set already): the clock, step size and counters.
+  /// Continue from a saved state (particles and material state set already): the clock, step size and
+  /// counters.
   void restore(Real time, std::int64_t steps, Real dt, const ImplicitCounters& counters,
                const std::vector<Vec<Dim>>& rigid_displacement);
 
@@ -124,9 +127,9 @@ class ImplicitSimulation {
     std::vector<Real> eps_bar, work, energy, stretch3;
     std::vector<InternalState> internal;
     std::vector<Mat<Dim>> grad_v;
-    std::vector<Real> v_r;    // the radial velocity at the particle, sum_i N_i(x_p) v_ri^L
-    std::vector<Vec<Dim>> v;  // v_p^L: Sulsky & Kaul 2004, Eq. (3.2.6) (momentum) or Eq. (2.3.3)
-    std::vector<Vec<Dim>> x;  // x_p^L
+    std::vector<Real> v_r;              // the radial velocity at the particle, sum_i N_i(x_p) v_ri^L
+    std::vector<Vec<Dim>> v;            // v_p^L: Sulsky & Kaul 2004, Eq. (3.2.6) (momentum) or Eq. (2.3.3)
+    std::vector<Vec<Dim>> x;            // x_p^L
     std::vector<Corners<Dim>> corners;  // CPDI2's x_c^L
     std::vector<std::uint8_t> ok;
   };
@@ -150,8 +153,8 @@ class ImplicitSimulation {
   template <class Value>
   void put_on_active_nodes(Value value);
   void node_velocity_from(const Eigen::VectorXd& x);
-  /// The consistent mass matrix (implicit.mass = "consistent"): u <- M u on the node field u, the projection of
-  /// v^k with it, and the residual's inertia term M (v^L - v^k) into mass_dv_.
+  /// The consistent mass matrix (implicit.mass = "consistent"): u <- M u on the node field u, the projection
+  /// of v^k with it, and the residual's inertia term M (v^L - v^k) into mass_dv_.
   void consistent_mass_times(std::vector<Vec<Dim>>& u);
   void project_consistent(Real dt);
   void consistent_inertia();
@@ -183,11 +186,15 @@ class ImplicitSimulation {
   // Nodes: internal force at t^k, external force, and the trial internal force of the last evaluation.
   std::vector<Vec<Dim>> f_k_, f_ext_, f_trial_;
   std::vector<Vec<Dim>> momentum_velocity_;  // momentum formulation: P_i^L / m_i
-  std::vector<Vec<Dim>> dv_, v_move_;  // per particle: sum_i N_i (v_i^L - v_i^k), and the velocity that moves it
-  std::vector<Vec<Dim>> pic_velocity_;  // flip_fraction < 1, moved by the re-projected velocity: sum_i N_i P_i^L / m_i
-  std::vector<Mat<Dim>> affine_;        // APIC: the step's B_p, kept until the step is accepted
-  std::vector<Vec<Dim>> mass_dv_, u_p_;  // consistent mass: M (v^L - v^k) per node; a node field at the particles
-  // Unknowns: free (node, component) pairs; constrained ones with their value and owner (face group or rigid body).
+  std::vector<Vec<Dim>> dv_,
+      v_move_;  // per particle: sum_i N_i (v_i^L - v_i^k), and the velocity that moves it
+  std::vector<Vec<Dim>>
+      pic_velocity_;  // flip_fraction < 1, moved by the re-projected velocity: sum_i N_i P_i^L / m_i
+  std::vector<Mat<Dim>> affine_;  // APIC: the step's B_p, kept until the step is accepted
+  std::vector<Vec<Dim>> mass_dv_,
+      u_p_;  // consistent mass: M (v^L - v^k) per node; a node field at the particles
+  // Unknowns: free (node, component) pairs; constrained ones with their value and owner (face group or rigid
+  // body).
   std::vector<std::int32_t> dof_node_;
   std::vector<std::int8_t> dof_comp_;
   struct Fixed {
@@ -209,7 +216,8 @@ class ImplicitSimulation {
   Real explicit_dt_ = 0, dt_ = 0, time_ = 0;
   std::int64_t steps_ = 0;
   int last_newton_ = 0;
-  std::vector<NewtonAttempt> attempts_ = std::vector<NewtonAttempt>(1);  // of the last step (one empty before any)
+  std::vector<NewtonAttempt> attempts_ =
+      std::vector<NewtonAttempt>(1);  // of the last step (one empty before any)
 };
 
 }  // namespace mpm

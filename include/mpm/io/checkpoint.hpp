@@ -15,8 +15,9 @@
 ///   /texts/NAME         scalar fixed-length string dataset holding the exact bytes (NULLPAD, UTF-8);
 ///                       an empty text is a dataset with a null dataspace
 /// A reader treats a missing group as holding nothing and ignores other objects at the root. Every array of
-/// rows holds the same number of rows. A run divided between ranks writes one file together, each rank its own
-/// rows after those of the ranks before it, and reads it on any number of ranks, each its share of the rows.
+/// rows holds the same number of rows. A run divided between ranks writes one file together, each rank its
+/// own rows after those of the ranks before it, and reads it on any number of ranks, each its share of the
+/// rows.
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -37,11 +38,11 @@ inline constexpr std::int64_t checkpoint_format_version = 1;
 /// The contents of a checkpoint: named arrays and scalars, bit-exact. Names must be non-empty and contain
 /// no '/' (they become HDF5 link names).
 struct CheckpointData {
-  std::map<std::string, std::vector<double>> reals;        ///< e.g. "x" with Dim values per particle, flat
+  std::map<std::string, std::vector<double>> reals;  ///< e.g. "x" with Dim values per particle, flat
   std::map<std::string, std::vector<std::int64_t>> integers;
-  std::map<std::string, double> real_scalars;             ///< e.g. "time"
-  std::map<std::string, std::int64_t> integer_scalars;    ///< e.g. "steps", "dim"
-  std::map<std::string, std::string> texts;               ///< e.g. "scene" (the scene file text), "version"
+  std::map<std::string, double> real_scalars;           ///< e.g. "time"
+  std::map<std::string, std::int64_t> integer_scalars;  ///< e.g. "steps", "dim"
+  std::map<std::string, std::string> texts;             ///< e.g. "scene" (the scene file text), "version"
   /// The arrays of `reals` and `integers` that hold rows (one per particle, say), by name: the values per row
   /// (e.g. "x": Dim). Divided between ranks, these are each rank's own rows; everything else is whole.
   std::map<std::string, std::int64_t> row_widths;
@@ -62,23 +63,25 @@ std::filesystem::path checkpoint_temp_prefix(const std::filesystem::path& file);
 void write_checkpoint(const std::filesystem::path& file, const CheckpointData& data);
 
 /// Write one checkpoint from every rank of `comm` together (call it on every rank): each rank's rows of the
-/// arrays of rows go after those of the ranks before it; everything else must be the same on every rank and is
-/// written once. Atomic and sealed as above. Among several ranks this needs an MPI build with parallel HDF5
-/// (collective_checkpoints()); a failure on any rank is an OutputError on every rank.
-void write_checkpoint(const std::filesystem::path& file, const CheckpointData& data, const Communicator& comm);
+/// arrays of rows go after those of the ranks before it; everything else must be the same on every rank and
+/// is written once. Atomic and sealed as above. Among several ranks this needs an MPI build with parallel
+/// HDF5 (collective_checkpoints()); a failure on any rank is an OutputError on every rank.
+void write_checkpoint(const std::filesystem::path& file, const CheckpointData& data,
+                      const Communicator& comm);
 
 /// Whether write_checkpoint can run among several ranks: an MPI build with parallel HDF5 (Debian's
 /// libhdf5-openmpi-dev).
 bool collective_checkpoints();
 
-/// Read a checkpoint; throws mpm::InputError("checkpoint FILE: ...") naming the file and what is wrong when it
-/// is missing, not HDF5, sealed but changed or truncated since it was written, lacks the format marker, has another format_version, or holds an object of the wrong
-/// kind in one of its groups. HDF5's own error stack printing is silenced while it runs.
+/// Read a checkpoint; throws mpm::InputError("checkpoint FILE: ...") naming the file and what is wrong when
+/// it is missing, not HDF5, sealed but changed or truncated since it was written, lacks the format marker,
+/// has another format_version, or holds an object of the wrong kind in one of its groups. HDF5's own error
+/// stack printing is silenced while it runs.
 CheckpointData read_checkpoint(const std::filesystem::path& file);
 
-/// Read this rank's part of a checkpoint, on any number of ranks (call it on every rank): of the n rows in the
-/// file, rank r of R gets rows [n r / R, n (r + 1) / R) of every array of rows; everything else whole. Rank 0
-/// checks the seal for all; errors as read_checkpoint, the same on every rank.
+/// Read this rank's part of a checkpoint, on any number of ranks (call it on every rank): of the n rows in
+/// the file, rank r of R gets rows [n r / R, n (r + 1) / R) of every array of rows; everything else whole.
+/// Rank 0 checks the seal for all; errors as read_checkpoint, the same on every rank.
 CheckpointData read_checkpoint(const std::filesystem::path& file, const Communicator& comm);
 
 }  // namespace mpm::io

@@ -4,7 +4,8 @@
 ///
 /// Yield function f = sqrt(J2) + eta p - xi c, plastic potential g = sqrt(J2) + eta_bar p (tension positive,
 /// p = tr(sigma) / 3), and the tension cut-off p <= t. The return works in the (p, sqrt(J2)) plane, where the
-/// elastic stiffnesses are K and G and the deviator keeps its direction (de Souza Neto et al. 2008, Sec. 8.3).
+/// elastic stiffnesses are K and G and the deviator keeps its direction (de Souza Neto et al. 2008,
+/// Sec. 8.3).
 #include <limits>
 #include <string>
 
@@ -43,8 +44,8 @@ struct ConeStrength {
 /// The strength of m at plastic strain e.
 ConeStrength<Real> cone_strength(const DruckerPrager& m, Real e);
 
-/// A Drucker-Prager material as the lanes read it: its strength (fixed unless it softens or hardens), its lambda,
-/// and whether its strength changes with the plastic strain (1) or not (0).
+/// A Drucker-Prager material as the lanes read it: its strength (fixed unless it softens or hardens), its
+/// lambda, and whether its strength changes with the plastic strain (1) or not (0).
 struct DruckerPragerRow {
   ConeStrength<Real> cone;
   Real lambda;
@@ -52,7 +53,8 @@ struct DruckerPragerRow {
 };
 
 /// A trial stress against a fixed strength: its mean stress p, deviator s and sqrt(J2), and whether it lies
-/// outside the cone (f = sqrt(J2) + eta p - xi c > 0, de Souza Neto et al. 2008, Sec. 8.3) or beyond the cut-off.
+/// outside the cone (f = sqrt(J2) + eta p - xi c > 0, de Souza Neto et al. 2008, Sec. 8.3) or beyond the
+/// cut-off.
 template <class T>
 struct ConeTrial {
   T p, tau, f;
@@ -73,16 +75,16 @@ template <class T>
 
 /// Return a trial stress outside a fixed strength to its surface: the cone, the cut-off, their corner or the
 /// apex, whichever holds the backward-Euler stress (de Souza Neto et al. 2008, Sec. 8.3, perfectly plastic at
-/// this strength). Branch-free, for one particle or lanes (where a lane inside the surface gets a stress to be
-/// ignored).
+/// this strength). Branch-free, for one particle or lanes (where a lane inside the surface gets a stress to
+/// be ignored).
 template <class T>
 [[gnu::always_inline]] inline Sym3<T> return_to_cone(const ConeStrength<T>& s, const ConeTrial<T>& c) {
   // The smooth cone: sqrt(J2) = tau_trial - G dgamma, p = p_trial - K eta_bar dgamma, f = 0.
   const T dgamma = c.f / (s.G + s.K * s.eta * s.eta_bar);
   const T tau_cone = c.tau - s.G * dgamma, p_cone = c.p - s.K * s.eta_bar * dgamma;
   const auto on_cone = (c.f > 0) & (tau_cone >= 0) & (p_cone <= s.t);
-  // Otherwise the cut-off alone (p = t with the deviator kept) where that lies inside the cone, else the corner
-  // of cone and cut-off (the apex when t is the apex): p = t, sqrt(J2) on the cone.
+  // Otherwise the cut-off alone (p = t with the deviator kept) where that lies inside the cone, else the
+  // corner of cone and cut-off (the apex when t is the apex): p = t, sqrt(J2) on the cone.
   const auto on_cut_off = (c.p > s.t) & (c.tau + s.eta * s.t - s.xi_c <= 0);
   const T corner = simd::max(T{}, s.xi_c - s.eta * s.t);
   const T p = on_cone ? p_cone : s.t;
@@ -97,9 +99,9 @@ template <class T>
 /// Return a trial stress to the surface of the strength at plastic strain e (cone_trial, return_to_cone).
 FrictionalReturn return_at_strength(const DruckerPrager& m, const Eigen::Matrix3d& trial, Real e);
 
-/// One step from sigma_n and eps_bar_n with strain increment de and spin increment dW (de(2, 2) as given: plane
-/// strain, the hoop strain or 3-D).
+/// One step from sigma_n and eps_bar_n with strain increment de and spin increment dW (de(2, 2) as given:
+/// plane strain, the hoop strain or 3-D).
 StressUpdate update_stress(const DruckerPrager& m, const Eigen::Matrix3d& sigma_n, Real eps_bar_n,
-                               const Eigen::Matrix3d& de, const Eigen::Matrix3d& dW);
+                           const Eigen::Matrix3d& de, const Eigen::Matrix3d& dW);
 
 }  // namespace mpm

@@ -189,12 +189,12 @@ enum class OutOfPlane {
 
 /// The result of one stress update.
 struct StressUpdate {
-  Mat3 sigma;         ///< Cauchy stress at the end of the step [Pa]
-  Real eps_bar;       ///< equivalent plastic strain at the end (Sulsky & Kaul 2004, Eq. (2.1.18))
-  Real plastic_work;  ///< sigma : d_eps_plastic per unit current volume [J/m^3] (Sulsky & Kaul 2004,
-                      ///< Eq. (2.3.5) right-hand side)
-  Real d_eps_zz;      ///< the out-of-plane strain increment used (solved in plane stress)
-  bool plastic;       ///< whether the return map was active
+  Mat3 sigma;                ///< Cauchy stress at the end of the step [Pa]
+  Real eps_bar;              ///< equivalent plastic strain at the end (Sulsky & Kaul 2004, Eq. (2.1.18))
+  Real plastic_work;         ///< sigma : d_eps_plastic per unit current volume [J/m^3] (Sulsky & Kaul 2004,
+                             ///< Eq. (2.3.5) right-hand side)
+  Real d_eps_zz;             ///< the out-of-plane strain increment used (solved in plane stress)
+  bool plastic;              ///< whether the return map was active
   InternalState internal{};  ///< the law's internal variables at the end (those it declares; cam_clay.hpp)
 };
 

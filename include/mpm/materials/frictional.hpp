@@ -1,21 +1,21 @@
 #pragma once
 /// What the frictional (pressure-dependent) plasticity models of soils and rocks share: linear isotropic
-/// elasticity, a strength of cohesion c and friction angle phi that soften or harden linearly with the accumulated
-/// plastic strain, a dilatancy angle psi, and the step: the hypoelastic trial stress of the rate-form laws
-/// (Jaumann rate, Sulsky & Kaul 2004, Sec. 2.2.4) returned to the yield surface by backward Euler with the strength
-/// taken at the end of the step (de Souza Neto et al. 2008, Sec. 8.2 and Sec. 8.3).
+/// elasticity, a strength of cohesion c and friction angle phi that soften or harden linearly with the
+/// accumulated plastic strain, a dilatancy angle psi, and the step: the hypoelastic trial stress of the
+/// rate-form laws (Jaumann rate, Sulsky & Kaul 2004, Sec. 2.2.4) returned to the yield surface by backward
+/// Euler with the strength taken at the end of the step (de Souza Neto et al. 2008, Sec. 8.2 and Sec. 8.3).
 ///
-/// Stresses are Cauchy stresses, tension positive; p = tr(sigma) / 3 is the mean stress (negative in compression).
+/// Stresses are Cauchy stresses, tension positive; p = tr(sigma) / 3 is the mean stress (negative in
+/// compression).
 ///
 /// Accumulated plastic strain. eps_bar is the equivalent deviatoric plastic strain, d eps_bar =
 /// (2/3 de_p : de_p)^{1/2} with de_p the deviator of the plastic strain increment: the same measure for both
-/// yield surfaces, the plastic strain of a uniaxial test at constant volume, and zero for purely volumetric flow
-/// (the Drucker-Prager apex or tension cut-off).
+/// yield surfaces, the plastic strain of a uniaxial test at constant volume, and zero for purely volumetric
+/// flow (the Drucker-Prager apex or tension cut-off).
+#include <Eigen/Core>
 #include <cmath>
 #include <limits>
 #include <string>
-
-#include <Eigen/Core>
 
 #include "mpm/core/errors.hpp"
 #include "mpm/core/types.hpp"
@@ -25,8 +25,8 @@
 namespace mpm {
 
 /// Cohesion and friction angle, each linear in eps_bar from its initial value to its residual one, reached at
-/// eps_bar = residual_strain and kept beyond (softening when the residual is lower, hardening when higher); the
-/// dilatancy angle is constant.
+/// eps_bar = residual_strain and kept beyond (softening when the residual is lower, hardening when higher);
+/// the dilatancy angle is constant.
 struct FrictionalStrength {
   Real cohesion = 0;           ///< c0 [Pa]
   Real friction = 0;           ///< phi0 [rad]
@@ -75,7 +75,8 @@ struct FrictionalReturn {
 /// The increment of eps_bar of a return from trial to sigma: de_p = C^-1 (trial - sigma), whose deviator is
 /// dev(trial - sigma) / (2 G), so d eps_bar = |dev(trial - sigma)| / (sqrt(6) G). For one particle or lanes.
 template <class T>
-[[gnu::always_inline]] inline T plastic_strain_increment(const Sym3<T>& trial, const Sym3<T>& sigma, const T& G) {
+[[gnu::always_inline]] inline T plastic_strain_increment(const Sym3<T>& trial, const Sym3<T>& sigma,
+                                                         const T& G) {
   Sym3<T> returned;
   for (int k = 0; k < 6; ++k) returned.c[k] = trial.c[k] - sigma.c[k];
   const Sym3<T> d = deviator(returned);
@@ -85,39 +86,43 @@ inline Real plastic_strain_increment(const Eigen::Matrix3d& trial, const Eigen::
   return plastic_strain_increment(sym3_of(trial), sym3_of(sigma), G);
 }
 
-/// The plastic work density sigma : de_p of a return from trial to sigma with bulk modulus K and shear modulus G:
-/// p (p_trial - p) / K + s : (s_trial - s) / (2 G).
+/// The plastic work density sigma : de_p of a return from trial to sigma with bulk modulus K and shear
+/// modulus G: p (p_trial - p) / K + s : (s_trial - s) / (2 G).
 Real plastic_work_density(const Eigen::Matrix3d& trial, const Eigen::Matrix3d& sigma, Real K, Real G);
 
-/// The elastic trial stress of a step: the old stress rotated by the spin increment dW (Hughes & Winget 1980, the
-/// Jaumann rate of Sulsky & Kaul 2004, Sec. 2.2.4) plus lambda tr(de) I + 2 mu de (Sulsky & Kaul 2004,
+/// The elastic trial stress of a step: the old stress rotated by the spin increment dW (Hughes & Winget 1980,
+/// the Jaumann rate of Sulsky & Kaul 2004, Sec. 2.2.4) plus lambda tr(de) I + 2 mu de (Sulsky & Kaul 2004,
 /// Eq. (2.2.21)).
-Eigen::Matrix3d frictional_trial(const FrictionalSolid& m, const Eigen::Matrix3d& sigma_n, const Eigen::Matrix3d& de,
-                                 const Eigen::Matrix3d& dW);
+Eigen::Matrix3d frictional_trial(const FrictionalSolid& m, const Eigen::Matrix3d& sigma_n,
+                                 const Eigen::Matrix3d& de, const Eigen::Matrix3d& dW);
 
 /// Backward Euler with a softening strength: eps_bar_{n+1} = eps_n + d eps_bar(return at the strength of
 /// eps_bar_{n+1}), solved for eps_bar_{n+1} by safeguarded regula falsi (Illinois) on [eps_n, e_r], where the
 /// increment h(e) = eps_n + d eps_bar(e) - e changes sign; beyond e_r the strength is constant and one return
-/// suffices. The stress returned lies on the surface of the eps_bar it reports. `at_strength(trial, e)` returns
-/// trial to the surface of the strength at plastic strain e; the out-of-plane strain increment dz is reported as
-/// given.
+/// suffices. The stress returned lies on the surface of the eps_bar it reports. `at_strength(trial, e)`
+/// returns trial to the surface of the strength at plastic strain e; the out-of-plane strain increment dz is
+/// reported as given.
 template <class ReturnAt>
-StressUpdate return_with_softening(const FrictionalSolid& m, const Eigen::Matrix3d& trial, Real eps_n, Real dz,
-                                   const ReturnAt& at_strength) {
+StressUpdate return_with_softening(const FrictionalSolid& m, const Eigen::Matrix3d& trial, Real eps_n,
+                                   Real dz, const ReturnAt& at_strength) {
   const Real G = m.mu(), K = m.bulk();
   const auto finish = [&](const FrictionalReturn& r, Real eps) {
-    return StressUpdate{r.sigma, eps, r.plastic ? plastic_work_density(trial, r.sigma, K, G) : 0, dz, r.plastic};
+    return StressUpdate{r.sigma, eps, r.plastic ? plastic_work_density(trial, r.sigma, K, G) : 0, dz,
+                        r.plastic};
   };
   const FrictionalReturn first = at_strength(trial, eps_n);
   const Real e_r = m.strength.residual_strain;
   if (!first.plastic) return finish(first, eps_n);
-  const auto h = [&](const FrictionalReturn& r, Real e) { return eps_n + plastic_strain_increment(trial, r.sigma, G) - e; };
-  if (m.strength.constant() || eps_n >= e_r) return finish(first, eps_n + plastic_strain_increment(trial, first.sigma, G));
+  const auto h = [&](const FrictionalReturn& r, Real e) {
+    return eps_n + plastic_strain_increment(trial, r.sigma, G) - e;
+  };
+  if (m.strength.constant() || eps_n >= e_r)
+    return finish(first, eps_n + plastic_strain_increment(trial, first.sigma, G));
   const FrictionalReturn residual = at_strength(trial, e_r);
   const Real h_residual = h(residual, e_r);
   if (h_residual >= 0) return finish(residual, e_r + h_residual);
-  // The root of h lies in [eps_n, e_r]: h(eps_n) >= 0 > h(e_r). Illinois regula falsi, stopped when h is below
-  // 1e-14 of the plastic strain increment or the bracket cannot shrink.
+  // The root of h lies in [eps_n, e_r]: h(eps_n) >= 0 > h(e_r). Illinois regula falsi, stopped when h is
+  // below 1e-14 of the plastic strain increment or the bracket cannot shrink.
   Real lo = eps_n, hi = e_r, h_lo = h(first, eps_n), h_hi = h_residual;
   FrictionalReturn best = first;
   Real e_best = eps_n, h_best = h_lo;

@@ -2,9 +2,9 @@
 /// The material interface both engines use. A material is a value type with its parameters: a hyperelastic
 /// law gives the stress from F (NeoHookean), a rate-form law advances it from the velocity gradient over a
 /// step (ElastoPlastic: hypoelastic or von Mises; the frictional DruckerPrager and MohrCoulomb; the
-/// NewtonianFluid; ModifiedCamClay, which keeps an internal variable); the per-particle state of the rate-form laws
-/// is a MaterialState owned by the particle set. Loops visit the variant once per particle or take a lane policy
-/// when every material is of one kind (transfer/g2p_stress.hpp).
+/// NewtonianFluid; ModifiedCamClay, which keeps an internal variable); the per-particle state of the
+/// rate-form laws is a MaterialState owned by the particle set. Loops visit the variant once per particle or
+/// take a lane policy when every material is of one kind (transfer/g2p_stress.hpp).
 #include <algorithm>
 #include <cmath>
 #include <concepts>
@@ -26,11 +26,13 @@
 
 namespace mpm {
 
-using Material = std::variant<NeoHookean, ElastoPlastic, NewtonianFluid, DruckerPrager, MohrCoulomb, ModifiedCamClay>;
+using Material =
+    std::variant<NeoHookean, ElastoPlastic, NewtonianFluid, DruckerPrager, MohrCoulomb, ModifiedCamClay>;
 
-/// A law that keeps internal variables beyond the stress and the plastic strain: it names them (`state_columns`,
-/// which reach the frames and checkpoints), gives their initial values, a wave speed that depends on the stress,
-/// its small-strain moduli at a reference state, and checks itself in a geometry (cam_clay.hpp).
+/// A law that keeps internal variables beyond the stress and the plastic strain: it names them
+/// (`state_columns`, which reach the frames and checkpoints), gives their initial values, a wave speed that
+/// depends on the stress, its small-strain moduli at a reference state, and checks itself in a geometry
+/// (cam_clay.hpp).
 template <class Law>
 concept DeclaresState = requires(const Law& law, const SymTensor<3>& sigma) {
   Law::state_columns;
@@ -48,26 +50,29 @@ constexpr std::size_t state_column_count() {
   else
     return 0;
 }
-static_assert([]<class... Law>(std::variant<Law...>*) {
-  return ((state_column_count<Law>() <= internal_columns) && ...);
-}(static_cast<Material*>(nullptr)),
-              "a law declares more internal variables than InternalState holds: raise internal_columns (state.hpp)");
+static_assert(
+    []<class... Law>(std::variant<Law...>*) {
+      return ((state_column_count<Law>() <= internal_columns) && ...);
+    }(static_cast<Material*>(nullptr)),
+    "a law declares more internal variables than InternalState holds: raise internal_columns (state.hpp)");
 
 /// The laws of linear isotropic elasticity in rate form, whose wave speed follows the current density.
 template <class Law>
 concept HypoelasticLaw = std::is_same_v<Law, ElastoPlastic> || std::is_base_of_v<FrictionalSolid, Law>;
 
-/// Whether a material's stress depends on the rate of deformation (and needs a MaterialState): every material but
-/// the Neo-Hookean one.
-inline bool is_rate_form(const Material& m) { return !std::holds_alternative<NeoHookean>(m); }
+/// Whether a material's stress depends on the rate of deformation (and needs a MaterialState): every material
+/// but the Neo-Hookean one.
+inline bool is_rate_form(const Material& m) {
+  return !std::holds_alternative<NeoHookean>(m);
+}
 
 /// Reference density rho0 [kg/m^3].
 inline Real reference_density(const Material& m) {
   return std::visit([](const auto& law) { return law.rho0; }, m);
 }
 
-/// Dilatational wave speed at volume ratio J and Cauchy stress sigma [m/s] (only the laws of DeclaresState read the
-/// stress).
+/// Dilatational wave speed at volume ratio J and Cauchy stress sigma [m/s] (only the laws of DeclaresState
+/// read the stress).
 inline Real wave_speed(const Material& m, Real J, const SymTensor<3>& sigma) {
   return std::visit(
       [&](const auto& law) {
@@ -115,7 +120,8 @@ inline Real young_modulus(const Material& m) {
       m);
 }
 
-/// The Lame constants of a material's small-strain limit [Pa] (a fluid: its bulk modulus and no shear stiffness).
+/// The Lame constants of a material's small-strain limit [Pa] (a fluid: its bulk modulus and no shear
+/// stiffness).
 struct ElasticModuli {
   Real lambda, mu;
 };
@@ -135,8 +141,8 @@ inline ElasticModuli small_strain_moduli(const Material& m) {
       m);
 }
 
-/// Check a material of a Dim-dimensional run in a geometry; throw InputError naming `where` ("materials[0]") and
-/// what was expected.
+/// Check a material of a Dim-dimensional run in a geometry; throw InputError naming `where` ("materials[0]")
+/// and what was expected.
 inline void validate(const Material& m, const std::string& where, int dim, Geometry geometry) {
   if (const auto* law = std::get_if<ElastoPlastic>(&m)) return validate(*law, where);
   const bool declares_state = std::visit(
@@ -149,16 +155,18 @@ inline void validate(const Material& m, const std::string& where, int dim, Geome
   const auto frictional = [&](const auto& law) {
     validate(law, where);
     if (geometry == Geometry::plane_stress)
-      throw InputError(where + ": Drucker-Prager and Mohr-Coulomb materials run in plane strain, axisymmetry or "
-                               "3-D, not plane stress");
+      throw InputError(where +
+                       ": Drucker-Prager and Mohr-Coulomb materials run in plane strain, axisymmetry or "
+                       "3-D, not plane stress");
   };
   if (const auto* law = std::get_if<DruckerPrager>(&m)) return frictional(*law);
   if (const auto* law = std::get_if<MohrCoulomb>(&m)) return frictional(*law);
   if (const auto* fluid = std::get_if<NewtonianFluid>(&m)) {
     validate(*fluid, where);
     if (geometry != Geometry::plane_strain)
-      throw InputError(where + ": Newtonian fluids run in plane strain; plane stress and axisymmetry need a "
-                               "hypoelastic or von-mises material");
+      throw InputError(where +
+                       ": Newtonian fluids run in plane strain; plane stress and axisymmetry need a "
+                       "hypoelastic or von-mises material");
     return;
   }
   const NeoHookean& law = std::get<NeoHookean>(m);
@@ -167,19 +175,21 @@ inline void validate(const Material& m, const std::string& where, int dim, Geome
   if (!(law.lambda + 2.0 * law.mu / dim > 0 || dim == 1))
     throw InputError(where + ": bulk modulus must be positive (nu < 0.5)");
   if (geometry != Geometry::plane_strain)
-    throw InputError(where + ": Neo-Hookean materials run in plane strain; plane stress and axisymmetry need a "
-                             "rate-form material (hypoelastic or von-mises)");
+    throw InputError(where +
+                     ": Neo-Hookean materials run in plane strain; plane stress and axisymmetry need a "
+                     "rate-form material (hypoelastic or von-mises)");
 }
 
-/// Keep the internal variables only where a law of the table declares some (MaterialState::keeps_internal), and set
-/// each particle's to their initial values at its stress (zero for the laws that declare none); throw InputError
-/// naming the particle's material where its law cannot start from that stress.
-inline void start_internal_state(const std::vector<Material>& materials, const std::vector<std::uint16_t>& material,
-                                 MaterialState& s) {
+/// Keep the internal variables only where a law of the table declares some (MaterialState::keeps_internal),
+/// and set each particle's to their initial values at its stress (zero for the laws that declare none); throw
+/// InputError naming the particle's material where its law cannot start from that stress.
+inline void start_internal_state(const std::vector<Material>& materials,
+                                 const std::vector<std::uint16_t>& material, MaterialState& s) {
   s.keeps_internal = false;
   for (const Material& m : materials)
-    s.keeps_internal = s.keeps_internal ||
-                       std::visit([](const auto& law) { return DeclaresState<std::decay_t<decltype(law)>>; }, m);
+    s.keeps_internal =
+        s.keeps_internal ||
+        std::visit([](const auto& law) { return DeclaresState<std::decay_t<decltype(law)>>; }, m);
   s.internal.assign(s.keeps_internal ? s.sigma.size() : 0, InternalState{});
   for (std::size_t i = 0; i < s.internal.size(); ++i)
     std::visit(
@@ -202,7 +212,8 @@ struct DeclaredColumn {
   std::vector<bool> declared_by;  ///< per material of the table
 };
 
-/// The internal variables the laws of a table declare, each name once (in the order of the table and the columns).
+/// The internal variables the laws of a table declare, each name once (in the order of the table and the
+/// columns).
 inline std::vector<DeclaredColumn> declared_columns(const std::vector<Material>& materials) {
   std::vector<DeclaredColumn> out;
   for (std::size_t k = 0; k < materials.size(); ++k)
@@ -212,9 +223,11 @@ inline std::vector<DeclaredColumn> declared_columns(const std::vector<Material>&
           if constexpr (DeclaresState<Law>)
             for (std::size_t c = 0; c < Law::state_columns.size(); ++c) {
               const std::string name = Law::state_columns[c].name;
-              auto it = std::find_if(out.begin(), out.end(),
-                                     [&](const DeclaredColumn& d) { return d.name == name && d.column == c; });
-              if (it == out.end()) it = out.insert(out.end(), {c, name, std::vector<bool>(materials.size(), false)});
+              auto it = std::find_if(out.begin(), out.end(), [&](const DeclaredColumn& d) {
+                return d.name == name && d.column == c;
+              });
+              if (it == out.end())
+                it = out.insert(out.end(), {c, name, std::vector<bool>(materials.size(), false)});
               it->declared_by[k] = true;
             }
         },

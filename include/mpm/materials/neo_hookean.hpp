@@ -46,9 +46,9 @@ struct NeoHookean {
       }
   }
 
-  /// Stored energy per reference volume, W = mu/2 (tr F^T F - 3) - mu ln J + lambda/2 (ln J)^2, whose derivative
-  /// dW/dF is the first Piola-Kirchhoff stress of Wallstedt & Guilkey 2008, Eq. (54). Out-of-plane stretches are
-  /// 1 (plane strain in 2-D, uniaxial strain in 1-D), so they add 3 - Dim to tr F^T F.
+  /// Stored energy per reference volume, W = mu/2 (tr F^T F - 3) - mu ln J + lambda/2 (ln J)^2, whose
+  /// derivative dW/dF is the first Piola-Kirchhoff stress of Wallstedt & Guilkey 2008, Eq. (54). Out-of-plane
+  /// stretches are 1 (plane strain in 2-D, uniaxial strain in 1-D), so they add 3 - Dim to tr F^T F.
   template <int Dim>
   Real energy_density(const Mat<Dim>& F, Real J) const {
     const Real lnJ = std::log(J);

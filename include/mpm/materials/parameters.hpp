@@ -1,6 +1,6 @@
 #pragma once
-/// What a law declares of its scene keys, so that the scene reader reads it without a reader of its own: each key,
-/// the member it sets, whether it is required, its default, and what it means (cam_clay.hpp).
+/// What a law declares of its scene keys, so that the scene reader reads it without a reader of its own: each
+/// key, the member it sets, whether it is required, its default, and what it means (cam_clay.hpp).
 #include "mpm/core/types.hpp"
 
 namespace mpm {

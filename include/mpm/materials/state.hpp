@@ -8,8 +8,8 @@
 
 namespace mpm {
 
-/// The most internal variables a law keeps per particle beyond the stress and the plastic strain (a law declares
-/// its own in `state_columns`; material.hpp checks that each fits).
+/// The most internal variables a law keeps per particle beyond the stress and the plastic strain (a law
+/// declares its own in `state_columns`; material.hpp checks that each fits).
 inline constexpr std::size_t internal_columns = 1;
 /// A particle's internal variables, in the order its law declares them (0 where its law declares fewer).
 using InternalState = std::array<Real, internal_columns>;
@@ -24,11 +24,14 @@ struct StateColumn {
 struct MaterialState {
   std::vector<SymTensor<3>> sigma;  ///< Cauchy stress with the out-of-plane (zz or hoop) component [Pa]
   std::vector<Real> eps_bar;        ///< equivalent plastic strain (Sulsky & Kaul 2004, Eq. (2.1.18))
-  std::vector<Real> temperature;    ///< temperature rise from plastic work (Sulsky & Kaul 2004, Eq. (2.3.5)) [K]
-  std::vector<Real> energy;         ///< internal energy (Sulsky & Kaul 2004, Eq. (2.2.16)) [J, per unit thickness or radian]
-  std::vector<Real> stretch3;       ///< out-of-plane stretch: 1 (plane strain), F_zz (plane stress), r/R (axisymmetric)
-  /// The internal variables each law declares; kept (keeps_internal) only where a law of the table declares some,
-  /// so that the other runs neither store nor move them (start_internal_state).
+  std::vector<Real>
+      temperature;  ///< temperature rise from plastic work (Sulsky & Kaul 2004, Eq. (2.3.5)) [K]
+  std::vector<Real>
+      energy;  ///< internal energy (Sulsky & Kaul 2004, Eq. (2.2.16)) [J, per unit thickness or radian]
+  std::vector<Real>
+      stretch3;  ///< out-of-plane stretch: 1 (plane strain), F_zz (plane stress), r/R (axisymmetric)
+  /// The internal variables each law declares; kept (keeps_internal) only where a law of the table declares
+  /// some, so that the other runs neither store nor move them (start_internal_state).
   std::vector<InternalState> internal;
   bool keeps_internal = false;
 
@@ -54,7 +57,8 @@ struct MaterialState {
   void set_internal(std::size_t i, const InternalState& values) {
     if (keeps_internal) internal[i] = values;
   }
-  /// The bytes per particle, with the internal variables where a law may keep them (an upper bound otherwise).
+  /// The bytes per particle, with the internal variables where a law may keep them (an upper bound
+  /// otherwise).
   static constexpr std::size_t bytes_per_particle() {
     return sizeof(SymTensor<3>) + 4 * sizeof(Real) + sizeof(InternalState);
   }

@@ -1,8 +1,8 @@
 #pragma once
 /// Symmetric 3 x 3 tensors for any number type T: one particle (Real) or several in SIMD lanes
 /// (simd::RealLanes), with the same operations in the same order, hence the same bits. The rate-form step's
-/// pieces that the explicit engine's G2P evaluates in lanes are written once on it (the Hughes-Winget rotation,
-/// the hypoelastic trial stress, the contractions).
+/// pieces that the explicit engine's G2P evaluates in lanes are written once on it (the Hughes-Winget
+/// rotation, the hypoelastic trial stress, the contractions).
 #include <array>
 
 #include "mpm/core/simd.hpp"
@@ -56,9 +56,9 @@ template <class T>
   return diagonal + 2 * off;
 }
 
-/// Strain and spin increments of a step whose velocity-gradient increment is dL = dt grad v (3 x 3, zero outside
-/// the simulation's dimensions): de = (dL + dL^T) / 2 and the axial vector of dW / 2, dW = (dL - dL^T) / 2
-/// (Sulsky & Kaul 2004, Eq. (2.2.18), Eq. (2.2.19), Eq. (2.2.20)).
+/// Strain and spin increments of a step whose velocity-gradient increment is dL = dt grad v (3 x 3, zero
+/// outside the simulation's dimensions): de = (dL + dL^T) / 2 and the axial vector of dW / 2, dW = (dL -
+/// dL^T) / 2 (Sulsky & Kaul 2004, Eq. (2.2.18), Eq. (2.2.19), Eq. (2.2.20)).
 template <class T>
 struct StrainIncrement {
   Sym3<T> de;
@@ -85,8 +85,8 @@ inline std::array<Real, 3> spin_of(const Mat<3>& dW) {
 /// turns by 2 atan(|a|) about a.
 /// In closed form Q = I + G, G = 2 (A + A^2) / (1 + |a|^2) with A^2 = a a^T - |a|^2 I, and Q sigma Q^T =
 /// sigma + B + B^T + B G^T with B = G sigma (sigma symmetric): working with the small G keeps the rounding
-/// relative to |G| |sigma| rather than |sigma|, so the norm of sigma does not drift by an ulp per step under a
-/// steady spin. Without spin sigma is returned as it is.
+/// relative to |G| |sigma| rather than |sigma|, so the norm of sigma does not drift by an ulp per step under
+/// a steady spin. Without spin sigma is returned as it is.
 template <class T>
 [[gnu::always_inline]] inline Sym3<T> rotate_jaumann(const Sym3<T>& sigma, const std::array<T, 3>& a) {
   const T a2 = a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
@@ -99,11 +99,13 @@ template <class T>
   G[1][2] -= c * a[0], G[2][1] += c * a[0];
   T B[3][3];
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) B[i][j] = G[i][0] * sigma(0, j) + G[i][1] * sigma(1, j) + G[i][2] * sigma(2, j);
+    for (int j = 0; j < 3; ++j)
+      B[i][j] = G[i][0] * sigma(0, j) + G[i][1] * sigma(1, j) + G[i][2] * sigma(2, j);
   Sym3<T> r;
   for (int i = 0; i < 3; ++i)
     for (int j = i; j < 3; ++j)
-      r(i, j) = sigma(i, j) + (B[i][j] + B[j][i]) + (B[i][0] * G[j][0] + B[i][1] * G[j][1] + B[i][2] * G[j][2]);
+      r(i, j) =
+          sigma(i, j) + (B[i][j] + B[j][i]) + (B[i][0] * G[j][0] + B[i][1] * G[j][1] + B[i][2] * G[j][2]);
   const auto still = a2 == 0;
   for (int k = 0; k < 6; ++k) r.c[k] = still ? sigma.c[k] : r.c[k];
   return r;
@@ -112,8 +114,9 @@ template <class T>
 /// The hypoelastic trial stress of a step: sigma_n rotated by the spin (rotate_jaumann) plus
 /// lambda tr(de) I + 2 mu de (Sulsky & Kaul 2004, Eq. (2.2.21)).
 template <class T>
-[[gnu::always_inline]] inline Sym3<T> hypoelastic_trial(const Sym3<T>& sigma_n, const StrainIncrement<T>& step,
-                                                         const T& mu, const T& lambda) {
+[[gnu::always_inline]] inline Sym3<T> hypoelastic_trial(const Sym3<T>& sigma_n,
+                                                        const StrainIncrement<T>& step, const T& mu,
+                                                        const T& lambda) {
   Sym3<T> trial = rotate_jaumann(sigma_n, step.spin);
   const T two_mu = 2 * mu, dilatation = lambda * trace(step.de);
   for (int k = 0; k < 6; ++k) trial.c[k] += two_mu * step.de.c[k];  // Sulsky & Kaul 2004, Eq. (2.2.21)
@@ -124,7 +127,8 @@ template <class T>
 /// The work density of a step done by the mid-step stress, (sigma_n + sigma) / 2 : de
 /// (Sulsky & Kaul 2004, Eq. (2.2.16)).
 template <class T>
-[[gnu::always_inline]] inline T mid_step_work(const Sym3<T>& sigma_n, const Sym3<T>& sigma, const Sym3<T>& de) {
+[[gnu::always_inline]] inline T mid_step_work(const Sym3<T>& sigma_n, const Sym3<T>& sigma,
+                                              const Sym3<T>& de) {
   Sym3<T> mid;
   for (int k = 0; k < 6; ++k) mid.c[k] = 0.5 * (sigma_n.c[k] + sigma.c[k]);
   return contract(mid, de);  // Sulsky & Kaul 2004, Eq. (2.2.16)

@@ -34,9 +34,9 @@ class NonlinearProblem {
   virtual bool refresh_preconditioner(const Vector& /*x*/, const Vector& /*fx*/) { return false; }
 };
 
-/// The solver of the Newton step's linear system (Alg. 1, step 4): a Krylov method, or `direct`, the problem's
-/// preconditioner taken as an exact factorisation of the Jacobian and rebuilt at every iterate (needs
-/// precondition; Sulsky & Kaul 2004, Alg. 1 allows any solver of step 4).
+/// The solver of the Newton step's linear system (Alg. 1, step 4): a Krylov method, or `direct`, the
+/// problem's preconditioner taken as an exact factorisation of the Jacobian and rebuilt at every iterate
+/// (needs precondition; Sulsky & Kaul 2004, Alg. 1 allows any solver of step 4).
 enum class Krylov { cg, gmres, direct };
 
 /// How the linear tolerance gamma (the forcing term) is chosen at each Newton step.

@@ -9,11 +9,11 @@
 
 namespace mpm {
 
-/// Give particles [first, last) of p, a body of density rho seeded at `spacing`, the geostatic stress under gravity
-/// g: sigma_v = -rho |g| depth along the vertical (-g), every horizontal normal stress (the out-of-plane one too)
-/// K0 sigma_v, no shear. A particle's depth is measured from the body's free surface above it: the top of the
-/// highest particle of the body in its column (columns of one spacing across, the top half a spacing above that
-/// particle's centre). Sizes p.state to the particles and sets its stress.
+/// Give particles [first, last) of p, a body of density rho seeded at `spacing`, the geostatic stress under
+/// gravity g: sigma_v = -rho |g| depth along the vertical (-g), every horizontal normal stress (the
+/// out-of-plane one too) K0 sigma_v, no shear. A particle's depth is measured from the body's free surface
+/// above it: the top of the highest particle of the body in its column (columns of one spacing across, the
+/// top half a spacing above that particle's centre). Sizes p.state to the particles and sets its stress.
 template <int Dim>
 void set_geostatic_stress(ParticleSet<Dim>& p, std::size_t first, std::size_t last, Real rho, Real k0,
                           const Vec<Dim>& g, Real spacing) {

@@ -15,8 +15,8 @@ namespace mpm {
 template <int Dim>
 struct Outflow {
   std::int64_t particles = 0;
-  Real mass = 0;                              ///< [kg]
-  Vec<Dim> momentum = Vec<Dim>::Zero();       ///< [kg m/s]
+  Real mass = 0;                               ///< [kg]
+  Vec<Dim> momentum = Vec<Dim>::Zero();        ///< [kg m/s]
   Real kinetic_energy = 0, strain_energy = 0;  ///< 1/2 m v^2 and the engine's strain (internal) energy [J]
 
   /// Count particle i of p, whose strain (internal) energy is `strain`, as gone.

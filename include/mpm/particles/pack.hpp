@@ -1,6 +1,7 @@
 #pragma once
 /// Particles as bytes, to move them between ranks: every field of a particle, and its material state's, APIC
-/// matrix, CPDI2 corners and half-lengths when the set carries them, in the order of ParticleSet::for_each_array.
+/// matrix, CPDI2 corners and half-lengths when the set carries them, in the order of
+/// ParticleSet::for_each_array.
 #include <cstddef>
 #include <cstring>
 #include <vector>
@@ -11,9 +12,9 @@ namespace mpm {
 
 /// The optional arrays a set carries, the same on every rank of a run.
 struct PackedArrays {
-  bool state = false;   ///< the material state (MaterialState)
-  bool affine = false;   ///< APIC's B_p
-  bool corners = false;  ///< CPDI2's domain corners
+  bool state = false;         ///< the material state (MaterialState)
+  bool affine = false;        ///< APIC's B_p
+  bool corners = false;       ///< CPDI2's domain corners
   bool half_lengths = false;  ///< l_p^0 (GIMP and CPDI)
 };
 

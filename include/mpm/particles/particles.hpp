@@ -9,12 +9,12 @@
 
 namespace mpm {
 
-/// How a set's current half-lengths l_p follow from l_p^0: none kept (a kernel that reads none), l_p = l_p^0 (uGIMP,
-/// CPDI), or l_p = l_p^0 diag(F_p) (cpGIMP: Wallstedt & Guilkey 2008, Eq. (63)).
+/// How a set's current half-lengths l_p follow from l_p^0: none kept (a kernel that reads none), l_p = l_p^0
+/// (uGIMP, CPDI), or l_p = l_p^0 diag(F_p) (cpGIMP: Wallstedt & Guilkey 2008, Eq. (63)).
 enum class HalfLengths : std::uint8_t { none, fixed, deformed };
 
-/// The 2^Dim corners of a particle's domain (CPDI2), column c corner c, whose reference signs are the bits of c
-/// (CpdiKernel::sign) [m].
+/// The 2^Dim corners of a particle's domain (CPDI2), column c corner c, whose reference signs are the bits of
+/// c (CpdiKernel::sign) [m].
 template <int Dim>
 using Corners = Eigen::Matrix<Real, Dim, 1 << Dim>;
 
@@ -33,21 +33,22 @@ struct ParticleSet {
   /// The grid velocity field the particle projects to: 0 unless contact gives its body a field of its own
   /// (ContactSpec; Bardenhagen, Brackbill & Sulsky 2000).
   std::vector<std::uint16_t> field;
-  /// Stable identity: the particle's index in the set as seeded, kept through removals, restarts, the engine's
-  /// reordering of the arrays and (in a distributed run) moves between ranks.
+  /// Stable identity: the particle's index in the set as seeded, kept through removals, restarts, the
+  /// engine's reordering of the arrays and (in a distributed run) moves between ranks.
   std::vector<std::int64_t> id;
-  /// State of the rate-form materials (sized by the engine when a rate-form material is present). Its sigma is
-  /// then every particle's stress, the one P2G reads; sigma above is kept for the Neo-Hookean particles only.
+  /// State of the rate-form materials (sized by the engine when a rate-form material is present). Its sigma
+  /// is then every particle's stress, the one P2G reads; sigma above is kept for the Neo-Hookean particles
+  /// only.
   MaterialState state;
-  /// APIC's affine matrix B_p [m^2/s] (Jiang et al. 2015; transfer/g2p.hpp's g2p_affine); empty unless the run
-  /// transfers with APIC.
+  /// APIC's affine matrix B_p [m^2/s] (Jiang et al. 2015; transfer/g2p.hpp's g2p_affine); empty unless the
+  /// run transfers with APIC.
   std::vector<Mat<Dim>> B;
   /// CPDI2's domain corners (Sadeghirad, Brannon & Guilkey 2013; shape/cpdi2.hpp); empty unless the kernel is
   /// "cpdi2".
   std::vector<Corners<Dim>> corners;
-  /// Reference half-lengths l_p^0 of the particles' domains [m], which GIMP and CPDI read (shape/stencil.hpp's
-  /// reads_half_lengths); seeded with every particle, and emptied by an engine whose kernel does not read them
-  /// (drop_half_lengths). The current ones follow from them (half_length).
+  /// Reference half-lengths l_p^0 of the particles' domains [m], which GIMP and CPDI read
+  /// (shape/stencil.hpp's reads_half_lengths); seeded with every particle, and emptied by an engine whose
+  /// kernel does not read them (drop_half_lengths). The current ones follow from them (half_length).
   std::vector<Vec<Dim>> l0;
   /// How the current half-lengths follow from l0: the same on every rank of a run, also on one that holds no
   /// particle.
@@ -108,9 +109,12 @@ struct ParticleSet {
   /// The current half-length l_p of particle i (HalfLengths), or zero where the set keeps none.
   Vec<Dim> half_length(std::size_t i) const {
     switch (half_lengths) {
-      case HalfLengths::none: return Vec<Dim>::Zero();
-      case HalfLengths::fixed: return l0[i];
-      case HalfLengths::deformed: return l0[i].cwiseProduct(F[i].diagonal());  // Wallstedt & Guilkey 2008, Eq. (63)
+      case HalfLengths::none:
+        return Vec<Dim>::Zero();
+      case HalfLengths::fixed:
+        return l0[i];
+      case HalfLengths::deformed:
+        return l0[i].cwiseProduct(F[i].diagonal());  // Wallstedt & Guilkey 2008, Eq. (63)
     }
     return Vec<Dim>::Zero();
   }

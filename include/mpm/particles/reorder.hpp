@@ -10,8 +10,8 @@
 
 namespace mpm {
 
-/// The scratch every array of a reorder goes through: one column of `column` bytes per particle, kept for later
-/// reorders, so that a reorder holds 8 bytes per particle whatever the records it moves.
+/// The scratch every array of a reorder goes through: one column of `column` bytes per particle, kept for
+/// later reorders, so that a reorder holds 8 bytes per particle whatever the records it moves.
 class ReorderBuffer {
  public:
   static constexpr std::size_t column = sizeof(double);
@@ -19,7 +19,8 @@ class ReorderBuffer {
   std::byte* room(std::size_t bytes) {
     const std::size_t lines = (bytes + sizeof(Line) - 1) / sizeof(Line);
     if (lines_.size() < lines) {
-      lines_ = std::vector<Line>();  // freed first, so that the old and the new buffer are never held together
+      lines_ =
+          std::vector<Line>();  // freed first, so that the old and the new buffer are never held together
       lines_.resize(lines);
     }
     return lines_.data()->bytes;
@@ -33,10 +34,10 @@ class ReorderBuffer {
   std::vector<Line> lines_;
 };
 
-/// a[k] = a_old[order[k]] for an array of order.size() entries; arrays of another size (unused, empty) are left
-/// as they are. Each record is moved a column of ReorderBuffer::column bytes at a time: the column of every
-/// record is gathered into `buffer`, then copied back (every per-particle record is made of plain numbers, and
-/// the columns of a record are independent bytes).
+/// a[k] = a_old[order[k]] for an array of order.size() entries; arrays of another size (unused, empty) are
+/// left as they are. Each record is moved a column of ReorderBuffer::column bytes at a time: the column of
+/// every record is gathered into `buffer`, then copied back (every per-particle record is made of plain
+/// numbers, and the columns of a record are independent bytes).
 template <class T>
 void gather_by(std::vector<T>& a, const std::vector<std::int32_t>& order, ReorderBuffer& buffer) {
   if (a.size() != order.size()) return;

@@ -1,6 +1,6 @@
 #pragma once
-/// The surface of a body seeded on a lattice: for each particle, the outward area vector of the lattice-cell faces
-/// it shows to the outside.
+/// The surface of a body seeded on a lattice: for each particle, the outward area vector of the lattice-cell
+/// faces it shows to the outside.
 #include <cmath>
 #include <cstdint>
 #include <unordered_set>
@@ -10,13 +10,15 @@
 
 namespace mpm {
 
-/// A particle's outward reference area vector: the sum, over the faces of its spacing-sized lattice cell whose
-/// neighbouring cell holds no particle of the body, of the face's outward normal times its area s^(Dim-1) (per unit
-/// thickness in 2-D; per radian in axisymmetry, where a face of the cell around radius X_r has area r s, r = X_r
-/// +- s / 2 for the faces normal to the radius and X_r for the others). Zero inside the body. The vectors of a closed surface sum
-/// to zero, and those of any part of it to the part's projected areas, exactly; for a face inclined to the lattice
-/// the magnitude of each vector is the staircase's area, which is the true area where the staircase steps evenly.
-/// `X` are the body's reference positions, `origin` any lattice point (a cell centre), `spacing` s.
+/// A particle's outward reference area vector: the sum, over the faces of its spacing-sized lattice cell
+/// whose neighbouring cell holds no particle of the body, of the face's outward normal times its area
+/// s^(Dim-1) (per unit thickness in 2-D; per radian in axisymmetry, where a face of the cell around radius
+/// X_r has area r s, r = X_r
+/// +- s / 2 for the faces normal to the radius and X_r for the others). Zero inside the body. The vectors of
+/// a closed surface sum to zero, and those of any part of it to the part's projected areas, exactly; for a
+/// face inclined to the lattice the magnitude of each vector is the staircase's area, which is the true area
+/// where the staircase steps evenly. `X` are the body's reference positions, `origin` any lattice point (a
+/// cell centre), `spacing` s.
 template <int Dim>
 std::vector<Vec<Dim>> lattice_surface(const std::vector<Vec<Dim>>& X, const Vec<Dim>& origin, Real spacing,
                                       bool axisymmetric = false) {
@@ -25,7 +27,8 @@ std::vector<Vec<Dim>> lattice_surface(const std::vector<Vec<Dim>>& X, const Vec<
     for (int d = 0; d < Dim; ++d) c[d] = static_cast<int>(std::lround((x[d] - origin[d]) / spacing));
     return c;
   };
-  // Cells packed into one integer (21 bits an axis, offset to be positive): bodies far below 2^20 cells a side.
+  // Cells packed into one integer (21 bits an axis, offset to be positive): bodies far below 2^20 cells a
+  // side.
   const auto key = [](const IVec<Dim>& c) {
     std::uint64_t k = 0;
     for (int d = 0; d < Dim; ++d) k = (k << 21) | static_cast<std::uint64_t>(c[d] + (1 << 20));

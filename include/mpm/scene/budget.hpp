@@ -21,13 +21,13 @@ struct BodyEstimate {
 struct Budget {
   std::vector<BodyEstimate> bodies;
   double particles = 0;
-  double nodes = 0;              ///< grid nodes, ghost layers included
-  double memory_bytes = 0;       ///< engine arrays plus the run's own buffers at their peak [B]
-  double first_dt = 0;           ///< the first step [s]; for a CFL step, from the wave speed at rest plus the
-                                 ///< fastest particle's initial speed
-  double steps = 0;              ///< (end_time - start time) / first_dt (at least one)
-  double frames = 0;             ///< particle outputs (particles_NNNN.vtp) the run adds
-  double output_bytes = 0;       ///< frames, history.csv, newton.csv, summary, one checkpoint and its copy [B]
+  double nodes = 0;         ///< grid nodes, ghost layers included
+  double memory_bytes = 0;  ///< engine arrays plus the run's own buffers at their peak [B]
+  double first_dt = 0;      ///< the first step [s]; for a CFL step, from the wave speed at rest plus the
+                            ///< fastest particle's initial speed
+  double steps = 0;         ///< (end_time - start time) / first_dt (at least one)
+  double frames = 0;        ///< particle outputs (particles_NNNN.vtp) the run adds
+  double output_bytes = 0;  ///< frames, history.csv, newton.csv, summary, one checkpoint and its copy [B]
 };
 
 /// Where a run may write and how much memory it may use.
@@ -50,8 +50,8 @@ inline constexpr double max_steps = 1e9;
 /// particles are seeded), from `start_time` (a restart's) to its end time.
 Budget estimate_budget(const Scene& scene, double initial_speed = 0, double start_time = 0);
 
-/// Throws InputError naming `where` (a body's velocity key) when the fastest particle, at `speed` [m/s], would make
-/// the run take more than limits::max_steps steps, or its speed overflows.
+/// Throws InputError naming `where` (a body's velocity key) when the fastest particle, at `speed` [m/s],
+/// would make the run take more than limits::max_steps steps, or its speed overflows.
 void check_initial_speed(const Scene& scene, const std::string& where, double speed);
 
 /// Throws InputError naming the body or key and the estimate when the run exceeds a limit: particles or nodes

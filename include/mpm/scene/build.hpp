@@ -5,8 +5,8 @@
 #include <limits>
 #include <span>
 
-#include "mpm/implicit/spec.hpp"
 #include "mpm/explicit/spec.hpp"
+#include "mpm/implicit/spec.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/scene/scene.hpp"
 
@@ -17,7 +17,8 @@ namespace mpm {
 template <int Dim>
 SimulationSpec<Dim> make_spec(const Scene& scene);
 
-/// The implicit integrator's inputs: grid, faces, [implicit] settings, rate-form materials, rigid bodies, gravity.
+/// The implicit integrator's inputs: grid, faces, [implicit] settings, rate-form materials, rigid bodies,
+/// gravity.
 template <int Dim>
 ImplicitSpec<Dim> make_implicit_spec(const Scene& scene);
 
@@ -28,8 +29,8 @@ ImplicitSpec<Dim> make_implicit_spec(const Scene& scene);
 template <int Dim>
 ParticleSet<Dim> seed_bodies(const Scene& scene);
 
-/// The speed of the fastest of `v` [m/s]: |v| without overflow (finite up to about 1.8e308), infinite where one
-/// overflows or is not a number.
+/// The speed of the fastest of `v` [m/s]: |v| without overflow (finite up to about 1.8e308), infinite where
+/// one overflows or is not a number.
 template <int Dim>
 Real fastest_speed(std::span<const Vec<Dim>> v) {
   Real speed = 0;

@@ -10,8 +10,8 @@
 
 #include "mpm/boundary/boundary.hpp"
 #include "mpm/contact/multi_field.hpp"
-#include "mpm/implicit/spec.hpp"
 #include "mpm/explicit/spec.hpp"
+#include "mpm/implicit/spec.hpp"
 #include "mpm/materials/material.hpp"
 #include "mpm/scene/expression.hpp"
 
@@ -23,10 +23,12 @@ struct SceneFace {
   std::vector<ExpressionPtr> velocity;  ///< one expression of t per component (kind == velocity)
   double friction = -1;  ///< kind fixed or velocity: >= 0 a Coulomb wall with this coefficient; < 0 no slip
   std::string absorbs;   ///< kind absorbing: the material whose waves it lets out
-  double normal_impedance = 0, shear_impedance = 0;  ///< kind absorbing: rho0 c_p and rho0 c_s of that material
+  double normal_impedance = 0,
+         shear_impedance = 0;  ///< kind absorbing: rho0 c_p and rho0 c_s of that material
 };
 
-/// A material: Neo-Hookean, a rate-form hypoelastic / von Mises law (Sulsky & Kaul 2004), or a Newtonian fluid.
+/// A material: Neo-Hookean, a rate-form hypoelastic / von Mises law (Sulsky & Kaul 2004), or a Newtonian
+/// fluid.
 struct SceneMaterial {
   std::string name;
   double density = 0;  ///< [kg/m^3]
@@ -36,19 +38,19 @@ struct SceneMaterial {
 /// A rigid box of material points moving at a prescribed velocity v(t).
 struct SceneRigidBody {
   std::string name;
-  std::vector<double> lo, hi;            ///< box corners [m]
-  int ppc = 2;                           ///< points per cell per axis
-  std::vector<ExpressionPtr> velocity;   ///< expressions of t
-  std::vector<bool> imposes;             ///< per axis: the body imposes this velocity component
-  double friction = -1;                  ///< >= 0: a Coulomb body with this coefficient; < 0 no slip
-  bool holds_inside = false;             ///< nodes = "inside": it holds the nodes in its box, not those it touches
+  std::vector<double> lo, hi;           ///< box corners [m]
+  int ppc = 2;                          ///< points per cell per axis
+  std::vector<ExpressionPtr> velocity;  ///< expressions of t
+  std::vector<bool> imposes;            ///< per axis: the body imposes this velocity component
+  double friction = -1;                 ///< >= 0: a Coulomb body with this coefficient; < 0 no slip
+  bool holds_inside = false;  ///< nodes = "inside": it holds the nodes in its box, not those it touches
 };
 
-/// A [[contact]] table: two groups of bodies (each a body, or several sharing one velocity field) that meet by
-/// the Coulomb law of multi-field contact.
+/// A [[contact]] table: two groups of bodies (each a body, or several sharing one velocity field) that meet
+/// by the Coulomb law of multi-field contact.
 struct SceneContact {
   std::array<std::vector<std::size_t>, 2> groups;  ///< body indices of each side
-  double friction = 0;  ///< >= 0; infinity: "no-slip"
+  double friction = 0;                             ///< >= 0; infinity: "no-slip"
   ContactNormal normal = ContactNormal::average;
   double gap = std::numeric_limits<double>::infinity();  ///< [cells]; infinity: every approach is contact
 };
@@ -70,30 +72,31 @@ struct SceneImplicit {
   int max_retries = 8;
 };
 
-/// A body of particles: a box, a disk (sphere in 3-D), a ring (annulus; spherical shell in 3-D), or a CSV file
-/// of positions and volumes.
+/// A body of particles: a box, a disk (sphere in 3-D), a ring (annulus; spherical shell in 3-D), or a CSV
+/// file of positions and volumes.
 struct SceneBody {
   enum class Shape { box, disk, ring, file } shape = Shape::box;
   std::string name;
-  std::vector<double> lo, hi;       ///< box corners [m]
-  std::vector<double> center;       ///< disk and ring centre [m]
-  double radius = 0;                ///< disk and outer ring radius [m]
-  double inner_radius = 0;          ///< ring inner radius [m]
-  std::filesystem::path file;       ///< particle file (shape == file)
-  int ppc = 2;                      ///< particles per cell per axis (lattice shapes)
-  std::size_t material = 0;         ///< index into Scene::materials
+  std::vector<double> lo, hi;               ///< box corners [m]
+  std::vector<double> center;               ///< disk and ring centre [m]
+  double radius = 0;                        ///< disk and outer ring radius [m]
+  double inner_radius = 0;                  ///< ring inner radius [m]
+  std::filesystem::path file;               ///< particle file (shape == file)
+  int ppc = 2;                              ///< particles per cell per axis (lattice shapes)
+  std::size_t material = 0;                 ///< index into Scene::materials
   std::vector<ExpressionPtr> velocity;      ///< initial velocity, expressions of x, y, z
   std::vector<ExpressionPtr> displacement;  ///< optional initial displacement u(X, Y, Z)
   std::vector<ExpressionPtr> deformation;   ///< optional initial F (row by row), expressions of X, Y, Z
-  double k0 = -1;  ///< >= 0: the body starts in the geostatic stress of its weight with this K0 (set_geostatic_stress)
+  double k0 = -1;  ///< >= 0: the body starts in the geostatic stress of its weight with this K0
+                   ///< (set_geostatic_stress)
 };
 
 /// A traction [Pa] on one face of a box body, carried by the body's outermost particle layer at that face.
 /// [[loads.traction]] or [[loads.pressure]]: a load on the surface of a body seeded on a lattice.
 struct SceneSurfaceLoad {
   std::size_t body = 0;
-  int face = -1;                        ///< only the body's faces looking this way (x-min, x-max, ...); -1: all
-  std::vector<double> lo, hi;           ///< only surface particles whose reference centre is in [lo, hi]; empty: all
+  int face = -1;               ///< only the body's faces looking this way (x-min, x-max, ...); -1: all
+  std::vector<double> lo, hi;  ///< only surface particles whose reference centre is in [lo, hi]; empty: all
   std::vector<ExpressionPtr> traction;  ///< a traction's components, expressions of t [Pa]
   ExpressionPtr pressure;               ///< a pressure, an expression of t [Pa]
 };
@@ -110,14 +113,16 @@ struct Scene {
   bool implicit = false;  ///< integrator = "implicit": the [implicit] table applies
   Geometry geometry = Geometry::plane_strain;
   KernelKind kernel = KernelKind::linear;
-  /// uGIMP smoothing length l, the full particle width the kernel uses (Steffen et al. 2008, Sec. 4.1: l = 0 is
-  /// linear MPM, which the reader selects, l = h gives the quadratic B-spline); absent: each particle's own size.
+  /// uGIMP smoothing length l, the full particle width the kernel uses (Steffen et al. 2008, Sec. 4.1: l = 0
+  /// is linear MPM, which the reader selects, l = h gives the quadratic B-spline); absent: each particle's
+  /// own size.
   std::optional<double> gimp_length;
   double dt = 0, cfl = 0;  ///< exactly one is positive
   int threads = 0;
-  bool reproject_light_nodes = true;  ///< light_nodes = "reproject" (see SimulationSpec::reproject_light_nodes)
-  double local_damping = 0;           ///< SimulationSpec::local_damping
-  double flip_fraction = 1;           ///< [simulation] transfer = "flip": SimulationSpec::flip_fraction
+  bool reproject_light_nodes =
+      true;                  ///< light_nodes = "reproject" (see SimulationSpec::reproject_light_nodes)
+  double local_damping = 0;  ///< SimulationSpec::local_damping
+  double flip_fraction = 1;  ///< [simulation] transfer = "flip": SimulationSpec::flip_fraction
   Transfer transfer = Transfer::flip;  ///< [simulation] transfer: SimulationSpec::transfer
 
   // [output]
@@ -135,8 +140,8 @@ struct Scene {
   std::vector<SceneBody> bodies;
   std::vector<SceneRigidBody> rigid_bodies;
   std::vector<SceneContact> contacts;
-  /// The velocity field of each body (ParticleSet::field): 0 for all without [[contact]]; otherwise the bodies no
-  /// table names share field 0, and each group named has a field of its own.
+  /// The velocity field of each body (ParticleSet::field): 0 for all without [[contact]]; otherwise the
+  /// bodies no table names share field 0, and each group named has a field of its own.
   std::vector<int> body_field;
   int fields = 1;
   SceneImplicit implicit_step;

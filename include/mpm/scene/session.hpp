@@ -1,6 +1,6 @@
 #pragma once
-/// A scene run driven one step at a time (the Python module's Simulation): the same engine, steps and outputs as
-/// `mpm run` (run_scene), with the particle and grid arrays readable between steps.
+/// A scene run driven one step at a time (the Python module's Simulation): the same engine, steps and outputs
+/// as `mpm run` (run_scene), with the particle and grid arrays readable between steps.
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -17,8 +17,8 @@ namespace mpm {
 /// (`owned` empty: valid until the next step, which may reorder the particles) or a copy (`owned` holds it).
 struct FieldArray {
   std::string name;
-  char kind = 'f';              ///< NumPy kind: 'f' float, 'i' signed, 'u' unsigned integer
-  std::size_t item_size = 8;    ///< bytes per element
+  char kind = 'f';            ///< NumPy kind: 'f' float, 'i' signed, 'u' unsigned integer
+  std::size_t item_size = 8;  ///< bytes per element
   std::vector<std::size_t> shape;
   std::vector<std::ptrdiff_t> strides;  ///< bytes, per axis of shape
   const void* data = nullptr;
@@ -40,8 +40,8 @@ class Session {
   virtual double end_time() const = 0;
   /// The step the next call to step() will try (the implicit engine may halve it).
   virtual double next_dt() const = 0;
-  /// One whole step and its outputs (RunOptions::out_dir). Throws SimulationFailure on a numerical failure (the
-  /// outputs then say so, as `mpm run` does) and InputError when the scene has already ended.
+  /// One whole step and its outputs (RunOptions::out_dir). Throws SimulationFailure on a numerical failure
+  /// (the outputs then say so, as `mpm run` does) and InputError when the scene has already ended.
   virtual void step() = 0;
   /// The end of the run's outputs: the last frame, a checkpoint when asked or unfinished, summary.json with
   /// status "ok" at the end time, "stopped" before it, or "failed" after a failure. Later calls do nothing.

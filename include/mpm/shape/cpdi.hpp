@@ -1,12 +1,13 @@
 #pragma once
-/// CPDI, the convected particle domain interpolation of Sadeghirad, Brannon & Burghardt 2011: a particle's domain is
-/// the parallelogram (parallelepiped) about x_p spanned by r_k = F_p r_k^0, r_k^0 = l_p0,k e_k its initial
-/// half-edges, and its function is the corners' multilinear interpolation of the grid's hats N_i:
+/// CPDI, the convected particle domain interpolation of Sadeghirad, Brannon & Burghardt 2011: a particle's
+/// domain is the parallelogram (parallelepiped) about x_p spanned by r_k = F_p r_k^0, r_k^0 = l_p0,k e_k its
+/// initial half-edges, and its function is the corners' multilinear interpolation of the grid's hats N_i:
 ///   S_ip = 2^-D sum_c N_i(x_c),  grad S_ip = sum_c N_i(x_c) a_c / V_p,  x_c = x_p + R s_c,
-/// with R = [r_1 ... r_D], s_c in {-1, 1}^D the corner's signs and a_c / V_p = 2^-D R^-T s_c (the integral of the
-/// corner function's gradient over the domain, over its volume V_p = 2^D det R). The weights are not a tensor
-/// product over the axes but a sum of 2^D of them: the stencil keeps per axis the particle's place and a row of R
-/// and of 2^-D R^-T, and the transfers sum the corners' products (CornerWeights) over a block of 4^D nodes.
+/// with R = [r_1 ... r_D], s_c in {-1, 1}^D the corner's signs and a_c / V_p = 2^-D R^-T s_c (the integral of
+/// the corner function's gradient over the domain, over its volume V_p = 2^D det R). The weights are not a
+/// tensor product over the axes but a sum of 2^D of them: the stencil keeps per axis the particle's place and
+/// a row of R and of 2^-D R^-T, and the transfers sum the corners' products (CornerWeights) over a block of
+/// 4^D nodes.
 #include <array>
 #include <cstdint>
 
@@ -35,9 +36,9 @@ void cofactors(const T (&A)[Dim][Dim], T (&C)[Dim][Dim]) {
   }
 }
 
-/// The CPDI kernel over the linear hats, in Dim dimensions. A corner is at most one cell from the particle's centre
-/// along each axis (see locate), so the nodes of a particle lie in a block of 4 per axis from base = floor(xi) - 1,
-/// as the cubic B-spline's.
+/// The CPDI kernel over the linear hats, in Dim dimensions. A corner is at most one cell from the particle's
+/// centre along each axis (see locate), so the nodes of a particle lie in a block of 4 per axis from base =
+/// floor(xi) - 1, as the cubic B-spline's.
 template <int Dim>
 struct CpdiKernel {
   static constexpr int width = 4;
@@ -58,10 +59,10 @@ struct CpdiKernel {
   static constexpr Real sign(int c, int k) { return (c >> k) & 1 ? 1 : -1; }
 
   /// The base nodes and axis data of particles at xi (in cells) with domain vectors R (in cells, R[a][k] the
-  /// component a of r_k), for one particle or lanes. A domain reaching farther than one cell from its centre along
-  /// some axis is scaled about the centre, its shape kept, so that this axis reaches exactly one cell (the lcrit
-  /// bound of Uintah's CPDI with lcrit = 1): the weights keep the partition of unity and the linear reproduction,
-  /// and the particle's volume for its stress stays V_0 det F.
+  /// component a of r_k), for one particle or lanes. A domain reaching farther than one cell from its centre
+  /// along some axis is scaled about the centre, its shape kept, so that this axis reaches exactly one cell
+  /// (the lcrit bound of Uintah's CPDI with lcrit = 1): the weights keep the partition of unity and the
+  /// linear reproduction, and the particle's volume for its stress stays V_0 det F.
   template <class T>
   static auto locate(const T (&xi)[Dim], T (&R)[Dim][Dim], AxisOf<T> (&a)[Dim]) {
     T extent{};
@@ -90,9 +91,10 @@ struct CpdiKernel {
     return base;
   }
 
-  /// CPDI of an axis-aligned box of half-length l (in cells) along one axis, the corners' trapezoid average of the
-  /// hats, a tensor-product kernel: N = (N(xi - l) + N(xi + l)) / 2, dN = (N(xi + l) - N(xi - l)) / (2 l). The
-  /// stencils of points with half-lengths (rigid bodies) and the base nodes of the decomposition use it.
+  /// CPDI of an axis-aligned box of half-length l (in cells) along one axis, the corners' trapezoid average
+  /// of the hats, a tensor-product kernel: N = (N(xi - l) + N(xi + l)) / 2, dN = (N(xi + l) - N(xi - l)) / (2
+  /// l). The stencils of points with half-lengths (rigid bodies) and the base nodes of the decomposition use
+  /// it.
   struct Box {
     static constexpr int width = 4;
     static constexpr const char* name = "cpdi-box";
@@ -128,7 +130,9 @@ struct CpdiKernel {
 
 /// Whether a kernel is CPDI's (its weights a sum over a domain's corners).
 template <class Kernel>
-inline constexpr bool is_cpdi = requires { Kernel::corners; };
+inline constexpr bool is_cpdi = requires {
+  Kernel::corners;
+};
 
 namespace detail {
 template <class Kernel>
@@ -141,15 +145,16 @@ struct BoxOf<CpdiKernel<Dim>> {
 };
 }  // namespace detail
 
-/// The tensor-product kernel of an axis-aligned box with half-lengths l (a point of a rigid body, the decomposition's
-/// base nodes): the kernel itself, or CPDI's of a box (CpdiKernel::Box), whose base node is CPDI's.
+/// The tensor-product kernel of an axis-aligned box with half-lengths l (a point of a rigid body, the
+/// decomposition's base nodes): the kernel itself, or CPDI's of a box (CpdiKernel::Box), whose base node is
+/// CPDI's.
 template <class Kernel>
 using BoxKernel = typename detail::BoxOf<Kernel>::type;
 
-/// The weights of one particle's stencil (T = Real) or of lanes of them (T = RealLanes), for CPDI or CPDI2 (whose
-/// axes carry each corner's place, gradient weight and weight; shape/cpdi2.hpp): the hats of each corner along each
-/// axis at the 4 nodes of the block, each corner's gradient weight a_c / V_p [1/m] and, for CPDI2, its weight w_c
-/// (CPDI's are all 2^-D).
+/// The weights of one particle's stencil (T = Real) or of lanes of them (T = RealLanes), for CPDI or CPDI2
+/// (whose axes carry each corner's place, gradient weight and weight; shape/cpdi2.hpp): the hats of each
+/// corner along each axis at the 4 nodes of the block, each corner's gradient weight a_c / V_p [1/m] and, for
+/// CPDI2, its weight w_c (CPDI's are all 2^-D).
 template <int Dim, class T, class Kernel = CpdiKernel<Dim>>
 struct CornerWeights {
   static constexpr int C = Kernel::corners, N = Kernel::width;

@@ -1,16 +1,16 @@
 #pragma once
-/// CPDI2 (Sadeghirad, Brannon & Guilkey 2013): the particle's domain is the quadrilateral (2-D) or hexahedron (3-D)
-/// spanned by its 2^D corners, which move with the grid velocity; its function is the corners' multilinear
-/// interpolation of the grid's hats over that domain:
+/// CPDI2 (Sadeghirad, Brannon & Guilkey 2013): the particle's domain is the quadrilateral (2-D) or hexahedron
+/// (3-D) spanned by its 2^D corners, which move with the grid velocity; its function is the corners'
+/// multilinear interpolation of the grid's hats over that domain:
 ///   S_ip = sum_c w_c N_i(x_c),  grad S_ip = sum_c g_c N_i(x_c),
 ///   w_c = (1/V) int M_c dV,  g_c = (1/V) int grad M_c dV,  V = int dV,
-/// M_c the corner's multilinear function of the reference cube [-1, 1]^D mapped onto the domain. With the Jacobian J of
-/// that map, M_c det J and cof(J) grad_xi M_c (cof(J) = det J J^-T) are polynomials of degree at most 3 in each
-/// reference coordinate, so the 2^D-point Gauss rule (points +-1/sqrt 3) integrates them exactly; no inverse is
-/// needed. Corner c sits at reference signs s_ck = bit k of c (CpdiKernel::sign).
-/// The corners move with the grid velocity, x_c += dt sum_i N_i(x_c) v_i (Sadeghirad et al. 2013; the
-/// transfer's g2p_corners), and the particle sits at its domain's centroid sum_c w_c x_c, where the weights'
-/// first moments put it (sum_i S_ip x_i = sum_c w_c x_c): its position follows the corners, not the other way.
+/// M_c the corner's multilinear function of the reference cube [-1, 1]^D mapped onto the domain. With the
+/// Jacobian J of that map, M_c det J and cof(J) grad_xi M_c (cof(J) = det J J^-T) are polynomials of degree
+/// at most 3 in each reference coordinate, so the 2^D-point Gauss rule (points +-1/sqrt 3) integrates them
+/// exactly; no inverse is needed. Corner c sits at reference signs s_ck = bit k of c (CpdiKernel::sign). The
+/// corners move with the grid velocity, x_c += dt sum_i N_i(x_c) v_i (Sadeghirad et al. 2013; the transfer's
+/// g2p_corners), and the particle sits at its domain's centroid sum_c w_c x_c, where the weights' first
+/// moments put it (sum_i S_ip x_i = sum_c w_c x_c): its position follows the corners, not the other way.
 #include <cmath>
 
 #include "mpm/core/types.hpp"
@@ -19,8 +19,8 @@
 
 namespace mpm {
 
-/// The weights w_c, gradient weights g_c (per unit of the corners' coordinates) and volume V of the domain spanned by
-/// corners x[c][d], for one domain (T = Real) or lanes of them.
+/// The weights w_c, gradient weights g_c (per unit of the corners' coordinates) and volume V of the domain
+/// spanned by corners x[c][d], for one domain (T = Real) or lanes of them.
 template <int Dim, class T>
 struct CornerDomain {
   static constexpr int C = 1 << Dim;
@@ -70,8 +70,8 @@ struct CornerDomain {
   }
 };
 
-/// The CPDI2 kernel over the linear hats, in Dim dimensions: CPDI's block of 4 nodes per axis from floor(xi) - 1
-/// (CpdiKernel), with the domain given by its stored corners instead of F_p diag(l_p0).
+/// The CPDI2 kernel over the linear hats, in Dim dimensions: CPDI's block of 4 nodes per axis from floor(xi)
+/// - 1 (CpdiKernel), with the domain given by its stored corners instead of F_p diag(l_p0).
 template <int Dim>
 struct Cpdi2Kernel {
   static constexpr int width = 4;
@@ -94,10 +94,10 @@ struct Cpdi2Kernel {
     return CpdiKernel<Dim>::hat(u);
   }
 
-  /// The base nodes and axis data of particles at xi (in cells) whose corners are X[c][d] cells from them, for one
-  /// particle or lanes. A corner farther than one cell from the centre along some axis scales the domain about the
-  /// centre for the weights, as CpdiKernel::locate (lcrit = 1): w_c is unchanged, g_c scales inversely, and the
-  /// stored corners keep moving with the grid.
+  /// The base nodes and axis data of particles at xi (in cells) whose corners are X[c][d] cells from them,
+  /// for one particle or lanes. A corner farther than one cell from the centre along some axis scales the
+  /// domain about the centre for the weights, as CpdiKernel::locate (lcrit = 1): w_c is unchanged, g_c scales
+  /// inversely, and the stored corners keep moving with the grid.
   template <class T>
   static auto locate(const T (&xi)[Dim], T (&X)[corners][Dim], AxisOf<T> (&a)[Dim]) {
     T extent{};
@@ -134,14 +134,15 @@ struct BoxOf<Cpdi2Kernel<Dim>> {  // an axis-aligned box's CPDI2 domain is CPDI'
 };
 }  // namespace detail
 
-/// The smallest Jacobian determinant det(d x / d xi) of the domain's map at its corners, for one domain or lanes:
-/// positive at every corner for a domain that is not folded (in 2-D: a convex quadrilateral, its corners in the
-/// order of the reference square's).
+/// The smallest Jacobian determinant det(d x / d xi) of the domain's map at its corners, for one domain or
+/// lanes: positive at every corner for a domain that is not folded (in 2-D: a convex quadrilateral, its
+/// corners in the order of the reference square's).
 template <int Dim, class T>
 T min_corner_jacobian(const T (&x)[1 << Dim][Dim]) {
   constexpr int C = 1 << Dim;
   T least{};
-  for (int q = 0; q < C; ++q) {  // at corner q, d x / d xi_k is half the edge from its neighbour across axis k
+  for (int q = 0; q < C;
+       ++q) {  // at corner q, d x / d xi_k is half the edge from its neighbour across axis k
     T J[Dim][Dim];
     for (int k = 0; k < Dim; ++k) {
       const int other = q ^ (1 << k);
@@ -156,10 +157,11 @@ T min_corner_jacobian(const T (&x)[1 << Dim][Dim]) {
   return least;
 }
 
-/// The centroid sum_c w_c x_c of corners x_c, for one domain (T = Real) or lanes of them, taken about `near` (a
-/// point close to them, for the rounding), and whether the domain is unfolded (min_corner_jacobian > 0).
+/// The centroid sum_c w_c x_c of corners x_c, for one domain (T = Real) or lanes of them, taken about `near`
+/// (a point close to them, for the rounding), and whether the domain is unfolded (min_corner_jacobian > 0).
 template <int Dim, class T>
-[[gnu::always_inline]] inline auto corner_centroid(const T (&x)[1 << Dim][Dim], const T (&near)[Dim], T (&centroid)[Dim]) {
+[[gnu::always_inline]] inline auto corner_centroid(const T (&x)[1 << Dim][Dim], const T (&near)[Dim],
+                                                   T (&centroid)[Dim]) {
   T offset[1 << Dim][Dim];
   for (int c = 0; c < (1 << Dim); ++c)
     for (int d = 0; d < Dim; ++d) offset[c][d] = x[c][d] - near[d];
@@ -171,8 +173,8 @@ template <int Dim, class T>
   return min_corner_jacobian<Dim>(offset) > 0;
 }
 
-/// The corners of particles whose domains are their CPDI parallelograms x_p + F_p diag(l_p0) s_c (Sadeghirad et al.
-/// 2011), where a CPDI2 run starts: its seeded particles, undeformed, are their GIMP boxes.
+/// The corners of particles whose domains are their CPDI parallelograms x_p + F_p diag(l_p0) s_c (Sadeghirad
+/// et al. 2011), where a CPDI2 run starts: its seeded particles, undeformed, are their GIMP boxes.
 template <int Dim>
 void place_corners(ParticleSet<Dim>& p) {
   p.corners.resize(p.size());

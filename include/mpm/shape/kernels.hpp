@@ -3,8 +3,8 @@
 /// stencil keeps per axis (`Axis`: as little as reproduces the weights cheaply), `locate` (base node and
 /// Axis data of a position) and `weights_at` (weights and gradients of the `width` consecutive nodes starting
 /// at the base). Positions are in grid units (xi = (x - lo)/h), gradients per grid unit; multi-D weights are
-/// tensor products. `Axis` is `AxisOf<Real>`; `weights_at` also takes `AxisOf<simd::RealLanes>`, whose members are
-/// the same Reals of several particles in SIMD lanes (LaneStencil).
+/// tensor products. `Axis` is `AxisOf<Real>`; `weights_at` also takes `AxisOf<simd::RealLanes>`, whose
+/// members are the same Reals of several particles in SIMD lanes (LaneStencil).
 #include <algorithm>
 #include <cmath>
 
@@ -24,8 +24,8 @@ struct KernelWeights {
   }
 };
 
-/// The Axis of a kernel whose stencil keeps its `Width` weights and gradients (GIMP's, costly to evaluate), and
-/// their weights_at.
+/// The Axis of a kernel whose stencil keeps its `Width` weights and gradients (GIMP's, costly to evaluate),
+/// and their weights_at.
 template <int Width>
 struct StoredWeights {
   template <class T>
@@ -111,13 +111,13 @@ struct GimpKernel : KernelWeights<GimpKernel>, StoredWeights<3> {
   }
 };
 
-/// GIMP for half-lengths up to a cell, 0 < l_p <= 1 (grid units): the support |x_p - x_i| < h + l_p then spans 4
-/// nodes from base = floor(xi) - 1. Wallstedt & Guilkey 2008, Eq. (5), Eq. (6) set no bound on l_p; their closed
-/// form in q = |r| holds for every node and every l_p <= 1 once both corrections are kept,
+/// GIMP for half-lengths up to a cell, 0 < l_p <= 1 (grid units): the support |x_p - x_i| < h + l_p then
+/// spans 4 nodes from base = floor(xi) - 1. Wallstedt & Guilkey 2008, Eq. (5), Eq. (6) set no bound on l_p;
+/// their closed form in q = |r| holds for every node and every l_p <= 1 once both corrections are kept,
 ///   S = max(0, 1 - q - v^2/(2l) + u^2/(4l)),  dS/dq = -1 + v/l + u/(2l),
 ///   v = max(0, l - q),  u = clamp(q - 1 + l, 0, 2l)
-/// (the hat integrated over [q - l, q + l] as 1 - |s| plus its excess (|s| - 1)_+ beyond a cell; the excess below -1
-/// needs q < l - 1 <= 0). It is GimpKernel's weights on a stencil one node wider.
+/// (the hat integrated over [q - l, q + l] as 1 - |s| plus its excess (|s| - 1)_+ beyond a cell; the excess
+/// below -1 needs q < l - 1 <= 0). It is GimpKernel's weights on a stencil one node wider.
 struct WideGimpKernel : KernelWeights<WideGimpKernel>, StoredWeights<4> {
   static constexpr int width = 4;
   static constexpr int ghost = 2;
@@ -155,7 +155,8 @@ struct QuadraticBSplineKernel : KernelWeights<QuadraticBSplineKernel> {
     ax.r = xi - simd::to_real(base);
     return base;
   }
-  /// Move the base node by `shift` nodes (a clamped face, stencil.hpp's locate_axis): r stays the distance to it.
+  /// Move the base node by `shift` nodes (a clamped face, stencil.hpp's locate_axis): r stays the distance to
+  /// it.
   template <class T>
   static void rebase(AxisOf<T>& ax, const T& shift) {
     ax.r += shift;
@@ -170,10 +171,11 @@ struct QuadraticBSplineKernel : KernelWeights<QuadraticBSplineKernel> {
     dw[0] = -a;
     dw[1] = -2 * b;
     dw[2] = c;
-    // Clamped knots (Steffen et al. 2008, Sec. 4.3): within half a cell of a clamped face the base node is the
-    // face's (r < 1/2 at a lower face, r > 3/2 at an upper one), and the ghost node's function is folded into the
-    // face's two nodes by linear extrapolation, N_0 + 2 N_-1 and N_1 - N_-1: there the basis is the hat.
-    const auto lower = r < 0.5, upper = r > 1.5;
+    // Clamped knots (Steffen et al. 2008, Sec. 4.3): within half a cell of a clamped face the base node is
+    // the face's (r < 1/2 at a lower face, r > 3/2 at an upper one), and the ghost node's function is folded
+    // into the face's two nodes by linear extrapolation, N_0 + 2 N_-1 and N_1 - N_-1: there the basis is the
+    // hat.
+    const auto lower = r<0.5, upper = r> 1.5;
     const T zero{}, one = zero + 1;
     w[0] = lower ? 1 - r : upper ? zero : w[0];
     w[1] = lower ? r : upper ? 2 - r : w[1];
@@ -218,11 +220,12 @@ struct CubicBSplineKernel : KernelWeights<CubicBSplineKernel> {
     dw[1] = 1.5 * t * t - 2 * t;
     dw[2] = -1.5 * s * s + 2 * s;
     dw[3] = 0.5 * t * t;
-    // Clamped knots (Steffen et al. 2008, Sec. 4.3): within a cell of a clamped face the base node is the face's
-    // (t < 0 at a lower face, t > 1 at an upper one), and the ghost node's function is folded into the face's two
-    // nodes by linear extrapolation, N_0 + 2 N_-1 and N_1 - N_-1. With q the distance to the face in cells:
-    // N_0 = 1 - q + q^3/6, N_1 = q - q^3/3, N_2 = q^3/6, the natural cubic spline's end (N'' = 0 on the face).
-    const auto lower = t < 0, upper = t > 1;
+    // Clamped knots (Steffen et al. 2008, Sec. 4.3): within a cell of a clamped face the base node is the
+    // face's (t < 0 at a lower face, t > 1 at an upper one), and the ghost node's function is folded into the
+    // face's two nodes by linear extrapolation, N_0 + 2 N_-1 and N_1 - N_-1. With q the distance to the face
+    // in cells: N_0 = 1 - q + q^3/6, N_1 = q - q^3/3, N_2 = q^3/6, the natural cubic spline's end (N'' = 0 on
+    // the face).
+    const auto lower = t<0, upper = t> 1;
     const T q = lower ? t + 1 : 2 - t, q2 = q * q, q3 = q2 * q;
     const T zero{}, end = 1 - q + q3 / 6, next = q - q3 / 3, third = q3 / 6;
     const T d_end = 0.5 * q2 - 1, d_next = 1 - q2, d_third = 0.5 * q2;  // d/dq

@@ -21,28 +21,32 @@ namespace mpm {
 
 template <int Dim, class Kernel>
 struct Stencil {
-  std::int32_t node;                            ///< flat index of the base node
-  std::int32_t tile_slot;  ///< the tile holding the base node and the base node's place in it (GridGeometry::slot_bits)
+  std::int32_t node;       ///< flat index of the base node
+  std::int32_t tile_slot;  ///< the tile holding the base node and the base node's place in it
+                           ///< (GridGeometry::slot_bits)
   std::array<typename Kernel::Axis, Dim> axis;  ///< per-axis data the kernel evaluates weights from
 };
 
 /// Whether a tensor-product kernel's weights depend on the particles' half-lengths l_p (GIMP's).
 template <class Kernel>
-inline constexpr bool weighs_half_lengths = requires { Kernel::max_half_length; };
+inline constexpr bool weighs_half_lengths = requires {
+  Kernel::max_half_length;
+};
 
-/// Whether a kernel reads the particles' half-lengths: GIMP's l_p, CPDI's l_p^0 (its domain vectors F_p diag(l_p^0))
-/// and CPDI2's, from which its corners are first placed. The others leave ParticleSet::l0 empty.
+/// Whether a kernel reads the particles' half-lengths: GIMP's l_p, CPDI's l_p^0 (its domain vectors F_p
+/// diag(l_p^0)) and CPDI2's, from which its corners are first placed. The others leave ParticleSet::l0 empty.
 template <class Kernel>
 inline constexpr bool reads_half_lengths = weighs_half_lengths<Kernel> || is_cpdi<Kernel>;
 
-/// Whether a particle keeps its stencil's axis data from the stencil's locate to its use: CPDI's and CPDI2's, whose
-/// locate reads the whole domain. A tensor-product kernel's particle keeps the base node and tile; the axis data is
-/// located again where it is read, from the particle's position and half-lengths, which do not change in between
-/// (USF excepted, which keeps its half-lengths: ParticleStencils): the same bits.
+/// Whether a particle keeps its stencil's axis data from the stencil's locate to its use: CPDI's and CPDI2's,
+/// whose locate reads the whole domain. A tensor-product kernel's particle keeps the base node and tile; the
+/// axis data is located again where it is read, from the particle's position and half-lengths, which do not
+/// change in between (USF excepted, which keeps its half-lengths: ParticleStencils): the same bits.
 template <class Kernel>
 inline constexpr bool keeps_axes = is_cpdi<Kernel>;
 
-/// What a tensor-product kernel's particle keeps of its stencil: the base node and tile (Stencil's first two members).
+/// What a tensor-product kernel's particle keeps of its stencil: the base node and tile (Stencil's first two
+/// members).
 struct StencilIndex {
   std::int32_t node;
   std::int32_t tile_slot;
@@ -59,8 +63,8 @@ struct StencilLanes {
   using AxisLanes = typename Kernel::template AxisOf<RealLanes>;
   static constexpr int axis_reals = reals_in<typename Kernel::Axis>;
   using StencilT = Stencil<Dim, Kernel>;
-  static_assert(sizeof(StencilT) == (1 + Dim * axis_reals) * sizeof(Real) && offsetof(StencilT, tile_slot) == 4 &&
-                    sizeof(AxisLanes) == axis_reals * sizeof(RealLanes),
+  static_assert(sizeof(StencilT) == (1 + Dim * axis_reals) * sizeof(Real) &&
+                    offsetof(StencilT, tile_slot) == 4 && sizeof(AxisLanes) == axis_reals * sizeof(RealLanes),
                 "a stencil is two 32-bit indices and Dim axes of Reals; AxisOf holds only its T members");
 
   IntLanes node, tile_slot;
@@ -110,9 +114,9 @@ struct NodeLayout {
 };
 
 /// The base node along axis d (a global index) of a position xi in grid units with half-length l, and the
-/// kernel's axis data: Kernel::locate, then at the faces the geometry clamps (GridGeometry::clamped, B-splines
-/// only), the base node held inside, so that the stencil ends on the face's node (the kernel folds its weights).
-/// For one position or lanes of them.
+/// kernel's axis data: Kernel::locate, then at the faces the geometry clamps (GridGeometry::clamped,
+/// B-splines only), the base node held inside, so that the stencil ends on the face's node (the kernel folds
+/// its weights). For one position or lanes of them.
 template <class Kernel, int Dim, class T>
 [[gnu::always_inline]] inline auto locate_axis(const GridGeometry<Dim>& g, int d, const T& xi, const T& l,
                                                typename Kernel::template AxisOf<T>& a) {
@@ -131,9 +135,9 @@ template <class Kernel, int Dim, class T>
   return base;
 }
 
-/// What locates a particle's stencil besides its position: the half-lengths l_p of a tensor-product kernel (GIMP's
-/// domain, ParticleSet::half_length; the others ignore them), CPDI's domain vectors R = [r_1 ... r_D] = F_p diag(l_p0)
-/// (Sadeghirad et al. 2011), or CPDI2's corners (Sadeghirad et al. 2013).
+/// What locates a particle's stencil besides its position: the half-lengths l_p of a tensor-product kernel
+/// (GIMP's domain, ParticleSet::half_length; the others ignore them), CPDI's domain vectors R = [r_1 ... r_D]
+/// = F_p diag(l_p0) (Sadeghirad et al. 2011), or CPDI2's corners (Sadeghirad et al. 2013).
 template <int Dim, class Kernel>
 using Domain = std::conditional_t<moves_corners<Kernel>, Corners<Dim>,
                                   std::conditional_t<is_cpdi<Kernel>, Mat<Dim>, Vec<Dim>>>;
@@ -152,7 +156,7 @@ Domain<Dim, Kernel> domain_of(const ParticleSet<Dim>& p, std::size_t i) {
 /// The Domains of a block of particles, in lanes (Mat is column-major: entry (a, k) is Real a + k Dim).
 template <int Dim, class Kernel>
 [[gnu::always_inline]] inline RecordLanes<Domain<Dim, Kernel>> load_domain(const LaneBlock& block,
-                                                                          const ParticleSet<Dim>& p) {
+                                                                           const ParticleSet<Dim>& p) {
   if constexpr (moves_corners<Kernel>) {
     return block.load(p.corners);
   } else if constexpr (is_cpdi<Kernel>) {
@@ -171,12 +175,14 @@ template <int Dim, class Kernel>
   }
 }
 
-/// The base nodes (global indices) and axis data of particles at x with domains `domain`, for one particle (T =
-/// Real, x and domain Eigen values) or lanes (T = RealLanes, x and domain RecordLanes): locate_axis along each axis
-/// for a tensor-product kernel, CpdiKernel::locate of the domain in cells for CPDI, Cpdi2Kernel::locate of the
-/// corners' places from x in cells for CPDI2 (Corners is column-major: coordinate d of corner c is Real d + c Dim).
+/// The base nodes (global indices) and axis data of particles at x with domains `domain`, for one particle (T
+/// = Real, x and domain Eigen values) or lanes (T = RealLanes, x and domain RecordLanes): locate_axis along
+/// each axis for a tensor-product kernel, CpdiKernel::locate of the domain in cells for CPDI,
+/// Cpdi2Kernel::locate of the corners' places from x in cells for CPDI2 (Corners is column-major: coordinate
+/// d of corner c is Real d + c Dim).
 template <class Kernel, int Dim, class T, class X, class D>
-[[gnu::always_inline]] inline auto locate_stencil(const GridGeometry<Dim>& g, Real inv_h, const X& x, const D& domain,
+[[gnu::always_inline]] inline auto locate_stencil(const GridGeometry<Dim>& g, Real inv_h, const X& x,
+                                                  const D& domain,
                                                   typename Kernel::template AxisOf<T> (&axis)[Dim]) {
   T xi[Dim];
   for (int d = 0; d < Dim; ++d) xi[d] = (x[d] - g.lo[d]) * inv_h;
@@ -220,8 +226,8 @@ inline Stencil<Dim, Kernel> make_stencil(const GridGeometry<Dim>& g, const NodeL
 
 /// What a particle at x with domain `domain` keeps of its stencil (StoredStencil of make_stencil's).
 template <int Dim, class Kernel>
-StoredStencil<Dim, Kernel> make_stored_stencil(const GridGeometry<Dim>& g, const NodeLayout<Dim>& nl, const Vec<Dim>& x,
-                                               const Domain<Dim, Kernel>& domain) {
+StoredStencil<Dim, Kernel> make_stored_stencil(const GridGeometry<Dim>& g, const NodeLayout<Dim>& nl,
+                                               const Vec<Dim>& x, const Domain<Dim, Kernel>& domain) {
   const Stencil<Dim, Kernel> s = make_stencil<Dim, Kernel>(g, nl, x, domain);
   if constexpr (keeps_axes<Kernel>) {
     return s;
@@ -233,10 +239,9 @@ StoredStencil<Dim, Kernel> make_stored_stencil(const GridGeometry<Dim>& g, const
 /// The stencils of a block of particles at positions x with domains `domain` (load_domain): make_stencil's
 /// arithmetic in lanes.
 template <int Dim, class Kernel>
-[[gnu::always_inline]] inline StencilLanes<Dim, Kernel> locate_block(const GridGeometry<Dim>& g,
-                                                                     const NodeLayout<Dim>& nl,
-                                                                     const RecordLanes<Vec<Dim>>& x,
-                                                                     const RecordLanes<Domain<Dim, Kernel>>& domain) {
+[[gnu::always_inline]] inline StencilLanes<Dim, Kernel> locate_block(
+    const GridGeometry<Dim>& g, const NodeLayout<Dim>& nl, const RecordLanes<Vec<Dim>>& x,
+    const RecordLanes<Domain<Dim, Kernel>>& domain) {
   StencilLanes<Dim, Kernel> s;
   using G = GridGeometry<Dim>;
   const auto base = locate_stencil<Kernel, Dim, RealLanes>(g, nl.inv_h, x, domain, s.axis);
@@ -252,8 +257,8 @@ template <int Dim, class Kernel>
   return s;
 }
 
-/// The tiles of stored stencils, as ScatterOrder::build reads them: tile[i] is the flat index of the tile holding
-/// stencil i's base node in the box.
+/// The tiles of stored stencils, as ScatterOrder::build reads them: tile[i] is the flat index of the tile
+/// holding stencil i's base node in the box.
 template <int Dim, class Kernel>
 struct StencilTiles {
   const std::vector<StoredStencil<Dim, Kernel>>& stored;
@@ -261,7 +266,8 @@ struct StencilTiles {
   std::int32_t operator[](std::size_t i) const { return stored[i].tile_slot >> GridGeometry<Dim>::slot_bits; }
 };
 
-/// Where stencils go: one per particle, and whether any particle changed tile (its base node's, for ScatterOrder).
+/// Where stencils go: one per particle, and whether any particle changed tile (its base node's, for
+/// ScatterOrder).
 template <int Dim, class Kernel>
 struct StencilTargets {
   std::vector<StoredStencil<Dim, Kernel>>& stencils;
@@ -269,9 +275,10 @@ struct StencilTargets {
 
   /// Store the stencils of a block of particles in place of their last ones.
   [[gnu::always_inline]] void store(const LaneBlock& block, const StencilLanes<Dim, Kernel>& s) {
-    // Real 0 of a record holds node (low half) and tile_slot (high half); lanes past the last particle repeat it.
-    const RealLanes last = reals_in<StoredStencil<Dim, Kernel>> == 1 ? block.load(stencils)[0]
-                                                                      : block.load_member(stencils, 0);
+    // Real 0 of a record holds node (low half) and tile_slot (high half); lanes past the last particle repeat
+    // it.
+    const RealLanes last =
+        reals_in<StoredStencil<Dim, Kernel>> == 1 ? block.load(stencils)[0] : block.load_member(stencils, 0);
     constexpr int shift = 32 + GridGeometry<Dim>::slot_bits;
     const bool moved = simd::any((std::bit_cast<IntLanes>(last) >> shift) != ((s.tile_slot << 32) >> shift));
     block.store(stencils, s.stored());
@@ -279,25 +286,31 @@ struct StencilTargets {
   }
 };
 
-/// Stencils of all particles at their current positions and domains, computed in LaneBlocks. Returns whether any
-/// tile changed (or the particles' count did).
+/// Stencils of all particles at their current positions and domains, computed in LaneBlocks. Returns whether
+/// any tile changed (or the particles' count did).
 template <int Dim, class Kernel>
-bool build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g, std::vector<StoredStencil<Dim, Kernel>>& out) {
+bool build_stencils(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g,
+                    std::vector<StoredStencil<Dim, Kernel>>& out) {
   const bool resized = out.size() != p.size();
   out.resize(p.size());
   const NodeLayout<Dim> nl(g);
   StencilTargets<Dim, Kernel> targets{out, resized};
-  parallel_for(LaneBlock::count(p.size()), [&](std::ptrdiff_t b) {
-    const LaneBlock block(b, static_cast<std::ptrdiff_t>(p.size()));
-    targets.store(block, locate_block<Dim, Kernel>(g, nl, block.load(p.x), load_domain<Dim, Kernel>(block, p)));
-  }, 1024 / LaneBlock::width);
+  parallel_for(
+      LaneBlock::count(p.size()),
+      [&](std::ptrdiff_t b) {
+        const LaneBlock block(b, static_cast<std::ptrdiff_t>(p.size()));
+        targets.store(block,
+                      locate_block<Dim, Kernel>(g, nl, block.load(p.x), load_domain<Dim, Kernel>(block, p)));
+      },
+      1024 / LaneBlock::width);
   return targets.tile_changed.load();
 }
 
-/// The stencils of a particle set as the transfers read them: what each particle keeps (StoredStencil), and the
-/// particles, whose positions and half-lengths give the axis data the records do not keep. A USF step changes F, and
-/// so cpGIMP's half-lengths l_p^0 diag(F_p), in its deformation pass and reads the stencils again in its force
-/// pass: it hands the half-lengths of the locate over in `located_half_lengths` (null: the particles' current ones).
+/// The stencils of a particle set as the transfers read them: what each particle keeps (StoredStencil), and
+/// the particles, whose positions and half-lengths give the axis data the records do not keep. A USF step
+/// changes F, and so cpGIMP's half-lengths l_p^0 diag(F_p), in its deformation pass and reads the stencils
+/// again in its force pass: it hands the half-lengths of the locate over in `located_half_lengths` (null: the
+/// particles' current ones).
 template <int Dim, class Kernel>
 struct ParticleStencils {
   const std::vector<StoredStencil<Dim, Kernel>>& stored;
@@ -305,15 +318,16 @@ struct ParticleStencils {
   const std::vector<Vec<Dim>>* located_half_lengths = nullptr;
 
   std::size_t size() const { return stored.size(); }
-  /// The stencils of a block in lanes, their axis data located again where the records keep none: locate_block's
-  /// arithmetic on the same positions and half-lengths, so the same bits.
+  /// The stencils of a block in lanes, their axis data located again where the records keep none:
+  /// locate_block's arithmetic on the same positions and half-lengths, so the same bits.
   [[gnu::always_inline]] StencilLanes<Dim, Kernel> lanes(const LaneBlock& block, const GridGeometry<Dim>& g,
                                                          Real inv_h) const {
     StencilLanes<Dim, Kernel> s(block.load(stored));
     if constexpr (!keeps_axes<Kernel>) {
       RecordLanes<Vec<Dim>> l{};  // the kernels that do not weigh half-lengths ignore them
       if constexpr (weighs_half_lengths<Kernel>)
-        l = located_half_lengths ? block.load(*located_half_lengths) : load_domain<Dim, Kernel>(block, particles);
+        l = located_half_lengths ? block.load(*located_half_lengths)
+                                 : load_domain<Dim, Kernel>(block, particles);
       locate_stencil<Kernel, Dim, RealLanes>(g, inv_h, block.load(particles.x), l, s.axis);
     }
     return s;
@@ -361,10 +375,10 @@ inline void for_each_node(const Stencil<Dim, Kernel>& s, const NodeLayout<Dim>& 
   }
 }
 
-/// Visit every node of a CPDI or CPDI2 stencil's block: fn(flat node index, weight S_ip, gradient grad S_ip [1/m])
-/// (CornerWeights).
+/// Visit every node of a CPDI or CPDI2 stencil's block: fn(flat node index, weight S_ip, gradient grad S_ip
+/// [1/m]) (CornerWeights).
 template <int Dim, class Kernel, class Fn>
-  requires is_cpdi<Kernel>
+requires is_cpdi<Kernel>
 inline void for_each_node(const Stencil<Dim, Kernel>& s, const NodeLayout<Dim>& nl, Fn&& fn) {
   const CornerWeights<Dim, Real, Kernel> weights(s.axis, nl.inv_h);
   weights.visit([&](const int(&k)[Dim], Real S, const Real(&dS)[Dim]) {

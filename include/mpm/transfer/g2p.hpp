@@ -20,58 +20,70 @@ namespace mpm {
 
 /// What a G2P pass gathers at each particle from the nodes of its stencil.
 struct Sums {
-  bool acceleration;   ///< sum_i S_ip a_i
-  bool velocity;       ///< sum_i S_ip v_i, v a chosen node velocity field
-  bool gradient;       ///< grad v_p = sum_i v_i (x) grad S_ip
+  bool acceleration;    ///< sum_i S_ip a_i
+  bool velocity;        ///< sum_i S_ip v_i, v a chosen node velocity field
+  bool gradient;        ///< grad v_p = sum_i v_i (x) grad S_ip
   bool affine = false;  ///< APIC's B_p = sum_i S_ip v_i (x) (x_i - x_p) (Jiang et al. 2015)
 };
 
-/// A block's gathered sums in lanes (zero where not gathered); grad_v[a][c] = d v_a / d x_c, B[a][c] the (a, c)
-/// entry of B_p.
+/// A block's gathered sums in lanes (zero where not gathered); grad_v[a][c] = d v_a / d x_c, B[a][c] the (a,
+/// c) entry of B_p.
 template <int Dim>
 struct GatheredLanes {
   RealLanes a[Dim] = {}, v[Dim] = {}, grad_v[Dim][Dim] = {}, B[Dim][Dim] = {};
 };
 
-/// G2P: for the particles of `range` in blocks of simd::lanes (in parallel), gather `what` from the nodes of their
-/// stencils, v from the node field `v_grid`, and hand each block's sums to use(block, sums).
+/// G2P: for the particles of `range` in blocks of simd::lanes (in parallel), gather `what` from the nodes of
+/// their stencils, v from the node field `v_grid`, and hand each block's sums to use(block, sums).
 template <Sums what, int Dim, class Kernel, class Use>
-void g2p_gather(const ParticleStencils<Dim, Kernel>& stencils, const Grid<Dim>& grid, NodeVelocity<Dim> v_grid,
-                ParticleRange range, Use&& use) {
+void g2p_gather(const ParticleStencils<Dim, Kernel>& stencils, const Grid<Dim>& grid,
+                NodeVelocity<Dim> v_grid, ParticleRange range, Use&& use) {
   const NodeLayout<Dim> layout(grid.geometry);
   const auto& nodes = grid.nodes;
-  parallel_for(LaneBlock::count(range), [&](std::ptrdiff_t b) {
-    const LaneBlock block(b, range);
-    LaneStencil<Dim, Kernel> s(stencils, block, grid.geometry, layout.inv_h);
-    if constexpr (what.affine) s.locate_nodes(grid.geometry.h);
-    GatheredLanes<Dim> sum;
-    for_each_node<what.affine ? NodeMoment::offset : NodeMoment::none>(
-        s, layout, [&](std::int32_t offset, const RealLanes& S_ip, const RealLanes(&dS_ip)[Dim], const auto&... Sx_ip) {
-          for (int c = 0; c < Dim; ++c) {
-            if constexpr (what.acceleration)
-              sum.a[c] +=
-                  S_ip * s.gather(nodes, offset, [&](const GridNode<Dim>& node) -> const Real& { return node.a[c]; });
-            if constexpr (what.velocity || what.gradient || what.affine) {
-              const RealLanes v_i =
-                  s.gather(nodes, offset, [&](const GridNode<Dim>& node) -> const Real& { return (node.*v_grid)[c]; });
-              if constexpr (what.velocity) sum.v[c] += S_ip * v_i;
-              if constexpr (what.gradient)
-                for (int e = 0; e < Dim; ++e) sum.grad_v[c][e] += dS_ip[e] * v_i;
-              if constexpr (what.affine) {
-                const auto& Sx = [](const auto& moment) -> const auto& { return moment; }(Sx_ip...);
-                for (int e = 0; e < Dim; ++e) sum.B[c][e] += v_i * Sx[e];
+  parallel_for(
+      LaneBlock::count(range),
+      [&](std::ptrdiff_t b) {
+        const LaneBlock block(b, range);
+        LaneStencil<Dim, Kernel> s(stencils, block, grid.geometry, layout.inv_h);
+        if constexpr (what.affine) s.locate_nodes(grid.geometry.h);
+        GatheredLanes<Dim> sum;
+        for_each_node<what.affine ? NodeMoment::offset : NodeMoment::none>(
+            s, layout,
+            [&](std::int32_t offset, const RealLanes& S_ip, const RealLanes(&dS_ip)[Dim],
+                const auto&... Sx_ip) {
+              for (int c = 0; c < Dim; ++c) {
+                if constexpr (what.acceleration)
+                  sum.a[c] += S_ip * s.gather(nodes, offset, [&](const GridNode<Dim>& node) -> const Real& {
+                    return node.a[c];
+                  });
+                if constexpr (what.velocity || what.gradient || what.affine) {
+                  const RealLanes v_i =
+                      s.gather(nodes, offset,
+                               [&](const GridNode<Dim>& node) -> const Real& { return (node.*v_grid)[c]; });
+                  if constexpr (what.velocity) sum.v[c] += S_ip * v_i;
+                  if constexpr (what.gradient)
+                    for (int e = 0; e < Dim; ++e) sum.grad_v[c][e] += dS_ip[e] * v_i;
+                  if constexpr (what.affine) {
+                    const auto& Sx = [](const auto& moment) -> const auto& {
+                      return moment;
+                    }
+                    (Sx_ip...);
+                    for (int e = 0; e < Dim; ++e) sum.B[c][e] += v_i * Sx[e];
+                  }
+                }
               }
-            }
-          }
-        });
-    use(block, sum);
-  }, 1024 / LaneBlock::width);  // a chunk of about 1024 particles
+            });
+        use(block, sum);
+      },
+      1024 / LaneBlock::width);  // a chunk of about 1024 particles
 }
 
-/// G2P of one node vector field: out_p = sum_i S_ip (node_i.*field), for the particles of `range` (all by default).
+/// G2P of one node vector field: out_p = sum_i S_ip (node_i.*field), for the particles of `range` (all by
+/// default).
 template <int Dim, class Kernel>
 void g2p_interpolate(const ParticleStencils<Dim, Kernel>& stencils, const Grid<Dim>& grid,
-                     NodeVelocity<Dim> field, std::vector<Vec<Dim>>& out, std::optional<ParticleRange> range = {}) {
+                     NodeVelocity<Dim> field, std::vector<Vec<Dim>>& out,
+                     std::optional<ParticleRange> range = {}) {
   out.resize(stencils.size());
   g2p_gather<Sums{.acceleration = false, .velocity = true, .gradient = false}>(
       stencils, grid, field, range.value_or(ParticleRange{0, static_cast<std::ptrdiff_t>(stencils.size())}),
@@ -103,41 +115,44 @@ void g2p_affine(const ParticleStencils<Dim, Kernel>& stencils, const Grid<Dim>& 
       });
 }
 
-/// CPDI2's corner update (Sadeghirad et al. 2013): to_c = from_c + dt sum_i N_i(x_c) v_i for every corner x_c of the
-/// particles of `range` (all by default), v_i the node field `v_grid`, through the stencils of the step's start, whose
-/// corner hats N_i(x_c) CornerWeights holds. `from` and `to` may be one array.
+/// CPDI2's corner update (Sadeghirad et al. 2013): to_c = from_c + dt sum_i N_i(x_c) v_i for every corner x_c
+/// of the particles of `range` (all by default), v_i the node field `v_grid`, through the stencils of the
+/// step's start, whose corner hats N_i(x_c) CornerWeights holds. `from` and `to` may be one array.
 template <int Dim, class Kernel>
-  requires moves_corners<Kernel>
-void g2p_corners(const ParticleStencils<Dim, Kernel>& stencils, const Grid<Dim>& grid, NodeVelocity<Dim> v_grid,
-                 Real dt, const std::vector<Corners<Dim>>& from, std::vector<Corners<Dim>>& to,
-                 std::optional<ParticleRange> range = {}) {
+requires moves_corners<Kernel>
+void g2p_corners(const ParticleStencils<Dim, Kernel>& stencils, const Grid<Dim>& grid,
+                 NodeVelocity<Dim> v_grid, Real dt, const std::vector<Corners<Dim>>& from,
+                 std::vector<Corners<Dim>>& to, std::optional<ParticleRange> range = {}) {
   constexpr int C = Kernel::corners;
   const NodeLayout<Dim> layout(grid.geometry);
   const auto& nodes = grid.nodes;
   to.resize(from.size());
   const ParticleRange r = range.value_or(ParticleRange{0, static_cast<std::ptrdiff_t>(stencils.size())});
-  parallel_for(LaneBlock::count(r), [&](std::ptrdiff_t b) {
-    const LaneBlock block(b, r);
-    const LaneStencil<Dim, Kernel> s(stencils, block, grid.geometry, layout.inv_h);
-    RealLanes v_c[C][Dim] = {};
-    s.corners.visit_hats([&](const int(&k)[Dim], const RealLanes(&N)[C]) __attribute__((always_inline)) {
-      std::int32_t offset = k[0];
-      for (int d = 1; d < Dim; ++d) offset += k[d] * layout.stride[d];
-      for (int d = 0; d < Dim; ++d) {
-        const RealLanes v_i =
-            s.gather(nodes, offset, [&](const GridNode<Dim>& node) -> const Real& { return (node.*v_grid)[d]; });
-        for (int c = 0; c < C; ++c) v_c[c][d] += N[c] * v_i;
-      }
-    });
-    RecordLanes<Corners<Dim>> x = block.load(from);
-    for (int c = 0; c < C; ++c)
-      for (int d = 0; d < Dim; ++d) x[d + c * Dim] += dt * v_c[c][d];
-    block.store(to, x);
-  }, 1024 / LaneBlock::width);
+  parallel_for(
+      LaneBlock::count(r),
+      [&](std::ptrdiff_t b) {
+        const LaneBlock block(b, r);
+        const LaneStencil<Dim, Kernel> s(stencils, block, grid.geometry, layout.inv_h);
+        RealLanes v_c[C][Dim] = {};
+        s.corners.visit_hats([&](const int(&k)[Dim], const RealLanes(&N)[C]) __attribute__((always_inline)) {
+          std::int32_t offset = k[0];
+          for (int d = 1; d < Dim; ++d) offset += k[d] * layout.stride[d];
+          for (int d = 0; d < Dim; ++d) {
+            const RealLanes v_i = s.gather(
+                nodes, offset, [&](const GridNode<Dim>& node) -> const Real& { return (node.*v_grid)[d]; });
+            for (int c = 0; c < C; ++c) v_c[c][d] += N[c] * v_i;
+          }
+        });
+        RecordLanes<Corners<Dim>> x = block.load(from);
+        for (int c = 0; c < C; ++c)
+          for (int d = 0; d < Dim; ++d) x[d + c * Dim] += dt * v_c[c][d];
+        block.store(to, x);
+      },
+      1024 / LaneBlock::width);
 }
 
-/// The FLIP-PIC blend of a velocity update: v_p = flip (v_p + dt sum_i S_ip a_i) + (1 - flip) pic_p, pic_p the
-/// grid velocity interpolated to the particle (sum_i S_ip v_i). Without pic the update is FLIP's.
+/// The FLIP-PIC blend of a velocity update: v_p = flip (v_p + dt sum_i S_ip a_i) + (1 - flip) pic_p, pic_p
+/// the grid velocity interpolated to the particle (sum_i S_ip v_i). Without pic the update is FLIP's.
 template <int Dim>
 struct VelocityBlend {
   Real flip = 1;
@@ -147,17 +162,17 @@ struct VelocityBlend {
 /// The explicit step's G2P: update the particles from the sums g2p_gather hands over. `v_grid` is the node
 /// velocity field used for positions and velocity gradients (&GridNode::v_new, or &GridNode::v after a
 /// re-projection).
-/// A CPDI2 pass puts each particle at the centroid of its corners, which g2p_corners moved first, and moves the
-/// corners with it through a periodic wrap or onto a wall (Sadeghirad et al. 2013).
-/// A pass that moves the particles can also compute their stencils at the new positions for the next step,
-/// into `next` when given: the positions are then at hand, and no separate pass over the particles is needed.
-/// A deforming pass hands each block's F, J, velocity gradient, interpolated radial velocity and radius at the
-/// start of the step to `stress` (transfer/g2p_stress.hpp), which may fail lanes. Returns the lowest-index particle whose new state is
-/// non-finite, has J <= 0 or left the grid. Only the particles of `range` gather (those of the velocity field
-/// `grid` holds); all of them by default. A velocity update is blended with PIC's by `blend`.
+/// A CPDI2 pass puts each particle at the centroid of its corners, which g2p_corners moved first, and moves
+/// the corners with it through a periodic wrap or onto a wall (Sadeghirad et al. 2013). A pass that moves the
+/// particles can also compute their stencils at the new positions for the next step, into `next` when given:
+/// the positions are then at hand, and no separate pass over the particles is needed. A deforming pass hands
+/// each block's F, J, velocity gradient, interpolated radial velocity and radius at the start of the step to
+/// `stress` (transfer/g2p_stress.hpp), which may fail lanes. Returns the lowest-index particle whose new
+/// state is non-finite, has J <= 0 or left the grid. Only the particles of `range` gather (those of the
+/// velocity field `grid` holds); all of them by default. A velocity update is blended with PIC's by `blend`.
 template <Gather what, int Dim, class Kernel, class Stress>
-ParticleFault g2p(ParticleSet<Dim>& p, const ParticleStencils<Dim, Kernel>& stencils,
-                  const Grid<Dim>& grid, NodeVelocity<Dim> v_grid, Real dt, const Stress& stress,
+ParticleFault g2p(ParticleSet<Dim>& p, const ParticleStencils<Dim, Kernel>& stencils, const Grid<Dim>& grid,
+                  NodeVelocity<Dim> v_grid, Real dt, const Stress& stress,
                   StencilTargets<Dim, Kernel>* next = nullptr, std::optional<ParticleRange> range = {},
                   const VelocityBlend<Dim>& blend = {}) {
   constexpr bool interpolate_velocity = what.position || (what.deformation && Stress::reads_velocity);
@@ -169,8 +184,9 @@ ParticleFault g2p(ParticleSet<Dim>& p, const ParticleStencils<Dim, Kernel>& sten
   Vec<Dim> period = Vec<Dim>::Zero();
   for (int c = 0; c < Dim; ++c)
     if (geo.periodic[c]) wraps = true, period[c] = geo.h * geo.cells[c];
-  // The bounds a particle may not cross (none beyond an outflow face), and whether the stencils of the next step
-  // are located at positions clamped to the grid: a particle beyond an outflow face is removed after the step.
+  // The bounds a particle may not cross (none beyond an outflow face), and whether the stencils of the next
+  // step are located at positions clamped to the grid: a particle beyond an outflow face is removed after the
+  // step.
   bool clamps = false;
   Vec<Dim> lo_bound, hi_bound;
   for (int c = 0; c < Dim; ++c) {
@@ -179,111 +195,116 @@ ParticleFault g2p(ParticleSet<Dim>& p, const ParticleStencils<Dim, Kernel>& sten
     hi_bound[c] = geo.outflow[2 * c + 1] ? inf : geo.lo[c] + geo.h * geo.cells[c];
     clamps = clamps || geo.outflow[2 * c] || geo.outflow[2 * c + 1];
   }
-  constexpr Sums sums{.acceleration = what.velocity, .velocity = interpolate_velocity, .gradient = what.deformation};
-  g2p_gather<sums>(stencils, grid, v_grid, range.value_or(ParticleRange{0, static_cast<std::ptrdiff_t>(p.size())}),
-                   [&](const LaneBlock& block, const GatheredLanes<Dim>& sum)
-                                               __attribute__((always_inline)) {
-    const auto& a_p = sum.a;
-    const auto& v_p = sum.v;
-    const auto& grad_v = sum.grad_v;
-    simd::MaskLanes ok = simd::MaskLanes{} == 0;  // all lanes true
-    RecordLanes<Vec<Dim>> x;
-    RealLanes r_start{};
-    if constexpr (what.deformation && Stress::reads_velocity) r_start = block.load(p.x)[0];
-    if constexpr (what.velocity || what.position) {
-      RecordLanes<Vec<Dim>> v = block.load(p.v);
-      if constexpr (what.velocity) {
-        for (int c = 0; c < Dim; ++c) v[c] += dt * a_p[c];
-        if (blend.pic) {
-          const RecordLanes<Vec<Dim>> pic = block.load(*blend.pic);
-          for (int c = 0; c < Dim; ++c) v[c] = blend.flip * v[c] + (1 - blend.flip) * pic[c];
-        }
-        block.store(p.v, v);
-      }
-      if constexpr (what.position) {
-        x = block.load(p.x);
-        [[maybe_unused]] RecordLanes<Corners<Dim>> corners;
-        [[maybe_unused]] RealLanes centroid[Dim];
-        if constexpr (moves_corners<Kernel>) {  // CPDI2: at the centroid of its corners, which g2p_corners moved
-          corners = block.load(p.corners);
-          RealLanes xc[Kernel::corners][Dim], near[Dim];
-          for (int c = 0; c < Kernel::corners; ++c)
-            for (int d = 0; d < Dim; ++d) xc[c][d] = corners[d + c * Dim];
-          for (int d = 0; d < Dim; ++d) near[d] = x[d];
-          ok &= corner_centroid<Dim>(xc, near, centroid);
-          for (int d = 0; d < Dim; ++d) x[d] = centroid[d];
-        } else {
-          for (int c = 0; c < Dim; ++c) x[c] += dt * v_p[c];
-        }
-        for (int c = 0; c < Dim; ++c) {
-          if (wraps && period[c] > 0) {  // out through one face of a periodic pair, in through the other
-            x[c] = x[c] >= geo.lo[c] + period[c] ? x[c] - period[c] : x[c];
-            x[c] = x[c] < geo.lo[c] ? x[c] + period[c] : x[c];
+  constexpr Sums sums{
+      .acceleration = what.velocity, .velocity = interpolate_velocity, .gradient = what.deformation};
+  g2p_gather<sums>(
+      stencils, grid, v_grid, range.value_or(ParticleRange{0, static_cast<std::ptrdiff_t>(p.size())}),
+      [&](const LaneBlock& block, const GatheredLanes<Dim>& sum) __attribute__((always_inline)) {
+        const auto& a_p = sum.a;
+        const auto& v_p = sum.v;
+        const auto& grad_v = sum.grad_v;
+        simd::MaskLanes ok = simd::MaskLanes{} == 0;  // all lanes true
+        RecordLanes<Vec<Dim>> x;
+        RealLanes r_start{};
+        if constexpr (what.deformation && Stress::reads_velocity) r_start = block.load(p.x)[0];
+        if constexpr (what.velocity || what.position) {
+          RecordLanes<Vec<Dim>> v = block.load(p.v);
+          if constexpr (what.velocity) {
+            for (int c = 0; c < Dim; ++c) v[c] += dt * a_p[c];
+            if (blend.pic) {
+              const RecordLanes<Vec<Dim>> pic = block.load(*blend.pic);
+              for (int c = 0; c < Dim; ++c) v[c] = blend.flip * v[c] + (1 - blend.flip) * pic[c];
+            }
+            block.store(p.v, v);
           }
-          if (geo.walls[2 * c]) {  // back onto a wall's plane
-            const RealLanes lo = simd::broadcast(lo_bound[c]);
-            x[c] = x[c] < lo ? lo : x[c];
-          }
-          if (geo.walls[2 * c + 1]) {
-            const RealLanes hi = simd::broadcast(hi_bound[c]);
-            x[c] = x[c] > hi ? hi : x[c];
-          }
-          ok &= (x[c] >= lo_bound[c]) & (x[c] <= hi_bound[c]) & (v[c] - v[c] == 0);
-        }
-        block.store(p.x, x);
-        if constexpr (moves_corners<Kernel>) {  // the corners go where a wrap or a wall took the centroid
-          for (int c = 0; c < Kernel::corners; ++c)
-            for (int d = 0; d < Dim; ++d) corners[d + c * Dim] += x[d] - centroid[d];
-          block.store(p.corners, corners);
-        }
-      }
-    }
-    if constexpr (what.deformation) {
-      // Wallstedt & Guilkey 2008, Eq. (11), Eq. (12), Eq. (13): F^{n+1} = (I + grad v dt) F^n, V = V^0 det F, sigma =
-      // sigma(F). Mat is column-major: entry (a, c) is Real a + c Dim.
-      const RecordLanes<Mat<Dim>> F_old = block.load(p.F);
-      RecordLanes<Mat<Dim>> F_new;
-      RealLanes F[Dim][Dim];
-      for (int a = 0; a < Dim; ++a)
-        for (int c = 0; c < Dim; ++c) {
-          F[a][c] = ((a == 0 ? 1 : 0) + dt * grad_v[a][0]) * F_old[c * Dim];
-          for (int e = 1; e < Dim; ++e) F[a][c] += ((a == e ? 1 : 0) + dt * grad_v[a][e]) * F_old[e + c * Dim];
-          F_new[a + c * Dim] = F[a][c];
-        }
-      block.store(p.F, F_new);
-      const RealLanes J = simd::determinant(F);
-      block.store(p.V, {block.load(p.V0)[0] * J});
-      const simd::MaskLanes valid = (J > 0) & (J - J == 0);
-      ok &= valid;
-      // A lane with an invalid J keeps its stress (the run stops).
-      ok &= stress(block, p, F, J, valid, grad_v, v_p[0], r_start);
-      if constexpr (weighs_half_lengths<Kernel>) {  // cpGIMP: Wallstedt & Guilkey 2008, Eq. (63)
-        if (p.half_lengths == HalfLengths::deformed) {  // the half-lengths F gives must fit the GIMP stencil
-          const RecordLanes<Vec<Dim>> l0 = block.load(p.l0);
-          for (int d = 0; d < Dim; ++d) {
-            const RealLanes l = l0[d] * F[d][d];
-            ok &= (l > 0) & (l <= Kernel::max_half_length * geo.h);
+          if constexpr (what.position) {
+            x = block.load(p.x);
+            [[maybe_unused]] RecordLanes<Corners<Dim>> corners;
+            [[maybe_unused]] RealLanes centroid[Dim];
+            if constexpr (moves_corners<Kernel>) {  // CPDI2: at the centroid of its corners, which
+                                                    // g2p_corners moved
+              corners = block.load(p.corners);
+              RealLanes xc[Kernel::corners][Dim], near[Dim];
+              for (int c = 0; c < Kernel::corners; ++c)
+                for (int d = 0; d < Dim; ++d) xc[c][d] = corners[d + c * Dim];
+              for (int d = 0; d < Dim; ++d) near[d] = x[d];
+              ok &= corner_centroid<Dim>(xc, near, centroid);
+              for (int d = 0; d < Dim; ++d) x[d] = centroid[d];
+            } else {
+              for (int c = 0; c < Dim; ++c) x[c] += dt * v_p[c];
+            }
+            for (int c = 0; c < Dim; ++c) {
+              if (wraps && period[c] > 0) {  // out through one face of a periodic pair, in through the other
+                x[c] = x[c] >= geo.lo[c] + period[c] ? x[c] - period[c] : x[c];
+                x[c] = x[c] < geo.lo[c] ? x[c] + period[c] : x[c];
+              }
+              if (geo.walls[2 * c]) {  // back onto a wall's plane
+                const RealLanes lo = simd::broadcast(lo_bound[c]);
+                x[c] = x[c] < lo ? lo : x[c];
+              }
+              if (geo.walls[2 * c + 1]) {
+                const RealLanes hi = simd::broadcast(hi_bound[c]);
+                x[c] = x[c] > hi ? hi : x[c];
+              }
+              ok &= (x[c] >= lo_bound[c]) & (x[c] <= hi_bound[c]) & (v[c] - v[c] == 0);
+            }
+            block.store(p.x, x);
+            if constexpr (moves_corners<Kernel>) {  // the corners go where a wrap or a wall took the centroid
+              for (int c = 0; c < Kernel::corners; ++c)
+                for (int d = 0; d < Dim; ++d) corners[d + c * Dim] += x[d] - centroid[d];
+              block.store(p.corners, corners);
+            }
           }
         }
-      }
-    }
-    if constexpr (what.position)
-      if (next) {
-        if (clamps)
-          for (int c = 0; c < Dim; ++c) {
-            const RealLanes lo = simd::broadcast(geo.lo[c]), hi = simd::broadcast(geo.lo[c] + geo.h * geo.cells[c]);
-            x[c] = x[c] < lo ? lo : x[c];
-            x[c] = x[c] > hi ? hi : x[c];
+        if constexpr (what.deformation) {
+          // Wallstedt & Guilkey 2008, Eq. (11), Eq. (12), Eq. (13): F^{n+1} = (I + grad v dt) F^n, V = V^0
+          // det F, sigma = sigma(F). Mat is column-major: entry (a, c) is Real a + c Dim.
+          const RecordLanes<Mat<Dim>> F_old = block.load(p.F);
+          RecordLanes<Mat<Dim>> F_new;
+          RealLanes F[Dim][Dim];
+          for (int a = 0; a < Dim; ++a)
+            for (int c = 0; c < Dim; ++c) {
+              F[a][c] = ((a == 0 ? 1 : 0) + dt * grad_v[a][0]) * F_old[c * Dim];
+              for (int e = 1; e < Dim; ++e)
+                F[a][c] += ((a == e ? 1 : 0) + dt * grad_v[a][e]) * F_old[e + c * Dim];
+              F_new[a + c * Dim] = F[a][c];
+            }
+          block.store(p.F, F_new);
+          const RealLanes J = simd::determinant(F);
+          block.store(p.V, {block.load(p.V0)[0] * J});
+          const simd::MaskLanes valid = (J > 0) & (J - J == 0);
+          ok &= valid;
+          // A lane with an invalid J keeps its stress (the run stops).
+          ok &= stress(block, p, F, J, valid, grad_v, v_p[0], r_start);
+          if constexpr (weighs_half_lengths<Kernel>) {  // cpGIMP: Wallstedt & Guilkey 2008, Eq. (63)
+            if (p.half_lengths ==
+                HalfLengths::deformed) {  // the half-lengths F gives must fit the GIMP stencil
+              const RecordLanes<Vec<Dim>> l0 = block.load(p.l0);
+              for (int d = 0; d < Dim; ++d) {
+                const RealLanes l = l0[d] * F[d][d];
+                ok &= (l > 0) & (l <= Kernel::max_half_length * geo.h);
+              }
+            }
           }
-        next->store(block, locate_block<Dim, Kernel>(geo, layout, x, load_domain<Dim, Kernel>(block, p)));
-      }
-    std::int64_t fault = ParticleFault::none;
-    for (int k = block.active - 1; k >= 0; --k)
-      if (!ok[k]) fault = block.index[k];
-    std::int64_t cur = first_fault.load(std::memory_order_relaxed);
-    while (fault < cur && !first_fault.compare_exchange_weak(cur, fault)) {
-    }
-  });
+        }
+        if constexpr (what.position)
+          if (next) {
+            if (clamps)
+              for (int c = 0; c < Dim; ++c) {
+                const RealLanes lo = simd::broadcast(geo.lo[c]),
+                                hi = simd::broadcast(geo.lo[c] + geo.h * geo.cells[c]);
+                x[c] = x[c] < lo ? lo : x[c];
+                x[c] = x[c] > hi ? hi : x[c];
+              }
+            next->store(block, locate_block<Dim, Kernel>(geo, layout, x, load_domain<Dim, Kernel>(block, p)));
+          }
+        std::int64_t fault = ParticleFault::none;
+        for (int k = block.active - 1; k >= 0; --k)
+          if (!ok[k]) fault = block.index[k];
+        std::int64_t cur = first_fault.load(std::memory_order_relaxed);
+        while (fault < cur && !first_fault.compare_exchange_weak(cur, fault)) {
+        }
+      });
   return ParticleFault{first_fault.load()};
 }
 

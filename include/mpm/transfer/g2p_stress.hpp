@@ -1,8 +1,8 @@
 #pragma once
-/// What a deforming G2P pass does with each block's new deformation, as a policy of g2p: the Neo-Hookean stress
-/// in lanes (when every material is Neo-Hookean), the Drucker-Prager step in lanes (when every material is
-/// Drucker-Prager), or the rates recorded for the stress-update stage that visits each particle's material (other
-/// rate-form and mixed tables).
+/// What a deforming G2P pass does with each block's new deformation, as a policy of g2p: the Neo-Hookean
+/// stress in lanes (when every material is Neo-Hookean), the Drucker-Prager step in lanes (when every
+/// material is Drucker-Prager), or the rates recorded for the stress-update stage that visits each particle's
+/// material (other rate-form and mixed tables).
 #include <algorithm>
 #include <iterator>
 #include <vector>
@@ -17,8 +17,8 @@
 
 namespace mpm {
 
-/// The policy of a pass that does not deform (a Gather without deformation): g2p never calls it, so a pass that only
-/// moves or accelerates the particles is compiled once, not once per stress policy.
+/// The policy of a pass that does not deform (a Gather without deformation): g2p never calls it, so a pass
+/// that only moves or accelerates the particles is compiled once, not once per stress policy.
 struct NoStress {
   static constexpr bool reads_velocity = false;
 };
@@ -31,9 +31,11 @@ struct NeoHookeanLanes {
 
   /// A lane with an invalid J keeps its stress (the run stops).
   template <int Dim>
-  [[gnu::always_inline]] simd::MaskLanes operator()(const LaneBlock& block, ParticleSet<Dim>& p, const RealLanes (&F)[Dim][Dim],
-                                         const RealLanes& J, const simd::MaskLanes& valid,
-                                         const RealLanes (&)[Dim][Dim], const RealLanes&, const RealLanes&) const {
+  [[gnu::always_inline]] simd::MaskLanes operator()(const LaneBlock& block, ParticleSet<Dim>& p,
+                                                    const RealLanes (&F)[Dim][Dim], const RealLanes& J,
+                                                    const simd::MaskLanes& valid,
+                                                    const RealLanes (&)[Dim][Dim], const RealLanes&,
+                                                    const RealLanes&) const {
     RealLanes lambda = simd::broadcast(materials[0].lambda), mu = simd::broadcast(materials[0].mu);
     if (materials.size() > 1) {
       const IntLanes material = block.load_indices(p.material) * reals_in<NeoHookean>;
@@ -53,8 +55,8 @@ struct NeoHookeanLanes {
   }
 };
 
-/// Record each particle's velocity gradient [1/s] and, in axisymmetry, its hoop strain rate v_r / r [1/s] (r at
-/// the start of the step) for the stress-update stage.
+/// Record each particle's velocity gradient [1/s] and, in axisymmetry, its hoop strain rate v_r / r [1/s] (r
+/// at the start of the step) for the stress-update stage.
 template <int Dim>
 struct RecordRates {
   std::vector<Mat<Dim>>& grad_v;
@@ -64,8 +66,9 @@ struct RecordRates {
 
   [[gnu::always_inline]] simd::MaskLanes operator()(const LaneBlock& block, ParticleSet<Dim>&,
                                                     const RealLanes (&)[Dim][Dim], const RealLanes&,
-                                                    const simd::MaskLanes& valid, const RealLanes (&L)[Dim][Dim],
-                                         const RealLanes& v_r, const RealLanes& r_start) const {
+                                                    const simd::MaskLanes& valid,
+                                                    const RealLanes (&L)[Dim][Dim], const RealLanes& v_r,
+                                                    const RealLanes& r_start) const {
     RecordLanes<Mat<Dim>> record;  // column-major: entry (a, c) is Real a + c Dim
     for (int a = 0; a < Dim; ++a)
       for (int c = 0; c < Dim; ++c) record[a + c * Dim] = L[a][c];
@@ -86,11 +89,12 @@ inline std::vector<DruckerPragerRow> drucker_prager_rows(const std::vector<Mater
   return rows;
 }
 
-/// The rate-form step of Drucker-Prager solids in lanes (rate_form_step's, the same bits): the strain and spin
-/// increments of dL = dt grad v (and dt v_r / r in axisymmetry), the hypoelastic trial stress, the return to a
-/// fixed strength (return_to_cone), the plastic strain, the internal energy with the mid-step stress and the
-/// volume. The lanes of a material whose strength changes with the plastic strain take rate_form_step itself
-/// (the regula falsi of return_with_softening). Plane strain (1-D, 2-D and 3-D) or axisymmetric.
+/// The rate-form step of Drucker-Prager solids in lanes (rate_form_step's, the same bits): the strain and
+/// spin increments of dL = dt grad v (and dt v_r / r in axisymmetry), the hypoelastic trial stress, the
+/// return to a fixed strength (return_to_cone), the plastic strain, the internal energy with the mid-step
+/// stress and the volume. The lanes of a material whose strength changes with the plastic strain take
+/// rate_form_step itself (the regula falsi of return_with_softening). Plane strain (1-D, 2-D and 3-D) or
+/// axisymmetric.
 template <int Dim, bool Axisymmetric>
 struct DruckerPragerLanes {
   const std::vector<Material>& materials;
@@ -101,13 +105,15 @@ struct DruckerPragerLanes {
   /// A lane with an invalid J keeps its state (the run stops); a lane whose step fails is reported.
   [[gnu::always_inline]] simd::MaskLanes operator()(const LaneBlock& block, ParticleSet<Dim>& p,
                                                     const RealLanes (&)[Dim][Dim], const RealLanes& J,
-                                                    const simd::MaskLanes& valid, const RealLanes (&L)[Dim][Dim],
-                                                    const RealLanes& v_r, const RealLanes& r_start) const {
+                                                    const simd::MaskLanes& valid,
+                                                    const RealLanes (&L)[Dim][Dim], const RealLanes& v_r,
+                                                    const RealLanes& r_start) const {
     MaterialState& s = p.state;
     ConeStrength<RealLanes> cone;
     RealLanes lambda, softens;
     {
-      RealLanes* member[] = {&cone.G, &cone.K, &cone.eta, &cone.xi_c, &cone.eta_bar, &cone.t, &lambda, &softens};
+      RealLanes* member[] = {&cone.G,       &cone.K, &cone.eta, &cone.xi_c,
+                             &cone.eta_bar, &cone.t, &lambda,   &softens};
       static_assert(std::size(member) == reals_in<DruckerPragerRow>);
       const Real* row = &rows[0].cone.G;
       if (rows.size() == 1) {
@@ -159,9 +165,10 @@ struct DruckerPragerLanes {
           for (int c = 0; c < Dim; ++c) dL_k(a, c) = dL[a][c][k];
         SymTensor<3> sigma_k;
         for (int c = 0; c < 6; ++c) sigma_k.c[c] = sigma_n.c[c][k];
-        const MaterialStep one = rate_form_step<Dim>(
-            std::get<DruckerPrager>(materials[p.material[block.index[k]]]), sigma_k, eps_n[k], stretch3_n[k],
-            V_start[k], dL_k, step.de(2, 2)[k], Axisymmetric ? Geometry::axisymmetric : Geometry::plane_strain);
+        const MaterialStep one =
+            rate_form_step<Dim>(std::get<DruckerPrager>(materials[p.material[block.index[k]]]), sigma_k,
+                                eps_n[k], stretch3_n[k], V_start[k], dL_k, step.de(2, 2)[k],
+                                Axisymmetric ? Geometry::axisymmetric : Geometry::plane_strain);
         for (int c = 0; c < 6; ++c) sigma.c[c][k] = one.sigma.c[c];
         eps[k] = one.eps_bar, energy[k] = one.energy, stretch3[k] = one.stretch3, ok[k] = one.ok ? -1 : 0;
       }

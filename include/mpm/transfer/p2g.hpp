@@ -22,8 +22,8 @@ namespace mpm {
 /// add(record, S_ip, grad S_ip): a node's record gets the contributions of one pass in the order listed.
 
 /// Mass m_p S_ip and momentum m_p v_p S_ip into the node field at `slot` (Wallstedt & Guilkey 2008, Eq. (8),
-/// Eq. (9): the division by m_i happens in grid_velocity), or the momentum alone when `with_mass` is false (the
-/// re-projection of Sulsky & Kaul 2004, Eq. (3.2.7)).
+/// Eq. (9): the division by m_i happens in grid_velocity), or the momentum alone when `with_mass` is false
+/// (the re-projection of Sulsky & Kaul 2004, Eq. (3.2.7)).
 template <int Dim, int slot = NodeSlots<Dim>::v, bool with_mass = true>
 struct Momentum {
   static constexpr int slots_end = slot + Dim;  ///< one past the last record slot it adds to
@@ -35,17 +35,18 @@ struct Momentum {
     const RecordLanes<Vec<Dim>> v_p = block.load(v);
     std::array<RealLanes, Dim> mv_p;
     for (int d = 0; d < Dim; ++d) mv_p[d] = m_p * v_p[d];
-    return [m_p, mv_p](auto& record, const RealLanes& S_ip, const RealLanes(&)[Dim]) __attribute__((always_inline)) {
+    return [ m_p, mv_p ](auto& record, const RealLanes& S_ip, const RealLanes(&)[Dim])
+        __attribute__((always_inline)) {
       if constexpr (with_mass) record[NodeSlots<Dim>::m] += S_ip * m_p;
       for (int d = 0; d < Dim; ++d) record[slot + d] += S_ip * mv_p[d];
     };
   }
 };
 
-/// APIC's mass and momentum (Jiang et al. 2015): m_p S_ip and m_p S_ip (v_p + B_p D_p^-1 (x_i - x_p)) into the node
-/// field at `slot`, B_p the particle's affine matrix (g2p_affine) and D_p its inertia tensor at its current position
-/// (LaneStencil::locate_nodes). It carries the particle's angular momentum m_p (x_p x v_p + eps : B_p^T) to the
-/// grid; with B_p = 0 it is Momentum.
+/// APIC's mass and momentum (Jiang et al. 2015): m_p S_ip and m_p S_ip (v_p + B_p D_p^-1 (x_i - x_p)) into
+/// the node field at `slot`, B_p the particle's affine matrix (g2p_affine) and D_p its inertia tensor at its
+/// current position (LaneStencil::locate_nodes). It carries the particle's angular momentum m_p (x_p x v_p +
+/// eps : B_p^T) to the grid; with B_p = 0 it is Momentum.
 template <int Dim, int slot = NodeSlots<Dim>::v, bool with_mass = true>
 struct AffineMomentum {
   static constexpr bool affine = true;  ///< its add takes S_ip D_p^-1 (x_i - x_p) (NodeMoment::affine)
@@ -64,8 +65,8 @@ struct AffineMomentum {
       mv_p[c] = m_p * v_p[c];
       for (int d = 0; d < Dim; ++d) mB_p[c][d] = m_p * B_p[c + d * Dim];
     }
-    return [m_p, mv_p, mB_p](auto& record, const RealLanes& S_ip, const RealLanes(&)[Dim], const RealLanes(&Sq_ip)[Dim])
-               __attribute__((always_inline)) {
+    return [ m_p, mv_p, mB_p ](auto& record, const RealLanes& S_ip, const RealLanes(&)[Dim],
+                               const RealLanes(&Sq_ip)[Dim]) __attribute__((always_inline)) {
       if constexpr (with_mass) record[NodeSlots<Dim>::m] += S_ip * m_p;
       for (int c = 0; c < Dim; ++c) {
         RealLanes p = S_ip * mv_p[c];
@@ -78,11 +79,14 @@ struct AffineMomentum {
 
 /// Whether a P2G contribution's add takes APIC's moment S_ip D_p^-1 (x_i - x_p).
 template <class Contribution>
-inline constexpr bool takes_affine_moment = requires { Contribution::affine; };
+inline constexpr bool takes_affine_moment = requires {
+  Contribution::affine;
+};
 
-/// Internal force f_i = -sum_p grad S_ip . sigma_p V_p (Wallstedt & Guilkey 2008, Eq. (14); Sulsky & Kaul 2004,
-/// Eq. (2.2.10)) into the force slot. `Stress` is SymTensor<Dim>, or SymTensor<3> of which the in-plane part acts;
-/// when `state` is set, its 3 x 3 stresses (a rate-form material state's) are read instead of `sigma`.
+/// Internal force f_i = -sum_p grad S_ip . sigma_p V_p (Wallstedt & Guilkey 2008, Eq. (14); Sulsky & Kaul
+/// 2004, Eq. (2.2.10)) into the force slot. `Stress` is SymTensor<Dim>, or SymTensor<3> of which the in-plane
+/// part acts; when `state` is set, its 3 x 3 stresses (a rate-form material state's) are read instead of
+/// `sigma`.
 template <int Dim, class Stress>
 struct InternalForce {
   static constexpr int slots_end = NodeSlots<Dim>::a + Dim;
@@ -101,7 +105,8 @@ struct InternalForce {
       scale(block.load(*state), SymTensor<3>::index);
     else
       scale(block.load(sigma), Stress::index);
-    return [Vsigma_p](auto& record, const RealLanes&, const RealLanes(&dS_ip)[Dim]) __attribute__((always_inline)) {
+    return [Vsigma_p](auto& record, const RealLanes&, const RealLanes(&dS_ip)[Dim])
+        __attribute__((always_inline)) {
       for (int d = 0; d < Dim; ++d) {
         RealLanes f_d = Vsigma_p[d][0] * dS_ip[0];
         for (int c = 1; c < Dim; ++c) f_d += Vsigma_p[d][c] * dS_ip[c];
@@ -122,14 +127,15 @@ struct BodyForce {
   [[gnu::always_inline]] auto operator()(const LaneBlock& block) const {
     const RealLanes m_p = block.load(m)[0];
     const RecordLanes<Vec<Dim>> b_p = block.load(b);
-    return [m_p, b_p](auto& record, const RealLanes& S_ip, const RealLanes(&)[Dim]) __attribute__((always_inline)) {
+    return [ m_p, b_p ](auto& record, const RealLanes& S_ip, const RealLanes(&)[Dim])
+        __attribute__((always_inline)) {
       for (int d = 0; d < Dim; ++d) record[NodeSlots<Dim>::a + d] += (S_ip * m_p) * b_p[d];
     };
   }
 };
 
-/// The hoop term of the internal force in axisymmetry, -V_p sigma_thetatheta S_ip / r_p on the radial component
-/// (Sulsky & Schreyer 1996), r_p the particle's radius.
+/// The hoop term of the internal force in axisymmetry, -V_p sigma_thetatheta S_ip / r_p on the radial
+/// component (Sulsky & Schreyer 1996), r_p the particle's radius.
 struct HoopForce {
   static constexpr int slots_end = NodeSlots<2>::a + 1;
   const std::vector<Real>& V;
@@ -144,9 +150,9 @@ struct HoopForce {
   }
 };
 
-/// The volume gradient sum_p V_p grad S_ip of a body's particles into the v_new slot, which a pass that scatters
-/// mass leaves free: it points out of the body at its surface nodes, and contact takes its normals from it
-/// (Bardenhagen, Brackbill & Sulsky 2000; Nairn 2013 on volume rather than mass gradients).
+/// The volume gradient sum_p V_p grad S_ip of a body's particles into the v_new slot, which a pass that
+/// scatters mass leaves free: it points out of the body at its surface nodes, and contact takes its normals
+/// from it (Bardenhagen, Brackbill & Sulsky 2000; Nairn 2013 on volume rather than mass gradients).
 template <int Dim>
 struct VolumeGradient {
   static constexpr int slots_end = NodeSlots<Dim>::v_new + Dim;
@@ -154,21 +160,24 @@ struct VolumeGradient {
 
   [[gnu::always_inline]] auto operator()(const LaneBlock& block) const {
     const RealLanes V_p = block.load(V)[0];
-    return [V_p](auto& record, const RealLanes&, const RealLanes(&dS_ip)[Dim]) __attribute__((always_inline)) {
+    return [V_p](auto& record, const RealLanes&, const RealLanes(&dS_ip)[Dim])
+        __attribute__((always_inline)) {
       for (int d = 0; d < Dim; ++d) record[NodeSlots<Dim>::v_new + d] += V_p * dS_ip[d];
     };
   }
 };
 
-/// P2G: the contributions of every particle added to the records of the nodes of its stencil, in ScatterOrder.
-/// Particles go `lanes` at a time: their contributions are computed in lanes and added to their tile's footprint
-/// buffer particle by particle, so each tile's sum receives them in the same order as one particle at a time,
-/// whatever the thread count. The fields the contributions add to are not cleared first. Each tile's sums are
-/// shown to keep(tile, footprint records) before they are added into the grid (the halo keeps those of the tiles
-/// at a box's faces). Only the particles of velocity field `field` contribute (ScatterOrder::build).
+/// P2G: the contributions of every particle added to the records of the nodes of its stencil, in
+/// ScatterOrder. Particles go `lanes` at a time: their contributions are computed in lanes and added to their
+/// tile's footprint buffer particle by particle, so each tile's sum receives them in the same order as one
+/// particle at a time, whatever the thread count. The fields the contributions add to are not cleared first.
+/// Each tile's sums are shown to keep(tile, footprint records) before they are added into the grid (the halo
+/// keeps those of the tiles at a box's faces). Only the particles of velocity field `field` contribute
+/// (ScatterOrder::build).
 template <int Dim, class Kernel, class Keep, class... Contributions>
 void p2g_add_keeping(const Keep& keep, const ParticleStencils<Dim, Kernel>& stencils,
-                     const ScatterOrder<Dim>& order, int field, Grid<Dim>& grid, const Contributions&... contributions) {
+                     const ScatterOrder<Dim>& order, int field, Grid<Dim>& grid,
+                     const Contributions&... contributions) {
   constexpr int R = reals_in<GridNode<Dim>>;
   using Lanes = LaneStencil<Dim, Kernel>;
   constexpr std::size_t stencil_nodes = Lanes::node_count;
@@ -177,35 +186,41 @@ void p2g_add_keeping(const Keep& keep, const ParticleStencils<Dim, Kernel>& sten
   NodeLayout<Dim> layout(grid.geometry);
   for (int d = 0, stride = 1; d < Dim; ++d, stride *= Lanes::footprint) layout.stride[d] = stride;
   constexpr bool affine = (takes_affine_moment<Contributions> || ...);
-  // The leading slots of a record the contributions add to, rounded up to a register's width where a record holds
-  // that many (add_stencil_records then adds a node's share with one vector add): slots past them are left alone.
+  // The leading slots of a record the contributions add to, rounded up to a register's width where a record
+  // holds that many (add_stencil_records then adds a node's share with one vector add): slots past them are
+  // left alone.
   constexpr int written = std::max({Contributions::slots_end...});
   constexpr int W = written <= simd::lanes && simd::lanes <= R ? simd::lanes : written;
-  order.template scatter<LaneBlock::width>(grid, [&](Real* buffer, const std::int32_t* particles, int count) {
-    const LaneBlock block(particles, count);
-    Lanes s(stencils, block, grid.geometry, layout.inv_h);
-    if constexpr (affine) s.locate_nodes(grid.geometry.h);
-    const auto add = std::make_tuple(contributions(block)...);
-    std::array<std::array<RealLanes, W>, stencil_nodes> records;
-    std::array<std::int32_t, stencil_nodes> offsets;
-    int o = 0;
-    for_each_node<affine ? NodeMoment::affine : NodeMoment::none>(
-        s, layout,
-        [&](std::int32_t offset, const RealLanes& S_ip, const RealLanes(&dS_ip)[Dim], const auto&... Sq_ip)
-            __attribute__((always_inline)) {
-          std::array<RealLanes, W>& record = records[o];
-          record = {};  // the slots no contribution adds to add zero
-          offsets[o++] = offset;
-          const auto add_to = [&](const auto& add_one) __attribute__((always_inline)) {
-            if constexpr (requires { add_one(record, S_ip, dS_ip, Sq_ip...); })
-              add_one(record, S_ip, dS_ip, Sq_ip...);
-            else
-              add_one(record, S_ip, dS_ip);
-          };
-          std::apply([&](const auto&... add_one) __attribute__((always_inline)) { (add_to(add_one), ...); }, add);
-        });
-    simd::add_stencil_records<R>(buffer, s.slot, offsets, records, block.active);
-  }, keep, field);
+  order.template scatter<LaneBlock::width>(
+      grid,
+      [&](Real* buffer, const std::int32_t* particles, int count) {
+        const LaneBlock block(particles, count);
+        Lanes s(stencils, block, grid.geometry, layout.inv_h);
+        if constexpr (affine) s.locate_nodes(grid.geometry.h);
+        const auto add = std::make_tuple(contributions(block)...);
+        std::array<std::array<RealLanes, W>, stencil_nodes> records;
+        std::array<std::int32_t, stencil_nodes> offsets;
+        int o = 0;
+        for_each_node<affine ? NodeMoment::affine : NodeMoment::none>(
+            s, layout,
+            [&](std::int32_t offset, const RealLanes& S_ip, const RealLanes(&dS_ip)[Dim],
+                const auto&... Sq_ip) __attribute__((always_inline)) {
+              std::array<RealLanes, W>& record = records[o];
+              record = {};  // the slots no contribution adds to add zero
+              offsets[o++] = offset;
+              const auto add_to = [&](const auto& add_one) __attribute__((always_inline)) {
+                if constexpr (requires { add_one(record, S_ip, dS_ip, Sq_ip...); })
+                  add_one(record, S_ip, dS_ip, Sq_ip...);
+                else
+                  add_one(record, S_ip, dS_ip);
+              };
+              std::apply(
+                  [&](const auto&... add_one) __attribute__((always_inline)) { (add_to(add_one), ...); },
+                  add);
+            });
+        simd::add_stencil_records<R>(buffer, s.slot, offsets, records, block.active);
+      },
+      keep, field);
 }
 
 /// The `keep` of a pass that does not look at the tiles' sums (one process).
@@ -221,12 +236,12 @@ void p2g_add(const ParticleStencils<Dim, Kernel>& stencils, const ScatterOrder<D
   p2g_add_keeping(KeepNothing{}, stencils, order, 0, grid, contributions...);
 }
 
-/// The explicit step's P2G of velocity field `field`'s particles: clear the fields it scatters, then add mass and
-/// momentum (Wallstedt & Guilkey 2008, Eq. (8), Eq. (9)) with, for contact, the volume gradient, and the internal
-/// force plus, when per-particle body accelerations are given, the body force (Wallstedt & Guilkey 2008,
-/// Eq. (14), Eq. (15)). Each tile's sums are shown to keep (p2g_add_keeping). The stress is p.sigma, or with
-/// `state_stress` the 3 x 3 stress of the material state (the engine's when it keeps one). With `affine`, the
-/// particles' APIC matrices B_p, the momentum is APIC's (AffineMomentum).
+/// The explicit step's P2G of velocity field `field`'s particles: clear the fields it scatters, then add mass
+/// and momentum (Wallstedt & Guilkey 2008, Eq. (8), Eq. (9)) with, for contact, the volume gradient, and the
+/// internal force plus, when per-particle body accelerations are given, the body force (Wallstedt & Guilkey
+/// 2008, Eq. (14), Eq. (15)). Each tile's sums are shown to keep (p2g_add_keeping). The stress is p.sigma, or
+/// with `state_stress` the 3 x 3 stress of the material state (the engine's when it keeps one). With
+/// `affine`, the particles' APIC matrices B_p, the momentum is APIC's (AffineMomentum).
 template <Scatter what, int Dim, class Kernel, class Keep = KeepNothing>
 void p2g(const ParticleSet<Dim>& p, const ParticleStencils<Dim, Kernel>& stencils,
          const ScatterOrder<Dim>& order, const std::vector<Vec<Dim>>& body_accel, Grid<Dim>& grid,
@@ -277,8 +292,8 @@ void p2g(const ParticleSet<Dim>& p, const ParticleStencils<Dim, Kernel>& stencil
   }
 }
 
-/// Turn a nodal momentum into velocity v_i = p_i / m_i (Wallstedt & Guilkey 2008, Eq. (9)) in place; a node of mass
-/// min_mass or less gets zero. Both engines' projections of momentum end here.
+/// Turn a nodal momentum into velocity v_i = p_i / m_i (Wallstedt & Guilkey 2008, Eq. (9)) in place; a node
+/// of mass min_mass or less gets zero. Both engines' projections of momentum end here.
 template <int Dim>
 inline void momentum_to_velocity(Vec<Dim>& momentum, Real m, Real min_mass) {
   if (m > min_mass)
@@ -293,9 +308,9 @@ inline void node_velocity(GridNode<Dim>& node, Real min_mass) {
 }
 
 /// Turn nodal force into acceleration a_i = (f_int + f_ext)/m_i + g (Wallstedt & Guilkey 2008,
-/// Eq. (15)) scaled by `scale`, and advance the velocity v_i^* = v_i + a_i dt (Wallstedt & Guilkey 2008, Eq. (16)).
-/// With local damping alpha > 0 each component of the unbalanced force is reduced by alpha times its size against
-/// the node's velocity, a_c -= alpha |a_c| sign(v_c) (Cundall 1987, local non-viscous damping).
+/// Eq. (15)) scaled by `scale`, and advance the velocity v_i^* = v_i + a_i dt (Wallstedt & Guilkey 2008, Eq.
+/// (16)). With local damping alpha > 0 each component of the unbalanced force is reduced by alpha times its
+/// size against the node's velocity, a_c -= alpha |a_c| sign(v_c) (Cundall 1987, local non-viscous damping).
 template <int Dim>
 inline void node_update(GridNode<Dim>& node, const Vec<Dim>& gravity, Real dt, Real scale, Real min_mass,
                         Real damping) {
@@ -313,7 +328,8 @@ inline void node_update(GridNode<Dim>& node, const Vec<Dim>& gravity, Real dt, R
 /// node_velocity at every node.
 template <int Dim>
 void grid_velocity(Grid<Dim>& grid, Real min_mass) {
-  parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) { node_velocity(grid.nodes[n], min_mass); });
+  parallel_for(static_cast<std::ptrdiff_t>(grid.size()),
+               [&](std::ptrdiff_t n) { node_velocity(grid.nodes[n], min_mass); });
 }
 
 /// node_update at every node.

@@ -1,7 +1,7 @@
 #pragma once
-/// How particle velocities come from the grid (Transfer), and what the transfer passes are told to do and report,
-/// as the engines name them (Scatter, Gather, ParticleFault, LightMass). The passes are in transfer/p2g.hpp and
-/// transfer/g2p.hpp, which only the units that compile an engine include.
+/// How particle velocities come from the grid (Transfer), and what the transfer passes are told to do and
+/// report, as the engines name them (Scatter, Gather, ParticleFault, LightMass). The passes are in
+/// transfer/p2g.hpp and transfer/g2p.hpp, which only the units that compile an engine include.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -33,8 +33,8 @@ struct ParticleFault {
   explicit operator bool() const { return index != none; }
 };
 
-/// The mass below which a node is light: a fixed mass, or in axisymmetry, where masses are per radian and grow
-/// with the radius, a mass per unit radius times the node's radius |r_i|.
+/// The mass below which a node is light: a fixed mass, or in axisymmetry, where masses are per radian and
+/// grow with the radius, a mass per unit radius times the node's radius |r_i|.
 template <int Dim>
 struct LightMass {
   Real mass = 0;        ///< [kg]; 0: no node is light
@@ -49,8 +49,9 @@ struct LightMass {
   }
 };
 
-/// How particle velocities come from the grid: FLIP (blended with PIC by flip_fraction), or APIC (Jiang et al.
-/// 2015), which keeps an affine matrix B_p per particle and carries the particle's angular momentum both ways.
+/// How particle velocities come from the grid: FLIP (blended with PIC by flip_fraction), or APIC (Jiang et
+/// al. 2015), which keeps an affine matrix B_p per particle and carries the particle's angular momentum both
+/// ways.
 enum class Transfer { flip, apic };
 
 }  // namespace mpm

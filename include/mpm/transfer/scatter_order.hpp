@@ -1,11 +1,11 @@
 #pragma once
-/// A deterministic, race-free order for particle-to-grid scatter that does not depend on how the grid is divided
-/// between threads or ranks. The grid's tiles (GridGeometry::tile_width node layers per axis) are coloured by the
-/// parities of their global tile coordinates, 2^Dim colours. A P2G pass sums the particles of each tile, in id
-/// order, into a cleared buffer the size of the tile's footprint (its nodes and the width - 1 layers above it,
-/// where its particles' stencils reach), small enough to stay in cache, and adds the buffer into the grid; tiles
-/// of one colour have disjoint footprints, so they run in parallel, and the colours go in order. A node lies in
-/// the footprint of at most one tile of each colour, so its value is
+/// A deterministic, race-free order for particle-to-grid scatter that does not depend on how the grid is
+/// divided between threads or ranks. The grid's tiles (GridGeometry::tile_width node layers per axis) are
+/// coloured by the parities of their global tile coordinates, 2^Dim colours. A P2G pass sums the particles of
+/// each tile, in id order, into a cleared buffer the size of the tile's footprint (its nodes and the width -
+/// 1 layers above it, where its particles' stencils reach), small enough to stay in cache, and adds the
+/// buffer into the grid; tiles of one colour have disjoint footprints, so they run in parallel, and the
+/// colours go in order. A node lies in the footprint of at most one tile of each colour, so its value is
 ///     f_i = (((f_i^0 + P_i^{c_0}) + P_i^{c_1}) + ...),   P_i^c = the sum over the one tile of colour c,
 /// a function of the grid and the particle ids alone: a rank that owns a set of whole tiles computes the same
 /// P_i^c, and the halo adds them in the same colour order (docs/scaling.md).
@@ -14,9 +14,8 @@
 #include <climits>
 #include <cstdint>
 #include <cstring>
-#include <vector>
-
 #include <string>
+#include <vector>
 
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
@@ -32,20 +31,22 @@ class ScatterOrder {
 
   ScatterOrder() = default;
   /// The tiles of grid g, for a kernel whose stencils are `width` nodes wide.
-  ScatterOrder(const GridGeometry<Dim>& g, int width) : geometry_(g), footprint_(GridGeometry<Dim>::tile_width + width - 1) {
+  ScatterOrder(const GridGeometry<Dim>& g, int width)
+      : geometry_(g), footprint_(GridGeometry<Dim>::tile_width + width - 1) {
     for (int d = 0; d < Dim; ++d) tile_origin_[d] = g.offset[d] >> GridGeometry<Dim>::tile_shift;
     static_assert(GridGeometry<Dim>::tile_width >= 4, "footprints of tiles of one colour must not overlap");
     if (g.tile_count() > GridGeometry<Dim>::max_tiles)
-      throw InputError("grid: " + std::to_string(g.tile_count()) + " tiles of " +
-                       std::to_string(GridGeometry<Dim>::tile_width) + " node layers per axis, more than the " +
-                       std::to_string(GridGeometry<Dim>::max_tiles) + " one process can index; use fewer cells");
+      throw InputError(
+          "grid: " + std::to_string(g.tile_count()) + " tiles of " +
+          std::to_string(GridGeometry<Dim>::tile_width) + " node layers per axis, more than the " +
+          std::to_string(GridGeometry<Dim>::max_tiles) + " one process can index; use fewer cells");
   }
 
   /// Sort the particles by field, then tile (`tile[p]`: flat tile index of particle p's stencil base node,
   /// StencilTiles), each tile's by id: a stable counting sort, then a sort by id of the runs whose particles
-  /// were not stored in id order. `field[p]` < `fields` is the velocity field particle p projects to (contact,
-  /// ParticleSet::field); each field's particles come out as one run, scattered by their own passes. The result
-  /// is unique, so computing it in parallel gives the same order for any thread count.
+  /// were not stored in id order. `field[p]` < `fields` is the velocity field particle p projects to
+  /// (contact, ParticleSet::field); each field's particles come out as one run, scattered by their own
+  /// passes. The result is unique, so computing it in parallel gives the same order for any thread count.
   template <class Tiles>
   void build(const Tiles& tile, const std::vector<std::int64_t>& id, const std::vector<std::uint16_t>& field,
              int fields) {
@@ -102,7 +103,8 @@ class ScatterOrder {
     for (int f = 0; f < fields; ++f) {
       for (auto& list : colour_[f]) list.clear();
       for (int t = 0; t < tiles; ++t)
-        if (tile_begin_[f * tiles + t + 1] > tile_begin_[f * tiles + t]) colour_[f][colour_of(t)].push_back(t);
+        if (tile_begin_[f * tiles + t + 1] > tile_begin_[f * tiles + t])
+          colour_[f][colour_of(t)].push_back(t);
     }
   }
   /// build for particles that all project to one field.
@@ -119,11 +121,11 @@ class ScatterOrder {
     return {tile_begin_[f * tiles], tile_begin_[(f + 1) * tiles]};
   }
 
-  /// One P2G pass of field f's particles into `grid`: for each tile that holds some, call add(buffer, particles,
-  /// count) for them in runs of at most `lanes`, each run adding its contributions to the node records of
-  /// `buffer`, the tile's footprint (footprint^Dim records, axis 0 fastest, cleared); then show the tile's sums to
-  /// keep(tile, buffer) and add the buffer into the grid's records. Tiles of one colour run in parallel (their
-  /// footprints are disjoint), the colours one after the other.
+  /// One P2G pass of field f's particles into `grid`: for each tile that holds some, call add(buffer,
+  /// particles, count) for them in runs of at most `lanes`, each run adding its contributions to the node
+  /// records of `buffer`, the tile's footprint (footprint^Dim records, axis 0 fastest, cleared); then show
+  /// the tile's sums to keep(tile, buffer) and add the buffer into the grid's records. Tiles of one colour
+  /// run in parallel (their footprints are disjoint), the colours one after the other.
   template <int lanes, class Add, class Keep>
   void scatter(Grid<Dim>& grid, Add&& add, Keep&& keep, int f = 0) const {
     std::size_t records = 1;
@@ -205,7 +207,7 @@ class ScatterOrder {
   }
 
   GridGeometry<Dim> geometry_;
-  int footprint_ = 0;  ///< node layers per axis a tile's particles reach
+  int footprint_ = 0;        ///< node layers per axis a tile's particles reach
   IVec<Dim> tile_origin_{};  ///< global tile coordinates of this box's first tile
   std::vector<std::int32_t> order_, tile_begin_, count_;
   std::vector<std::array<std::vector<std::int32_t>, colours>> colour_{1};  ///< per field

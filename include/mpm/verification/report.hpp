@@ -20,7 +20,8 @@ struct StudyRequest {
   std::string start = "halve";
   std::string constrained_acceleration = "zero";
   VerifyOptions options;  ///< the numbers (cells, ppc, cfl, ...); the names above replace its enumerations
-  /// Resolve the names into `options` and validate them; InputError names the command's option ("--cfl-speed").
+  /// Resolve the names into `options` and validate them; InputError names the command's option
+  /// ("--cfl-speed").
   VerifyCase resolve();
 };
 
@@ -33,13 +34,15 @@ struct StudySeries {
   std::string integrator;  ///< an explicit integrator or "implicit"
   Transfer transfer;
 };
-/// "linear:musl,cpgimp:cd:apic" (--series): kernel:integrator pairs with an optional transfer (default `transfer`).
+/// "linear:musl,cpgimp:cd:apic" (--series): kernel:integrator pairs with an optional transfer (default
+/// `transfer`).
 std::vector<StudySeries> parse_series(const std::string& text, Transfer transfer);
 
 /// Run every series at every value of cells (vary_cells) or CFL, after validating every point; the rows of
-/// study_row, each past a series' first with "order": log(e_prev / e) / log(h_prev / h), h ~ 1/cells or dt ~ cfl.
-/// Throws InputError (naming --values) for cells that are not whole numbers.
-nlohmann::json convergence_rows(VerifyCase which, const VerifyOptions& base, const std::vector<StudySeries>& series,
-                                bool vary_cells, const std::vector<double>& values);
+/// study_row, each past a series' first with "order": log(e_prev / e) / log(h_prev / h), h ~ 1/cells or dt ~
+/// cfl. Throws InputError (naming --values) for cells that are not whole numbers.
+nlohmann::json convergence_rows(VerifyCase which, const VerifyOptions& base,
+                                const std::vector<StudySeries>& series, bool vary_cells,
+                                const std::vector<double>& values);
 
 }  // namespace mpm

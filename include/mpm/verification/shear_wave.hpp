@@ -1,12 +1,13 @@
 #pragma once
-/// A standing shear wave along the diagonal of the periodic unit square (plane strain): an exact solution of the
-/// Neo-Hookean equations of motion without body force, for any amplitude. The displacement
+/// A standing shear wave along the diagonal of the periodic unit square (plane strain): an exact solution of
+/// the Neo-Hookean equations of motion without body force, for any amplitude. The displacement
 ///   u = A e sin(k n.X) cos(omega t),  e = (1, 1)/sqrt 2,  n = (-1, 1)/sqrt 2,  k = 2 pi sqrt 2,
 /// is a simple shear F = I + gamma e (x) n with gamma = A k cos(k n.X) cos(omega t), so J = 1 and the first
-/// Piola-Kirchhoff stress of the Neo-Hookean law, P = mu (F - F^-T) + lambda ln J F^-T = mu gamma (e (x) n + n (x) e),
-/// has Div P = mu (d gamma / d(n.X)) e; rho0 d^2u/dt^2 = Div P then holds with omega = k sqrt(mu / rho0).
-/// Along the axes F_xx = 1 - gamma/2 and F_yy = 1 + gamma/2: past gamma = 2 (A > 1 / (pi sqrt 2) = 0.225) cpGIMP's
-/// half-lengths l_0 F_dd leave (0, h/2] and the run stops, while CPDI's parallelograms follow F.
+/// Piola-Kirchhoff stress of the Neo-Hookean law, P = mu (F - F^-T) + lambda ln J F^-T = mu gamma (e (x) n +
+/// n (x) e), has Div P = mu (d gamma / d(n.X)) e; rho0 d^2u/dt^2 = Div P then holds with omega = k sqrt(mu /
+/// rho0). Along the axes F_xx = 1 - gamma/2 and F_yy = 1 + gamma/2: past gamma = 2 (A > 1 / (pi sqrt 2) =
+/// 0.225) cpGIMP's half-lengths l_0 F_dd leave (0, h/2] and the run stops, while CPDI's parallelograms follow
+/// F.
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -20,7 +21,8 @@ namespace mpm {
 
 struct DiagonalShearWave {
   static constexpr int dim = 2;
-  static constexpr bool periodic = true;  ///< unit period along each axis: positions wrap, errors are the nearest image
+  static constexpr bool periodic =
+      true;        ///< unit period along each axis: positions wrap, errors are the nearest image
   Real A;          ///< displacement amplitude [m]
   NeoHookean mat;  ///< Lame constants and reference density
 

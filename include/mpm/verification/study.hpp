@@ -15,7 +15,7 @@ enum class VerifyCase {
   axis_aligned,    ///< 2-D axis-aligned displacement in the unit square (Wallstedt & Guilkey 2008, Sec. 5.1)
   bar_1d,          ///< 1-D fixed-fixed bar, u = A sin(2 pi X/L) cos(c pi t/L)
   expanding_ring,  ///< 2-D expanding ring (Wallstedt & Guilkey 2008, Sec. 5.2), quarter model
-  shear_wave,      ///< 2-D standing shear wave along the diagonal of the periodic unit square (shear_wave.hpp)
+  shear_wave,  ///< 2-D standing shear wave along the diagonal of the periodic unit square (shear_wave.hpp)
 };
 VerifyCase parse_case(std::string_view name);  ///< throws InputError naming the expected cases
 std::string_view to_string(VerifyCase c);
@@ -23,7 +23,8 @@ std::string_view to_string(VerifyCase c);
 /// The wave speed of the CFL condition.
 enum class CflSpeed {
   particles,  ///< dt = cfl h / max_p(c_p + |v_p|) every step, c_p the dilatational speed at the particle's J
-  reference,  ///< dt = cfl h / c, fixed, c^2 = E / rho0 the solution's wave speed (Wallstedt & Guilkey 2008, Sec. 5)
+  reference,  ///< dt = cfl h / c, fixed, c^2 = E / rho0 the solution's wave speed (Wallstedt & Guilkey 2008,
+              ///< Sec. 5)
 };
 /// Where the error is measured.
 enum class ErrorMeasure {
@@ -45,19 +46,19 @@ struct VerifyOptions {
   /// CFL step, solved by Newton-GMRES to a residual of 1e-10 (linear tolerance 1e-6), far below the errors.
   bool implicit = false;
   Real theta = 1;  ///< the implicit blend: 1 backward Euler, 0.5 the midpoint rule
-  int cells = 32;        ///< cells per axis across the body's reference extent
-  int ppc = 2;           ///< particles per cell per axis
-  Real cfl = 0.4;        ///< the CFL number of `cfl_speed`
+  int cells = 32;  ///< cells per axis across the body's reference extent
+  int ppc = 2;     ///< particles per cell per axis
+  Real cfl = 0.4;  ///< the CFL number of `cfl_speed`
   CflSpeed cfl_speed = CflSpeed::particles;
   ErrorMeasure error = ErrorMeasure::particles;
   HalfStepStart start = HalfStepStart::halve;
   /// Acceleration on the constrained nodes of the symmetry planes: zero, or Steffen et al. 2008, Eq. (30).
   ConstrainedAcceleration constrained_acceleration = ConstrainedAcceleration::zero;
   Real amplitude = 0.1;  ///< A of the manufactured displacement [m]
-  /// Poisson's ratio of the axis-aligned case (which Wallstedt & Guilkey 2008 do not state); unset: the case's own,
-  /// 0.3 for the axis-aligned case and 0 for the bar and the ring, whose closed forms need it.
+  /// Poisson's ratio of the axis-aligned case (which Wallstedt & Guilkey 2008 do not state); unset: the
+  /// case's own, 0.3 for the axis-aligned case and 0 for the bar and the ring, whose closed forms need it.
   std::optional<Real> poisson;
-  Real end_time = 0;     ///< 0: one period of the motion
+  Real end_time = 0;  ///< 0: one period of the motion
 };
 
 /// "implicit", or the explicit integrator's name.
@@ -92,8 +93,9 @@ struct ParticleTable {
 /// step. When `final_state` is given it receives the particles at the end (also after a failure).
 VerifyResult verify(VerifyCase c, const VerifyOptions& o, ParticleTable* final_state = nullptr);
 
-/// Throw InputError for impossible options (cells < 2, ppc < 1, cfl outside (0, 1] or with the reference speed
-/// (0, 2], amplitude, end time, theta outside [0, 1], a nodal error or an exact start the integrator lacks).
+/// Throw InputError for impossible options (cells < 2, ppc < 1, cfl outside (0, 1] or with the reference
+/// speed (0, 2], amplitude, end time, theta outside [0, 1], a nodal error or an exact start the integrator
+/// lacks).
 void validate(const VerifyOptions& o);
 
 }  // namespace mpm
