@@ -85,8 +85,8 @@ void ImplicitSimulation<Dim, Kernel>::project_consistent(Real dt) {
   periodic_halo_.copy_to_ghosts(grid_);
 }
 
-// The inertia term of the residual, M (v^L - v^k) on every node, into mass_dv_ (Sulsky & Kaul 2004, Eq.
-// (2.4.12) with the consistent mass of Eq. (2.2.6)); v^L in GridNode::v_new.
+// The inertia term of the residual, M (v^L - v^k) on every node, into mass_dv_ (Sulsky & Kaul 2004,
+// Eq. (2.4.12) with the consistent mass of Eq. (2.2.6)); v^L in GridNode::v_new.
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::consistent_inertia() {
   mass_dv_.resize(grid_.size());

@@ -12,8 +12,8 @@
 namespace mpm {
 
 // Initialisation phase (Sulsky & Kaul 2004, Sec. 2.3.1): lumped mass (Sulsky & Kaul 2004, Eq. (2.2.12)),
-// momentum (Sulsky & Kaul 2004, Eq. (2.2.14) or Eq. (3.2.3)), internal force at t^k (Sulsky & Kaul 2004, Eq.
-// (2.4.6)) and external force; rigid-body stencils at their positions.
+// momentum (Sulsky & Kaul 2004, Eq. (2.2.14) or Eq. (3.2.3)), internal force at t^k (Sulsky & Kaul 2004,
+// Eq. (2.4.6)) and external force; rigid-body stencils at their positions.
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::project(Real dt) {
   if (build_stencils<Dim, Kernel>(particles_, grid_.geometry, stencils_))
@@ -95,9 +95,9 @@ void ImplicitSimulation<Dim, Kernel>::scatter_momentum(const std::vector<Vec<Dim
   constraints_.fold_and_mirror(grid_, &GridNode<Dim>::v_new);
 }
 
-// Internal force f_i = -sum_p V_p sigma_p grad N_i(x_p^k) (Sulsky & Kaul 2004, Eq. (2.2.9), Eq. (2.2.10), Eq.
-// (2.4.7)), with the hoop term -V_p sigma_thetatheta N_i / r_p on the radial component in axisymmetry (Sulsky
-// & Schreyer 1996).
+// Internal force f_i = -sum_p V_p sigma_p grad N_i(x_p^k) (Sulsky & Kaul 2004, Eq. (2.2.9), Eq. (2.2.10),
+// Eq. (2.4.7)), with the hoop term -V_p sigma_thetatheta N_i / r_p on the radial component in axisymmetry
+// (Sulsky & Schreyer 1996).
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::scatter_force(const std::vector<SymTensor<3>>& sigma,
                                                     std::vector<Vec<Dim>>& f) {

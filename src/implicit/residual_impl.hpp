@@ -15,8 +15,8 @@ namespace mpm {
 
 // Put the trial unknowns on the nodes as the Lagrangian velocity v_i^L (in v_new): free components from x,
 // prescribed ones from the constraints, mirrored ghosts reflected. In the momentum formulation x holds P_i^L:
-// the particle velocities follow from Sulsky & Kaul 2004, Eq. (3.2.6) and v_i^L is their projection, Eq.
-// (3.2.7).
+// the particle velocities follow from Sulsky & Kaul 2004, Eq. (3.2.6) and v_i^L is their projection,
+// Eq. (3.2.7).
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::node_velocity_from(const Eigen::VectorXd& x) {
   const bool momentum = spec_.formulation == Formulation::momentum;
@@ -51,10 +51,10 @@ void ImplicitSimulation<Dim, Kernel>::node_velocity_from(const Eigen::VectorXd& 
 }
 
 // F(x) of Sulsky & Kaul 2004, Eq. (2.4.12), in the form (P^L - P^k) - dt ((1 - theta) f^k + theta f^L +
-// f^ext) on the free unknowns (P^L = m v^L in the velocity formulation, Sulsky & Kaul 2004, Eq. (2.4.5); Eq.
-// (3.2.4) in the momentum one; P^L - P^k = M (v^L - v^k) with the consistent mass of Eq. (2.2.6)), divided by
-// Y h^Dim dt (Sec. 3.2.2). The stress follows from the strain increments of v^L (Sulsky & Kaul 2004, Eq.
-// (2.2.18), Eq. (2.2.19), Eq. (2.2.20), Eq. (2.2.21)).
+// f^ext) on the free unknowns (P^L = m v^L in the velocity formulation, Sulsky & Kaul 2004, Eq. (2.4.5);
+// Eq. (3.2.4) in the momentum one; P^L - P^k = M (v^L - v^k) with the consistent mass of Eq. (2.2.6)),
+// divided by Y h^Dim dt (Sec. 3.2.2). The stress follows from the strain increments of v^L (Sulsky & Kaul
+// 2004, Eq. (2.2.18), Eq. (2.2.19), Eq. (2.2.20), Eq. (2.2.21)).
 template <int Dim, class Kernel>
 bool ImplicitSimulation<Dim, Kernel>::residual_at(const Eigen::VectorXd& x, Real dt, Eigen::VectorXd& r) {
   last_x_ = x;

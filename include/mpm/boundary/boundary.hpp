@@ -170,9 +170,9 @@ class KinematicConstraints {
 
   /// Impose prescribed components on v_new at time t_new and set the constrained acceleration components.
   /// Records the reaction of each constraint, the force it applied: sum_i m_i (a_i - a_i^free) over its
-  /// nodes, with a_i the constrained acceleration the particles receive (zero, or Steffen et al. 2008, Eq.
-  /// (30)). With several velocity fields (contact), each field's call after the first adds to the reactions
-  /// and the friction power (`add_to_last`).
+  /// nodes, with a_i the constrained acceleration the particles receive (zero, or Steffen et al. 2008,
+  /// Eq. (30)). With several velocity fields (contact), each field's call after the first adds to the
+  /// reactions and the friction power (`add_to_last`).
   void constrain_update(Grid<Dim>& grid, Real t_new, Real dt, bool add_to_last = false);
 
   /// One name per constraint ("x-min", ..., "region 0", ...), the order of reactions() and velocities().

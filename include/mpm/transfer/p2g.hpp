@@ -308,9 +308,9 @@ inline void node_velocity(GridNode<Dim>& node, Real min_mass) {
 }
 
 /// Turn nodal force into acceleration a_i = (f_int + f_ext)/m_i + g (Wallstedt & Guilkey 2008,
-/// Eq. (15)) scaled by `scale`, and advance the velocity v_i^* = v_i + a_i dt (Wallstedt & Guilkey 2008, Eq.
-/// (16)). With local damping alpha > 0 each component of the unbalanced force is reduced by alpha times its
-/// size against the node's velocity, a_c -= alpha |a_c| sign(v_c) (Cundall 1987, local non-viscous damping).
+/// Eq. (15)) scaled by `scale`, and advance the velocity v_i^* = v_i + a_i dt (Wallstedt & Guilkey 2008,
+/// Eq. (16)). With local damping alpha > 0 each component of the unbalanced force is reduced by alpha times
+/// its size against the node's velocity, a_c -= alpha |a_c| sign(v_c) (Cundall 1987, non-viscous damping).
 template <int Dim>
 inline void node_update(GridNode<Dim>& node, const Vec<Dim>& gravity, Real dt, Real scale, Real min_mass,
                         Real damping) {

@@ -10,10 +10,10 @@
 namespace mpm {
 
 /// Accumulates samples of an error: here delta_p = |(x_p - X_p) - u_exact(X_p, t)| (Wallstedt & Guilkey 2008,
-/// Eq. (64)). L_inf is the maximum over all particles and all recorded steps (Wallstedt & Guilkey 2008, Eq.
-/// (65)); L1 and L2 weight every particle-step sample equally: L1 = mean delta_p, L2 = sqrt(mean delta_p^2).
-/// A particle's displacement error |(x - X) - u(X, t)|; on a solution periodic with unit period along each
-/// axis (Exact::periodic), that of the nearest image.
+/// Eq. (64)). L_inf is the maximum over all particles and all recorded steps (Wallstedt & Guilkey 2008,
+/// Eq. (65)); L1 and L2 weight every particle-step sample equally: L1 = mean delta_p, L2 = sqrt(mean
+/// delta_p^2). A particle's displacement error |(x - X) - u(X, t)|; on a solution periodic with unit period
+/// along each axis (Exact::periodic), that of the nearest image.
 template <int Dim, class Exact>
 Real displacement_error(const Exact& exact, const Vec<Dim>& x, const Vec<Dim>& X, Real t) {
   Vec<Dim> e = (x - X) - exact.displacement(X, t);
