@@ -51,7 +51,7 @@ done
 
 # The Python scene conversion (mpm.Scene.from_dict), which libFuzzer cannot drive: a mutation fuzzer of its own on
 # the release build's module, for the same time (python/tests/scene_dict_fuzz.py).
-if [ -f build/python/mpm/__init__.py ]; then
+if [ -f build/python/mpm/__init__.py ] && [ -f build/python/interpreter ]; then
   echo "== scene_dict_fuzz: fuzzing for $seconds s"
-  PYTHONPATH=build/python python3 python/tests/scene_dict_fuzz.py "$seconds"
+  PYTHONPATH=build/python "$(cat build/python/interpreter)" python/tests/scene_dict_fuzz.py "$seconds"
 fi

@@ -1,5 +1,5 @@
 // `mpm run SCENE` and `mpm render DIR`: run a scene file with its outputs, and draw pictures of the results.
-#include "mpm/scene/run.hpp"
+#include "mpm/run/run.hpp"
 
 #include <unistd.h>
 

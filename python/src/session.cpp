@@ -1,7 +1,7 @@
 // mpm._core.Session: one scene run driven from Python. It steps without the GIL, in slices of about a fifth
 // of a second, and between slices lets Python handle its signals: Ctrl-C (KeyboardInterrupt) stops a run
 // after a whole step.
-#include "mpm/scene/session.hpp"
+#include "mpm/run/session.hpp"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>

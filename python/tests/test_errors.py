@@ -70,12 +70,23 @@ def test_a_failed_run_raises_and_says_so(tmp_path):
     with pytest.raises(mpm.SimulationFailure) as raised:
         sim.run()
     assert isinstance(raised.value, RuntimeError)
-    assert cli_done.stderr == f"mpm: simulation failed: {raised.value}\n"
+    last = tmp_path / "cli" / "particles_fail.vtp"
+    assert cli_done.stderr == f"mpm: simulation failed: {raised.value}; its last state: {last}\n"
     sim.close()
     with open(tmp_path / "py" / "summary.json") as f:
         summary = json.load(f)
     assert summary["status"] == "failed" and summary["failure"] == str(raised.value)
+    assert summary["failure_frame"] == "particles_fail.vtp"
     assert str(raised.value).startswith("step 241, t = 3.56") and "left the grid" in str(raised.value)
+    # The last state (issue 46, item 7), the same from both: every particle as the failed step left it, the one
+    # the message names marked, and only the particles outside the unit square marked with it.
+    for folder in ("cli", "py"):
+        points, fields = mpm.read_vtp(tmp_path / folder / "particles_fail.vtp")
+        assert len(points) == 416
+        outside = (points[:, :2] < 0).any(axis=1) | (points[:, :2] > 1).any(axis=1)
+        named = int(str(raised.value).split("particle ")[1].split(":")[0])
+        assert fields["failed"][fields["id"] == named][0] == 1 and outside[fields["id"] == named][0]
+        assert ((fields["failed"] == 1) == outside).all()
     with pytest.raises(mpm.SimulationFailure, match="the run failed earlier"):
         sim.step()
 

@@ -172,17 +172,19 @@ void Simulation<Dim, Kernel>::migrate() {
 }
 
 template <int Dim, class Kernel>
-void Simulation<Dim, Kernel>::check(ParticleFault fault, Real dt) const {
+void Simulation<Dim, Kernel>::check(ParticleFault fault, Real dt) {
   const ParticleSet<Dim>& p = particles_;
   if (!box_halo_.divided()) {
-    if (fault) throw SimulationFailure(failure_message(static_cast<std::size_t>(fault.index), dt));
-    return;
+    if (!fault) return;
+    failed_particle_ = p.id[static_cast<std::size_t>(fault.index)];
+    throw SimulationFailure(failure_message(static_cast<std::size_t>(fault.index), dt));
   }
   // Every rank learns of the failure: the one holding the faulty particle of least id says why.
   constexpr std::int64_t none = std::numeric_limits<std::int64_t>::max();
   const std::int64_t mine = fault ? p.id[static_cast<std::size_t>(fault.index)] : none;
   const std::int64_t first = comm_->min(mine);
   if (first == none) return;
+  failed_particle_ = first;
   const int root = static_cast<int>(comm_->min(mine == first ? comm_->rank() : comm_->size()));
   const std::string mine_text =
       mine == first ? failure_message(static_cast<std::size_t>(fault.index), dt) : "";

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "mpm/io/checkpoint.hpp"
 #include "support.hpp"
 
 namespace {
@@ -131,10 +132,24 @@ TEST(NewtonLog, RestartAfterAFailedStepCutsItBackToTheCheckpoint) {
   ASSERT_FALSE(failed.empty());
   EXPECT_EQ(failed.rbegin()->second.norms.at(0).size(),
             2u);  // the failed step: the initial guess and one iterate
+  // The failed run's last state (issue 46, item 7): the implicit step fails before it touches the particles,
+  // so particles_fail.vtp holds the last good state, the checkpoint's, with no particle marked as failed.
+  const std::vector<double> marks = mpm::testing::vtp_array(dir / "two/particles_fail.vtp", "failed");
+  const std::vector<double> points = mpm::testing::vtp_array(dir / "two/particles_fail.vtp", "");
+  const mpm::io::CheckpointData c = mpm::io::read_checkpoint(dir / "two/checkpoint.h5");
+  const std::vector<double>& x = c.reals.at("x");
+  ASSERT_FALSE(marks.empty());
+  ASSERT_EQ(points.size(), 3 * marks.size());
+  const std::size_t dim = x.size() / marks.size();
+  for (std::size_t i = 0; i < marks.size(); ++i) {
+    EXPECT_EQ(marks[i], 0.0);
+    for (std::size_t d = 0; d < dim; ++d) EXPECT_EQ(points[3 * i + d], x[dim * i + d]);
+  }
   ASSERT_EQ(
       run_mpm(plastic_bar, fig5 + " --out " + two + " --restart " + two + "/checkpoint.h5", dir / "log"), 0)
       << slurp(dir / "log");
   EXPECT_EQ(slurp(dir / "one/newton.csv"), slurp(dir / "two/newton.csv"));
+  EXPECT_FALSE(fs::exists(dir / "two/particles_fail.vtp"));  // the run that went on removed it
   fs::remove_all(dir);
 }
 

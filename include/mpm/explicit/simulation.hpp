@@ -139,6 +139,9 @@ class Simulation {
   std::size_t contact_nodes() const { return contact_.contact_nodes(); }
   /// Nodes at or below this mass are treated as empty (their acceleration is zero) [kg].
   Real min_node_mass() const { return min_node_mass_; }
+  /// The id of the particle the last SimulationFailure named (the faulty one of least id on a divided grid),
+  /// -1 before any.
+  std::int64_t failed_particle() const { return failed_particle_; }
   const KinematicConstraints<Dim>& constraints() const { return constraints_; }
   /// The reaction of each face and region constraint (constraints().names()) in the last step, over all ranks
   /// [N].
@@ -238,7 +241,7 @@ class Simulation {
   ParticleFault update_stress(Real dt);
   /// Stop every rank with the failure of the first faulty particle (a SimulationFailure naming step, time,
   /// id, cause).
-  void check(ParticleFault fault, Real dt) const;
+  void check(ParticleFault fault, Real dt);
   std::string failure_message(std::size_t i, Real dt) const;
   /// Remove the particles at `gone` (ascending) with their per-particle arrays.
   void erase(const std::vector<std::size_t>& gone);
@@ -305,6 +308,7 @@ class Simulation {
   Outflow<Dim> outflow_;
   Real time_ = 0;
   std::int64_t steps_ = 0;
+  std::int64_t failed_particle_ = -1;  // failed_particle()
 };
 
 }  // namespace mpm

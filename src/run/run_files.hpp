@@ -25,8 +25,8 @@ class RunFiles {
   /// Make the folder. A fresh run clears an earlier run's outputs; a restart at time t (step `steps`) keeps
   /// the frames, history rows and Newton log rows up to its checkpoint and removes the frame files after
   /// them. Both remove the temporary checkpoints (checkpoint.h5.tmp-PID-N) a run killed while writing one
-  /// left behind. Returns the frames written so far, rank 0's count on every rank (so that all write the next
-  /// at one step).
+  /// left behind, and an earlier failed run's last state (particles_fail). Returns the frames written so far,
+  /// rank 0's count on every rank (so that all write the next at one step).
   std::int64_t prepare(bool restart, Real t, std::int64_t steps, const std::string& history_header,
                        bool newton_log) {
     std::int64_t frames = 0;
@@ -42,19 +42,14 @@ class RunFiles {
              const std::vector<io::PointField>& fields) {
     std::ostringstream name;
     name << "particles_" << std::setw(4) << std::setfill('0') << index;
-    if (comm_.size() == 1) {
-      io::write_vtp(dir_ / (name.str() + ".vtp"), points, fields);
-      series_.add(t, name.str() + ".vtp");
-      return;
-    }
-    const auto piece = [&](int r) { return name.str() + "_" + std::to_string(r) + ".vtp"; };
-    io::write_vtp(dir_ / piece(comm_.rank()), points, fields);
-    comm_.min(0);  // every piece is written before the set that lists them
-    if (comm_.rank() != 0) return;
-    std::vector<std::string> pieces;
-    for (int r = 0; r < comm_.size(); ++r) pieces.push_back(piece(r));
-    io::write_pvtp(dir_ / (name.str() + ".pvtp"), fields, pieces);
-    series_.add(t, name.str() + ".pvtp");
+    const std::string file = write_particles(name.str(), points, fields);
+    if (comm_.rank() == 0) series_.add(t, file);
+  }
+
+  /// The last state of a failed run: particles_fail.vtp (or .pvtp with its pieces), not in particles.pvd.
+  /// Returns the file's name.
+  std::string failure_frame(const std::vector<double>& points, const std::vector<io::PointField>& fields) {
+    return write_particles(failure_name, points, fields);
   }
 
   /// history.csv, open on rank 0 only.
@@ -68,6 +63,27 @@ class RunFiles {
   }
 
  private:
+  static constexpr const char* failure_name = "particles_fail";
+
+  /// NAME.vtp, or divided between ranks one piece per rank, NAME_R.vtp, gathered by rank 0's NAME.pvtp.
+  /// Returns the name of the file that holds the whole (NAME.vtp or NAME.pvtp).
+  std::string write_particles(const std::string& name, const std::vector<double>& points,
+                              const std::vector<io::PointField>& fields) {
+    if (comm_.size() == 1) {
+      io::write_vtp(dir_ / (name + ".vtp"), points, fields);
+      return name + ".vtp";
+    }
+    const auto piece = [&](int r) { return name + "_" + std::to_string(r) + ".vtp"; };
+    io::write_vtp(dir_ / piece(comm_.rank()), points, fields);
+    comm_.min(0);  // every piece is written before the set that lists them
+    if (comm_.rank() == 0) {
+      std::vector<std::string> pieces;
+      for (int r = 0; r < comm_.size(); ++r) pieces.push_back(piece(r));
+      io::write_pvtp(dir_ / (name + ".pvtp"), fields, pieces);
+    }
+    return name + ".pvtp";
+  }
+
   /// The index of a frame file's name (particles_NNNN.vtp, .pvtp or _R.vtp); -1 for other files.
   static std::int64_t frame_index(const std::filesystem::path& file) {
     const std::string name = file.filename().string(), ext = file.extension().string();
@@ -93,7 +109,7 @@ class RunFiles {
     const std::string stray = io::checkpoint_temp_prefix(dir_ / "checkpoint.h5").filename().string();
     for (const fs::directory_entry& e : fs::directory_iterator(dir_)) {
       const std::string name = e.path().filename().string();
-      if (frame_index(e.path()) >= frames || name.rfind(stray, 0) == 0 ||
+      if (frame_index(e.path()) >= frames || name.rfind(stray, 0) == 0 || name.rfind(failure_name, 0) == 0 ||
           (!restart && (name == "particles.pvd" || name == "history.csv" || name == "newton.csv" ||
                         name == "summary.json")))
         fs::remove(e.path(), ec);

@@ -1,4 +1,4 @@
-#include "mpm/scene/session.hpp"
+#include "mpm/run/session.hpp"
 
 #include <limits>
 

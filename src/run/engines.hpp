@@ -1,8 +1,13 @@
 #pragma once
-// The two engines a scene can run on, behind one small interface the scene runner uses: the explicit
-// integrators (Wallstedt & Guilkey 2008) and the implicit step (Sulsky & Kaul 2004).
+// The two engines a scene can run on, behind the one interface the run loop uses (SceneEngine, at the end):
+// the explicit integrators (Wallstedt & Guilkey 2008) and the implicit step (Sulsky & Kaul 2004).
+#include <array>
+#include <cmath>
+#include <concepts>
+#include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mpm/core/errors.hpp"
@@ -134,6 +139,21 @@ void load_state(const io::CheckpointData& c, const std::string& where, ParticleS
 }
 
 /// Explicit USF/USL/CD/MUSL with any materials.
+/// After a SimulationFailure, for the last state's frame: 1 for each particle that failed (the one of id
+/// `named`, which the message names, and any with a non-finite position, velocity or F, det F <= 0, or
+/// outside the grid), 0 for the others.
+template <int Dim>
+std::vector<double> failed_mask(const ParticleSet<Dim>& p, const GridGeometry<Dim>& g, std::int64_t named) {
+  std::vector<double> mark(p.size(), 0.0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Real J = p.F[i].determinant();
+    const bool broken =
+        !p.x[i].allFinite() || !p.v[i].allFinite() || !std::isfinite(J) || !(J > 0) || !g.contains(p.x[i]);
+    if (broken || p.id[i] == named) mark[i] = 1;
+  }
+  return mark;
+}
+
 template <int Dim, class Kernel>
 class Explicit {
  public:
@@ -244,6 +264,11 @@ class Explicit {
   }
   /// After every rank loaded its share: divide the grid by the particles and send each to its tile's owner.
   void take_particles() { sim_.adopt_particles(); }
+  /// After a SimulationFailure the particles hold the failed step's values: the particle the message names is
+  /// marked, and any other that broke (failed_mask).
+  std::vector<double> failed_particles() const {
+    return failed_mask(sim_.particles(), sim_.grid().geometry, sim_.failed_particle());
+  }
 
  private:
   SimulationSpec<Dim> spec_;
@@ -368,10 +393,52 @@ class Implicit {
   }
   /// The implicit step runs in one process and locates its particles at every step: nothing to do.
   void take_particles() {}
+  /// A failed step leaves the last good state: no particle is marked unless that state broke (failed_mask).
+  std::vector<double> failed_particles() const {
+    return failed_mask(sim_.particles(), sim_.grid().geometry, -1);
+  }
 
  private:
   ImplicitSpec<Dim> spec_;
   ImplicitSimulation<Dim, Kernel> sim_;
+};
+
+/// What the run loop (SceneRun, SceneSession, the checkpoints and outputs) asks of an engine adapter in Dim
+/// dimensions: Explicit and Implicit above. A new engine that misses one is refused here, by name, at compile
+/// time.
+template <class E, int Dim>
+concept SceneEngine = std::constructible_from<E, const Scene&> &&
+    requires(E& e, const E& c, Real t, std::size_t i, double* out, std::vector<io::PointField>& fields,
+             io::CheckpointData& data, const std::string& where, const std::vector<Vec<Dim>>& v,
+             nlohmann::json& j) {
+  // What the particles hold after a SimulationFailure; whether load_power reads the step's first velocities.
+  { E::failure_keeps_state } -> std::convertible_to<bool>;
+  { E::needs_velocities_before } -> std::convertible_to<bool>;
+  e.sim();
+  { c.communicator() } -> std::same_as<const Communicator&>;
+  { c.particle_count() } -> std::same_as<std::int64_t>;
+  {
+    c.template particle_sum<1>([](std::size_t) { return std::array<Real, 1>{}; })
+    } -> std::same_as<std::array<Real, 1>>;
+  { c.strain_energy(i) } -> std::convertible_to<Real>;
+  { c.load_power(v) } -> std::convertible_to<Real>;
+  { c.friction_power() } -> std::convertible_to<Real>;
+  { c.reaction_names() } -> std::convertible_to<std::vector<std::string>>;
+  { c.reactions() } -> std::convertible_to<std::vector<Vec<Dim>>>;
+  { c.reaction_velocities(t) } -> std::convertible_to<std::vector<Vec<Dim>>>;
+  { c.contact_forces() } -> std::convertible_to<std::vector<PairForces<Dim>>>;
+  { c.spread_names() } -> std::convertible_to<std::vector<std::string>>;
+  { c.spreads() } -> std::convertible_to<std::vector<Real>>;
+  { c.newton_attempts() } -> std::convertible_to<std::vector<NewtonAttempt>>;
+  { c.counter_names() } -> std::convertible_to<std::vector<std::string>>;
+  { c.counters() } -> std::convertible_to<std::vector<std::int64_t>>;
+  c.stress(i, out);
+  c.add_fields(fields);
+  c.summarize(j);
+  c.save(data);
+  e.load(std::as_const(data), where);
+  e.take_particles();
+  { c.failed_particles() } -> std::convertible_to<std::vector<double>>;
 };
 
 }  // namespace mpm::scene_engines

@@ -1,6 +1,6 @@
 #pragma once
 // The time loop of a scene run with its outputs (ParaView files, history, summary, progress, checkpoints), as
-// steps: `mpm run` goes through them in one loop (run_scene), a Session (mpm/scene/session.hpp) one call at a
+// steps: `mpm run` goes through them in one loop (run_scene), a Session (mpm/run/session.hpp) one call at a
 // time.
 #include <sys/resource.h>
 
@@ -21,8 +21,8 @@
 #include "mpm/io/checkpoint.hpp"
 #include "mpm/io/files.hpp"
 #include "mpm/io/vtk.hpp"
+#include "mpm/run/run.hpp"
 #include "mpm/scene/budget.hpp"
-#include "mpm/scene/run.hpp"
 #include "mpm/verification/error_norms.hpp"
 #include "run_checkpoint.hpp"
 #include "run_files.hpp"
@@ -37,6 +37,7 @@ namespace mpm {
 /// A scene on one engine, from its start or a checkpoint to its end. With an empty RunOptions::out_dir it
 /// writes nothing (a Session that only steps).
 template <int Dim, class Engine>
+requires scene_engines::SceneEngine<Engine, Dim>
 class SceneRun {
   using Clock = std::chrono::steady_clock;
 
@@ -101,7 +102,11 @@ class SceneRun {
       throw;
     }
     if (!failure.empty()) {
-      if (root_) std::cerr << "mpm: simulation failed: " << failure << '\n';
+      if (root_)
+        std::cerr << "mpm: simulation failed: " << failure
+                  << (failure_frame_.empty() ? ""
+                                             : "; its last state: " + (o_.out_dir / failure_frame_).string())
+                  << '\n';
       return exit_simulation_failure;
     }
     if (signal) {
@@ -155,7 +160,8 @@ class SceneRun {
   bool at_end() const { return sim_.time() >= sc_.end_time * (1 - 1e-14); }
 
   /// After a SimulationFailure in advance(): the engine that keeps its state checkpoints the last good one to
-  /// restart from, and the Newton log gets the failed step's attempts. Returns the failure's description.
+  /// restart from, the Newton log gets the failed step's attempts, and the particles as the failure left them
+  /// go to particles_fail.vtp with the failed ones marked. Returns the failure's description.
   std::string failed(const std::string& what) {
     if (writes()) {
       // The implicit engine fails before it touches the particles: checkpoint the last good state to restart
@@ -163,6 +169,7 @@ class SceneRun {
       if (Engine::failure_keeps_state) write_checkpoint();
       if (files_.newton_log().is_open())
         files_.newton_log().write(sim_.steps() + 1, engine_.newton_attempts());
+      write_failure_frame();
     }
     return what;
   }
@@ -295,6 +302,16 @@ class SceneRun {
   }
 
   /// One frame of every rank's particles (RunFiles::frame).
+  /// The particles as a failure left them (the explicit engine's failed step, the implicit one's last good
+  /// state), with the field `failed` (1: a particle that failed) beside the frames' fields.
+  void write_failure_frame() {
+    std::vector<double> points;
+    std::vector<io::PointField> fields;
+    frame_fields<Dim>(engine_, sc_.exact_displacement, sim_.time(), points, fields);
+    fields.push_back(io::PointField{"failed", 1, engine_.failed_particles()});
+    failure_frame_ = files_.failure_frame(points, fields);
+  }
+
   void write_frame() {
     std::vector<double> points;
     std::vector<io::PointField> fields;
@@ -329,6 +346,7 @@ class SceneRun {
                       {{"estimated_bytes", budget_.memory_bytes},
                        {"peak_bytes", 1024.0 * static_cast<double>(usage.ru_maxrss)}}}};
     if (!failure.empty()) j["failure"] = failure;
+    if (!failure_frame_.empty()) j["failure_frame"] = failure_frame_;
     if (signal) j["signal"] = signal_name(signal);
     engine_.summarize(j);
     if (!o_.restart.empty()) j["restarted_from"] = o_.restart.string();
@@ -359,9 +377,10 @@ class SceneRun {
   Engine engine_;
   decltype(engine_.sim())& sim_;
   const Communicator& comm_;
-  Budget budget_;      // of what is left to run (set by the constructor)
-  const bool root_;    // rank 0 writes history.csv, summary.json and the frames' .pvtp and .pvd
-  Settling settling_;  // when the kinetic energy of a damped run settled
+  Budget budget_;              // of what is left to run (set by the constructor)
+  std::string failure_frame_;  // the last state of a failed run, in the output folder ("": none)
+  const bool root_;            // rank 0 writes history.csv, summary.json and the frames' .pvtp and .pvd
+  Settling settling_;          // when the kinetic energy of a damped run settled
   RunFiles files_{o_.out_dir, comm_};
   scene_checkpoint::Accumulators acc_;  // what a checkpoint carries beside the particles
   Real previous_time_ = 0;

@@ -1,5 +1,5 @@
 #pragma once
-// A Session (mpm/scene/session.hpp) over one engine's SceneRun: the Python module's runs, stepped one call at
+// A Session (mpm/run/session.hpp) over one engine's SceneRun: the Python module's runs, stepped one call at
 // a time, with read-only views of the particles and the grid. Instantiated once per engine, dimension and
 // kernel (scene_entry.hpp).
 #include <cstdint>
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "mpm/core/errors.hpp"
-#include "mpm/scene/session.hpp"
+#include "mpm/run/session.hpp"
 #include "scene_entry.hpp"
 #include "scene_run.hpp"
 

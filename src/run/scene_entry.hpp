@@ -5,9 +5,9 @@
 // choose among them without compiling the loop.
 #include <memory>
 
-#include "mpm/scene/run.hpp"
+#include "mpm/run/run.hpp"
+#include "mpm/run/session.hpp"
 #include "mpm/scene/scene.hpp"
-#include "mpm/scene/session.hpp"
 
 namespace mpm {
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "mpm/scene/run.hpp"
+#include "mpm/run/run.hpp"
 #include "mpm/scene/scene.hpp"
 
 namespace mpm {

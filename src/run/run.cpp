@@ -1,4 +1,4 @@
-#include "mpm/scene/run.hpp"
+#include "mpm/run/run.hpp"
 
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
