@@ -1,4 +1,7 @@
 // Reading the bodies, rigid bodies and loads of a scene.
+#include <filesystem>
+#include <system_error>
+
 #include "mpm/scene/budget.hpp"
 #include "section.hpp"
 
@@ -48,9 +51,13 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
     b.file = s.text("file", "");
     if (b.file.empty()) s.fail("file", "missing (a CSV file of positions and volumes)");
     if (b.file.is_relative()) b.file = sc.file.parent_path() / b.file;
-    if (!std::filesystem::exists(b.file)) s.fail("file", "cannot open " + b.file.string());
-    if (!std::filesystem::is_regular_file(b.file))
-      s.fail("file", b.file.string() + " is not a regular file (a CSV file of positions and volumes)");
+    std::error_code ec;  // a name the file system refuses (too long, say) is an error, not an exception
+    const std::filesystem::file_status status = std::filesystem::status(b.file, ec);
+    if (!std::filesystem::exists(status))
+      s.fail("file", "cannot open " + in_quotes(b.file.string()) + (ec ? " (" + ec.message() + ")" : ""));
+    if (!std::filesystem::is_regular_file(status))
+      s.fail("file",
+             in_quotes(b.file.string()) + " is not a regular file (a CSV file of positions and volumes)");
   } else {
     if ((shape == "disk" && sc.dim != 2) || (shape == "sphere" && sc.dim != 3))
       s.fail("shape", "\"disk\" is for 2-D scenes, \"sphere\" for 3-D");

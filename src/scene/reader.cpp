@@ -8,6 +8,7 @@
 #include <limits>
 #include <set>
 #include <sstream>
+#include <system_error>
 
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
@@ -301,8 +302,9 @@ void read_implicit(const Section& s, Scene& sc) {
 
 Scene read_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
   std::ifstream is(file);
-  if (!is || !std::filesystem::is_regular_file(file))
-    throw InputError(file.string() + ": cannot open the scene file");
+  std::error_code ec;  // a name the file system refuses (too long, say) is an error, not an exception
+  if (!is || !std::filesystem::is_regular_file(file, ec))
+    throw InputError(shortened(file.string()) + ": cannot open the scene file");
   std::stringstream ss;
   ss << is.rdbuf();
   return read_scene_text(ss.str(), file, overrides);

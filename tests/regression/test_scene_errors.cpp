@@ -448,6 +448,13 @@ INSTANTIATE_TEST_SUITE_P(
                  "bodies[1].file",
                  {"is not a regular file"},
                  30},
+        // A name the file system refuses threw std::filesystem's error past the reader (the Python fuzzer's
+        // find).
+        BadScene{"ParticleFileNameTooLong",
+                 {{"shape = \"disk\"", "shape = \"file\"\nfile = \"" + std::string(300, 'x') + "\""}},
+                 "bodies[1].file",
+                 {"cannot open '", "...' (File name too long)"},
+                 30},
         BadScene{"KeysNestedTooDeep",
                  {{"", dotted_key(100) + " = 1\n"}},
                  "",
