@@ -14,6 +14,7 @@
 #include "mpm/explicit/simulation.hpp"
 #include "mpm/particles/pack.hpp"
 #include "mpm/particles/reorder.hpp"
+#include "mpm/particles/stable_step.hpp"
 #include "mpm/particles/validate.hpp"
 #include "mpm/transfer/g2p.hpp"
 #include "mpm/transfer/g2p_stress.hpp"
@@ -133,25 +134,8 @@ void Simulation<Dim, Kernel>::size_rates() {
 template <int Dim, class Kernel>
 Real Simulation<Dim, Kernel>::next_dt() const {
   if (spec_.dt > 0) return spec_.dt;
-  const ParticleSet<Dim>& p = particles_;
-  const auto n = static_cast<std::ptrdiff_t>(p.size());
-  const auto larger = [](Real a, Real b) { return std::max(a, b); };
-  const Real speed =
-      !neo_hookean_.empty()
-          ? parallel_reduce(
-                n, Real{0},
-                [&](std::ptrdiff_t i) {
-                  return neo_hookean_[p.material[i]].wave_speed(p.V[i] / p.V0[i]) + p.v[i].norm();
-                },
-                larger)
-          : parallel_reduce(
-                n, Real{0},
-                [&](std::ptrdiff_t i) {
-                  return wave_speed(spec_.materials[p.material[i]], p.V[i] / p.V0[i], p.state.sigma[i]) +
-                         p.v[i].norm();
-                },
-                larger);
-  return spec_.cfl * spec_.h / comm_->max(speed);  // every rank takes the step of the fastest particle
+  // Every rank takes the step of the fastest particle.
+  return cfl_step(spec_.cfl, spec_.h, comm_->max(fastest_signal(particles_, spec_.materials)));
 }
 
 template <int Dim, class Kernel>

@@ -167,12 +167,12 @@ template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::account_load_power() {
   // Grouped by the tiles of the step's start, whose particles one rank held, in id order.
   const ParticleSet<Dim>& p = particles_;
-  load_power_ = sum_by_tile<1>(
-      [&](std::size_t i) { return start_tile_[i]; },
+  load_power_ = exact_particle_sum<1>(
+      p.size(), [&](std::size_t i) { return start_tile_[i]; },
       [&](std::size_t i) {
-        const Vec<Dim> load = body_accel_.empty() ? spec_.gravity : Vec<Dim>(spec_.gravity + body_accel_[i]);
-        return std::array<Real, 1>{p.m[i] * load.dot(0.5 * (v_start_[i] + p.v[i]))};
-      })[0];
+        return std::array<Real, 1>{particle_load_power(p, i, spec_.gravity, body_accel_, v_start_)};
+      },
+      *comm_)[0];
 }
 
 template <int Dim, class Kernel>

@@ -21,30 +21,15 @@ std::string_view to_string(Integrator i) {
 }
 template <int Dim>
 void validate(const SimulationSpec<Dim>& s) {
-  require(std::isfinite(s.h) && s.h > 0, "grid.h: cell width must be positive");
-  for (int d = 0; d < Dim; ++d) require(s.cells[d] >= 1, "grid.cells: every axis needs at least 1 cell");
-  require(s.grid_lo.allFinite(), "grid.lo: must be finite");
-  require(!s.materials.empty(), "materials: at least one material is required");
-  for (std::size_t k = 0; k < s.materials.size(); ++k)
-    validate(s.materials[k], "materials[" + std::to_string(k) + "]", Dim, s.geometry);
-  require(Dim == 2 || s.geometry == Geometry::plane_strain,
-          "simulation.geometry: plane stress and axisymmetry are 2-D models");
-  require(s.geometry != Geometry::axisymmetric || s.grid_lo[0] >= 0,
-          "grid.lo: an axisymmetric grid must lie at radius x >= 0");
-  validate_faces<Dim>(s.boundary, s.cells, s.geometry, s.grid_lo[0], "");
-  validate_clamped_cells<Dim>(s.kernel, s.boundary, s.cells, "");
+  validate_model<Dim>(s, "");
   validate(s.contact);
   if (measures_gaps(s.contact))
     for (const FaceCondition<Dim>& f : s.boundary.faces)
       require(f.type != FaceType::periodic,
               "contact: the gap of mass centres is not measured across periodic faces");
-  for (const RigidBody<Dim>& b : s.rigid_bodies) {
-    require(!b.points.empty(), "rigid body '" + b.name + "': has no points");
-    require(static_cast<bool>(b.velocity), "rigid body '" + b.name + "': needs a velocity");
+  for (const RigidBody<Dim>& b : s.rigid_bodies)
     require(b.friction < 0 || std::isfinite(b.friction),
             "rigid body '" + b.name + "': friction must be finite");
-    require(!std::isnan(b.friction), "rigid body '" + b.name + "': friction must be a number");
-  }
   if (s.dt > 0) {
     require(std::isfinite(s.dt), "dt: must be finite");
   } else {
@@ -55,11 +40,7 @@ void validate(const SimulationSpec<Dim>& s) {
   require(s.rebalance_interval >= 1, "rebalance_interval: expected at least 1 step");
   require(!s.half_step_velocity_given || s.integrator == Integrator::cd || s.integrator == Integrator::musl,
           "half_step_velocity_given: only CD and UVF-MPM (musl) start from half-step velocities");
-  require(s.gravity.allFinite(), "gravity: must be finite");
   require(s.local_damping >= 0 && s.local_damping < 1, "local_damping: expected a number in [0, 1)");
-  require(s.flip_fraction >= 0 && s.flip_fraction <= 1, "flip_fraction: expected a number in [0, 1]");
-  require(s.transfer != Transfer::apic || s.flip_fraction == 1,
-          "flip_fraction: applies to transfer = \"flip\" only");
 }
 
 template void validate<1>(const SimulationSpec<1>&);

@@ -12,6 +12,7 @@
 #include "mpm/core/time_step.hpp"
 #include "mpm/implicit/simulation.hpp"
 #include "mpm/materials/material_step.hpp"
+#include "mpm/particles/stable_step.hpp"
 #include "mpm/particles/validate.hpp"
 #include "projection_impl.hpp"
 #include "residual_impl.hpp"
@@ -91,26 +92,10 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
   f_trial_.assign(nodes, Vec<Dim>::Zero());
   momentum_velocity_.assign(nodes, Vec<Dim>::Zero());
   // The explicit reference step: fixed, or the CFL condition on the dilatational wave speed.
-  explicit_dt_ = spec_.step.dt > 0 ? spec_.step.dt : spec_.step.cfl * spec_.h / wave_speed_limit();
+  explicit_dt_ = spec_.step.dt > 0
+                     ? spec_.step.dt
+                     : cfl_step(spec_.step.cfl, spec_.h, fastest_signal(particles_, spec_.materials));
   dt_ = explicit_dt_ * std::min(spec_.step.start_factor, spec_.step.step_factor);
-}
-
-template <int Dim, class Kernel>
-Real ImplicitSimulation<Dim, Kernel>::wave_speed_limit() const {
-  const ParticleSet<Dim>& p = particles_;
-  Real speed = 0;
-  for (std::size_t i = 0; i < p.size(); ++i)
-    speed = std::max(speed, wave_speed_of(spec_.materials[p.material[i]], i) + p.v[i].norm());
-  return speed;
-}
-
-template <int Dim, class Kernel>
-Real ImplicitSimulation<Dim, Kernel>::wave_speed_of(const Material& material, std::size_t i) const {
-  const ParticleSet<Dim>& p = particles_;
-  // The rate-form speed from the density m / V, as the implicit engine has always taken it (the same value as
-  // wave_speed(material, V / V0) but not the same rounding, which sets every step of a run).
-  if (const auto* law = std::get_if<ElastoPlastic>(&material)) return law->wave_speed(p.m[i] / p.V[i]);
-  return wave_speed(material, p.V[i] / p.V0[i], p.state.sigma[i]);
 }
 
 template <int Dim, class Kernel>

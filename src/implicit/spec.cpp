@@ -36,24 +36,12 @@ std::string_view to_string(ImplicitSolver s) {
 template <int Dim>
 void validate(const ImplicitSpec<Dim>& s, const std::string& where) {
   const std::string at = where.empty() ? "" : where + ": ";
-  require(std::isfinite(s.h) && s.h > 0, at + "grid.h: cell width must be positive");
-  for (int d = 0; d < Dim; ++d) require(s.cells[d] >= 1, at + "grid.cells: every axis needs at least 1 cell");
-  require(s.grid_lo.allFinite(), at + "grid.lo: must be finite");
-  require(Dim == 2 || s.geometry == Geometry::plane_strain,
-          at + "simulation.geometry: plane stress and axisymmetry are 2-D models");
-  require(s.geometry != Geometry::axisymmetric || s.grid_lo[0] >= 0,
-          at + "grid.lo: an axisymmetric grid must lie at radius x >= 0");
-  validate_faces<Dim>(s.boundary, s.cells, s.geometry, s.grid_lo[0], at);
-  validate_clamped_cells<Dim>(s.kernel, s.boundary, s.cells, at);
+  validate_model<Dim>(s, at);
   for (const FaceCondition<Dim>& f : s.boundary.faces)
     require(!(f.friction >= 0), at + "grid.faces: Coulomb walls (friction) are for the explicit integrators");
   require(s.theta >= 0 && s.theta <= 1, at + "implicit.theta: expected a number in [0, 1]");
-  require(s.flip_fraction >= 0 && s.flip_fraction <= 1,
-          at + "simulation.flip_fraction: expected a number in [0, 1]");
   require(s.transfer != Transfer::apic || !s.consistent_mass,
           at + "implicit.mass: APIC (transfer = \"apic\") runs with the lumped mass");
-  require(s.transfer != Transfer::apic || s.flip_fraction == 1,
-          at + "simulation.flip_fraction: applies to transfer = \"flip\" only");
   require(s.solver != ImplicitSolver::linear_cg || s.formulation == Formulation::velocity,
           at + "implicit.solver: cg (linear) needs the symmetric velocity formulation");
   require(s.solver != ImplicitSolver::newton_cg || s.formulation == Formulation::velocity,
@@ -81,20 +69,13 @@ void validate(const ImplicitSpec<Dim>& s, const std::string& where) {
   require(
       s.theta > 0 || c.step_factor <= 1,
       at + "implicit.step_factor: theta = 0 is explicit and conditionally stable; expected step_factor <= 1");
-  require(!s.materials.empty(), at + "materials: at least one material is required");
-  for (std::size_t k = 0; k < s.materials.size(); ++k)
-    validate(s.materials[k], at + "materials[" + std::to_string(k) + "]", Dim, s.geometry);
   Real modulus = 0;
   for (const Material& m : s.materials) modulus = std::max(modulus, young_modulus(m));
   require(modulus > 0, at + "materials: the implicit residual is scaled by the stiffest material's modulus "
                             "(Sulsky & Kaul 2004, Sec. 3.2.2): give a fluid a bulk_modulus > 0");
-  require(s.gravity.allFinite(), at + "gravity: must be finite");
-  for (const RigidBody<Dim>& b : s.rigid_bodies) {
-    require(!b.points.empty(), at + "rigid body '" + b.name + "': has no points");
-    require(static_cast<bool>(b.velocity), at + "rigid body '" + b.name + "': needs a velocity");
+  for (const RigidBody<Dim>& b : s.rigid_bodies)
     require(!(b.friction >= 0),
             at + "rigid body '" + b.name + "': Coulomb bodies are for the explicit integrators");
-  }
 }
 
 template void validate<1>(const ImplicitSpec<1>&, const std::string&);

@@ -307,29 +307,21 @@ class Implicit {
   /// Internal energy e_p (Sulsky & Kaul 2004, Eq. (2.2.16)): stored plus dissipated; a Neo-Hookean particle's
   /// is its stored energy V0 W(F).
   Real strain_energy(std::size_t i) const { return sim_.state().energy[i]; }
-  /// Sums over the particles (one process), in storage order.
+  /// Sums over the particles (one process), in storage order (exact_particle_sum of one run).
   template <std::size_t N, class Fn>
   std::array<Real, N> particle_sum(Fn&& fn) const {
-    std::array<Real, N> total{};
-    for (std::size_t i = 0; i < sim_.particles().size(); ++i) {
-      const std::array<Real, N> v = fn(i);
-      for (std::size_t k = 0; k < N; ++k) total[k] += v[k];
-    }
-    return total;
+    return exact_particle_sum<N>(
+        sim_.particles().size(), [](std::size_t) { return 0; }, fn, one_process());
   }
   const Communicator& communicator() const { return one_process(); }
   std::int64_t particle_count() const { return static_cast<std::int64_t>(sim_.particles().size()); }
   /// Power of gravity and the body force over the last step: sum_p m_p (g + b_p) . (v_before + v_after) / 2.
   static constexpr bool needs_velocities_before = true;
   Real load_power(const std::vector<Vec<Dim>>& v_before) const {
-    const std::vector<Vec<Dim>>& b = sim_.body_acceleration();
-    const ParticleSet<Dim>& p = sim_.particles();
-    Real power = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      const Vec<Dim> load = b.empty() ? spec_.gravity : Vec<Dim>(spec_.gravity + b[i]);
-      power += p.m[i] * load.dot(0.5 * (v_before[i] + p.v[i]));
-    }
-    return power;
+    return particle_sum<1>([&](std::size_t i) {
+      return std::array<Real, 1>{
+          particle_load_power(sim_.particles(), i, spec_.gravity, sim_.body_acceleration(), v_before)};
+    })[0];
   }
   void stress(std::size_t i, double* out) const {
     const SymTensor<3>& s = sim_.state().sigma[i];

@@ -10,6 +10,7 @@
 #include "mpm/core/errors.hpp"
 #include "mpm/explicit/simulation.hpp"
 #include "mpm/implicit/simulation.hpp"
+#include "mpm/particles/stable_step.hpp"
 
 namespace mpm {
 
@@ -65,12 +66,24 @@ double count_file(const SceneBody& b) {
   return rows;
 }
 
+/// A polygon's particles, at most: its area over a particle's, plus a particle for each spacing of its
+/// perimeter (the lattice points near its edges).
+double count_polygon(const Scene& sc, const SceneBody& b) {
+  const double s = sc.h / b.ppc;
+  const std::vector<Vec<2>>& v = b.polygon.vertices;
+  double perimeter = 0;
+  for (std::size_t i = 0, j = v.size() - 1; i < v.size(); j = i++) perimeter += (v[i] - v[j]).norm();
+  return std::abs(b.polygon.signed_area()) / (s * s) + perimeter / s + 1;
+}
+
 double count_body(const Scene& sc, const SceneBody& b) {
   switch (b.shape) {
     case SceneBody::Shape::box:
       return count_box(sc, b);
     case SceneBody::Shape::file:
       return count_file(b);
+    case SceneBody::Shape::polygon:
+      return count_polygon(sc, b);
     case SceneBody::Shape::disk:
     case SceneBody::Shape::ring:
       break;
@@ -86,10 +99,9 @@ double wave_speed_at_rest(const Scene& sc) {
 }
 
 /// The first step [s]: the scene's dt, or the CFL condition on the fastest wave at rest plus the fastest
-/// particle
-/// (`speed`), times the implicit engine's step factor.
+/// particle's speed `speed`, times the implicit engine's step factor.
 double first_dt(const Scene& sc, double speed) {
-  const double explicit_dt = sc.dt > 0 ? sc.dt : sc.cfl * sc.h / (wave_speed_at_rest(sc) + speed);
+  const double explicit_dt = sc.dt > 0 ? sc.dt : cfl_step(sc.cfl, sc.h, wave_speed_at_rest(sc) + speed);
   return sc.implicit ? explicit_dt * sc.implicit_step.step_factor : explicit_dt;
 }
 

@@ -162,6 +162,18 @@ void seed_shape(const Scene& sc, std::size_t k, ParticleSet<Dim>& p) {
                     });
       break;
     }
+    case SceneBody::Shape::polygon:
+      if constexpr (Dim == 2) {
+        // On the lattice a box from the grid's corner would have (ppc particles per cell per axis), so that
+        // bodies meet without gaps or overlaps.
+        const auto [lo, hi] = b.polygon.bounds();
+        const Vec<2> grid_lo = to_vec<2>(sc.grid_lo);
+        const Vec<2> start = grid_lo.array() + spacing * ((lo - grid_lo) / spacing).array().floor();
+        const Vec<2> end = grid_lo.array() + spacing * ((hi - grid_lo) / spacing).array().ceil();
+        fill_box<2>(p, start, end, spacing, density, material, {},
+                    [&](const Vec<2>& x) { return b.polygon.contains(x); });
+      }
+      break;
     case SceneBody::Shape::file:
       read_particle_file<Dim>(b, "bodies[" + std::to_string(k) + "].file in " + sc.file.string(), density,
                               material, p);
@@ -235,33 +247,42 @@ std::vector<RigidBody<Dim>> rigid_bodies_of(const Scene& sc) {
 }
 }  // namespace
 
+namespace {
+/// What both engines' specs hold of the scene.
+template <int Dim>
+ModelSpec<Dim> make_model(const Scene& sc) {
+  ModelSpec<Dim> model;
+  model.grid_lo = to_vec<Dim>(sc.grid_lo);
+  model.h = sc.h;
+  for (int d = 0; d < Dim; ++d) model.cells[d] = sc.cells[d];
+  model.kernel = sc.kernel;
+  model.geometry = sc.geometry;
+  model.materials = materials_of(sc);
+  model.boundary = boundary_of<Dim>(sc);
+  model.rigid_bodies = rigid_bodies_of<Dim>(sc);
+  model.gravity = to_vec<Dim>(sc.gravity);
+  model.body_force = body_force_of<Dim>(sc);
+  model.surface_loads = surface_loads_of<Dim>(sc);
+  model.flip_fraction = sc.flip_fraction;
+  model.transfer = sc.transfer;
+  return model;
+}
+}  // namespace
+
 template <int Dim>
 SimulationSpec<Dim> make_spec(const Scene& sc) {
   SimulationSpec<Dim> spec;
-  spec.grid_lo = to_vec<Dim>(sc.grid_lo);
-  spec.h = sc.h;
-  for (int d = 0; d < Dim; ++d) spec.cells[d] = sc.cells[d];
+  static_cast<ModelSpec<Dim>&>(spec) = make_model<Dim>(sc);
   spec.integrator = sc.integrator;
-  spec.kernel = sc.kernel;
-  spec.materials = materials_of(sc);
-  spec.geometry = sc.geometry;
-  spec.boundary = boundary_of<Dim>(sc);
-  spec.rigid_bodies = rigid_bodies_of<Dim>(sc);
-  spec.gravity = to_vec<Dim>(sc.gravity);
   spec.dt = sc.dt;
   spec.cfl = sc.cfl;
   spec.reproject_light_nodes = sc.reproject_light_nodes;
   spec.local_damping = sc.local_damping;
-  spec.flip_fraction = sc.flip_fraction;
-  spec.transfer = sc.transfer;
   spec.account_load_power = true;  // history.csv's external work
   spec.contact.fields = sc.fields;
   for (const SceneContact& c : sc.contacts)
     spec.contact.pairs.push_back(
         {sc.body_field[c.groups[0][0]], sc.body_field[c.groups[1][0]], c.friction, c.normal, c.gap});
-
-  spec.body_force = body_force_of<Dim>(sc);
-  spec.surface_loads = surface_loads_of<Dim>(sc);
   validate(spec);
   return spec;
 }
@@ -321,29 +342,17 @@ ParticleSet<Dim> seed_bodies(const Scene& sc) {
 template <int Dim>
 ImplicitSpec<Dim> make_implicit_spec(const Scene& sc) {
   ImplicitSpec<Dim> spec;
-  spec.grid_lo = to_vec<Dim>(sc.grid_lo);
-  spec.h = sc.h;
-  for (int d = 0; d < Dim; ++d) spec.cells[d] = sc.cells[d];
-  spec.kernel = sc.kernel;
-  spec.geometry = sc.geometry;
+  static_cast<ModelSpec<Dim>&>(spec) = make_model<Dim>(sc);
   const SceneImplicit& im = sc.implicit_step;
   spec.formulation = im.formulation;
   spec.solver = im.solver;
   spec.theta = im.theta;
-  spec.flip_fraction = sc.flip_fraction;
-  spec.transfer = sc.transfer;
   spec.newton = im.newton;
   spec.frozen_jacobian = im.frozen_jacobian;
   spec.scaled_residual = im.scaled_residual;
   spec.consistent_mass = im.consistent_mass;
   spec.move_with_projected_velocity = im.move_with_projected_velocity;
   spec.step = {sc.cfl, sc.dt, im.step_factor, im.start_factor, im.growth, im.max_retries};
-  spec.materials = materials_of(sc);
-  spec.boundary = boundary_of<Dim>(sc);
-  spec.rigid_bodies = rigid_bodies_of<Dim>(sc);
-  spec.gravity = to_vec<Dim>(sc.gravity);
-  spec.body_force = body_force_of<Dim>(sc);
-  spec.surface_loads = surface_loads_of<Dim>(sc);
   validate(spec, sc.file.string());
   return spec;
 }

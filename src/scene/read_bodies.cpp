@@ -42,10 +42,17 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
   const auto n = static_cast<std::size_t>(sc.dim);
   SceneBody b;
   b.name = s.name("name", "body " + std::to_string(index));
-  const std::string shape = s.choice("shape", "box", {"box", "disk", "sphere", "ring", "file"});
+  const std::string shape = s.choice("shape", "box", {"box", "disk", "sphere", "ring", "polygon", "file"});
   if (shape == "box") {
     b.shape = SceneBody::Shape::box;
     read_box(s, sc, "the box", b.lo, b.hi);
+  } else if (shape == "polygon") {
+    if (sc.dim != 2) s.fail("shape", "\"polygon\" is for 2-D scenes");
+    b.shape = SceneBody::Shape::polygon;
+    b.polygon = read_outline(s, sc);
+    const auto [lo, hi] = b.polygon.bounds();
+    if (!outside_grid(sc, {lo[0], lo[1]}, {hi[0], hi[1]}).empty())
+      s.fail("vertices", "the polygon must lie inside the grid " + grid_extent(sc));
   } else if (shape == "file") {
     b.shape = SceneBody::Shape::file;
     b.file = s.text("file", "");

@@ -424,8 +424,8 @@ Scene read_scene_text(const std::string& text, const std::filesystem::path& file
   if (bodies.empty()) top.fail("bodies", "missing: at least one [[bodies]] table is needed");
   for (std::size_t k = 0; k < bodies.size(); ++k)
     read_body(Section(*bodies[k], "bodies[" + std::to_string(k) + "]", loc,
-                      {"name", "shape", "lo", "hi", "center", "radius", "inner_radius", "file", "ppc",
-                       "material", "velocity", "displacement", "deformation_gradient", "k0"}),
+                      {"name", "shape", "lo", "hi", "center", "radius", "inner_radius", "vertices", "file",
+                       "ppc", "material", "velocity", "displacement", "deformation_gradient", "k0"}),
               sc, k);
   const std::vector<const toml::table*> rigid = top.tables("rigid_bodies");
   for (std::size_t k = 0; k < rigid.size(); ++k)

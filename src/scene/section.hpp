@@ -244,18 +244,21 @@ inline const std::vector<std::string> reference_time_vars[] = {
     {"X", "t"}, {"X", "Y", "t"}, {"X", "Y", "Z", "t"}};
 inline const std::vector<std::string> time_var{"t"};
 
-/// Read one [[materials]] table into sc.materials.
 /// The deepest a key of a scene may nest: the segments of a dotted key or table header, or of a --set path.
 inline constexpr std::size_t max_key_depth = 64;
 /// Throw InputError ("FILE:LINE: a key nested deeper than ...") if a key of a scene's text nests deeper than
 /// max_key_depth, before toml++ parses it (its parser recurses once per segment).
 void refuse_deep_keys(std::string_view text, const std::string& file);
 
+/// Read one [[materials]] table into sc.materials.
 void read_material(const Section& s, Scene& sc);
 /// Every key a [[materials]] table may hold (those of the laws that declare theirs included).
 std::vector<std::string> material_keys();
 /// Read bodies[index] into sc.bodies.
 void read_body(const Section& s, Scene& sc, std::size_t index);
+/// A polygon body's outline from its `vertices` (inline [x, y] pairs or a file of them), refused with one
+/// line where it bounds no region (fewer than 3 vertices, repeated vertices, edges that cross or touch).
+Polygon read_outline(const Section& s, const Scene& sc);
 /// Read rigid_bodies[index] into sc.rigid_bodies.
 void read_rigid_body(const Section& s, Scene& sc, std::size_t index);
 /// Read one [[contact]] table into sc.contacts (after the bodies and rigid bodies).

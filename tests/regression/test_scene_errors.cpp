@@ -68,6 +68,13 @@ const std::vector<std::pair<std::string, std::string>> disk_to_file{
     {"center = [0.7, 0.7]\n", ""},
     {"radius = 0.1\n", ""}};
 
+/// Edits that turn the second body (the disk) into a polygon with the vertices `vertices` (on line 30).
+std::vector<std::pair<std::string, std::string>> disk_to_polygon(const std::string& vertices) {
+  return {{"shape = \"disk\"", "shape = \"polygon\"\nvertices = " + vertices},
+          {"center = [0.7, 0.7]\n", ""},
+          {"radius = 0.1\n", ""}};
+}
+
 /// The keys of a modified Cam-Clay material but its preconsolidation pressure, in place of the base scene's E
 /// and nu.
 const std::string cam_clay =
@@ -638,6 +645,44 @@ INSTANTIATE_TEST_SUITE_P(
                  0,
                  "",
                  "x,y,volume\n0.7,0.7,-0.001\n"},
+        // polygons
+        BadScene{"PolygonOfTwoVertices",
+                 disk_to_polygon("[[0.6, 0.6], [0.8, 0.6]]"),
+                 "bodies[1].vertices",
+                 {"expected at least 3 vertices, got 2"},
+                 30},
+        BadScene{"PolygonVertexNotAPair",
+                 disk_to_polygon("[[0.6, 0.6], [0.8], [0.7, 0.8]]"),
+                 "bodies[1].vertices",
+                 {"vertex 1: expected a pair [x, y] of finite numbers, got an array of 1"},
+                 30},
+        BadScene{"PolygonCrossingItself",
+                 disk_to_polygon("[[0.6, 0.6], [0.8, 0.8], [0.8, 0.6], [0.6, 0.8]]"),
+                 "bodies[1].vertices",
+                 {"edges 0 and 2 meet", "must not cross or touch itself"},
+                 30},
+        BadScene{"PolygonRepeatedVertex",
+                 disk_to_polygon("[[0.6, 0.6], [0.8, 0.6], [0.8, 0.6], [0.7, 0.8]]"),
+                 "bodies[1].vertices",
+                 {"vertices 1 and 2 coincide"},
+                 30},
+        BadScene{"PolygonOutsideTheGrid",
+                 disk_to_polygon("[[0.6, 0.6], [1.2, 0.6], [0.8, 0.8]]"),
+                 "bodies[1].vertices",
+                 {"the polygon must lie inside the grid [0, 1] x [0, 1]"},
+                 30},
+        BadScene{"PolygonVertexFileBadRow",
+                 disk_to_polygon("\"particles.csv\""),
+                 "bodies[1].vertices",
+                 {"particles.csv:3: expected two finite numbers x, y, got '0.8,abc'"},
+                 30,
+                 "",
+                 "x,y\n0.6,0.6\n0.8,abc\n0.7,0.8\n"},
+        BadScene{"PolygonVertexFileMissing",
+                 disk_to_polygon("\"outline.csv\""),
+                 "bodies[1].vertices",
+                 {"cannot open", "outline.csv"},
+                 30},
         // command-line options
         BadScene{"SetWithoutEquals",
                  {},

@@ -10,7 +10,6 @@
 #include "mpm/boundary/boundary.hpp"
 #include "mpm/boundary/rigid_bodies.hpp"
 #include "mpm/contact/multi_field.hpp"
-#include "mpm/core/exact_sum.hpp"
 #include "mpm/core/memory.hpp"
 #include "mpm/distributed/box_halo.hpp"
 #include "mpm/distributed/communicator.hpp"
@@ -18,6 +17,7 @@
 #include "mpm/grid/grid.hpp"
 #include "mpm/grid/periodic_halo.hpp"
 #include "mpm/particles/outflow.hpp"
+#include "mpm/particles/particle_sums.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/particles/reorder.hpp"
 #include "mpm/shape/kernel_policies.hpp"
@@ -96,40 +96,9 @@ class Simulation {
   template <std::size_t N, class Fn>
   std::array<Real, N> particle_sum(Fn&& fn) const {
     const StencilTiles<Dim, Kernel> tiles{stencils_};
-    return sum_by_tile<N>([&](std::size_t i) { return tiles[i]; }, fn);
+    return exact_particle_sum<N>(
+        particles_.size(), [&](std::size_t i) { return tiles[i]; }, fn, *comm_);
   }
-
- private:
-  /// particle_sum over the runs of particles of equal tile(i) in storage order.
-  template <std::size_t N, class Tile, class Fn>
-  std::array<Real, N> sum_by_tile(Tile&& tile, Fn&& fn) const {
-    std::array<ExactSum, N> total;
-    const std::size_t n = particles_.size();
-    for (std::size_t i = 0; i < n;) {
-      std::array<Real, N> partial{};
-      const std::int32_t t = tile(i);
-      for (; i < n && tile(i) == t; ++i) {
-        const std::array<Real, N> v = fn(i);
-        for (std::size_t k = 0; k < N; ++k) partial[k] += v[k];
-      }
-      for (std::size_t k = 0; k < N; ++k) total[k].add(partial[k]);
-    }
-    std::vector<std::int64_t> integers;
-    for (const ExactSum& e : total) {
-      const std::vector<std::int64_t> mine = e.integers();
-      integers.insert(integers.end(), mine.begin(), mine.end());
-    }
-    comm_->sum(integers);
-    std::array<Real, N> out;
-    for (std::size_t k = 0; k < N; ++k) {
-      const auto first = integers.begin() + static_cast<std::ptrdiff_t>(k * ExactSum::integer_count);
-      out[k] = ExactSum::from_integers({first, first + static_cast<std::ptrdiff_t>(ExactSum::integer_count)})
-                   .value();
-    }
-    return out;
-  }
-
- public:
   /// The grid of velocity field 0 (the only one without contact).
   const Grid<Dim>& grid() const { return grid_; }
   /// What each pair of SimulationSpec::contact's pairs transmitted in the last step, over all ranks (the

@@ -6,16 +6,9 @@
 #include <string_view>
 #include <vector>
 
-#include "mpm/boundary/boundary.hpp"
-#include "mpm/boundary/rigid_body.hpp"
-#include "mpm/boundary/surface_loads.hpp"
 #include "mpm/contact/multi_field.hpp"
-#include "mpm/core/model_geometry.hpp"
 #include "mpm/core/types.hpp"
-#include "mpm/grid/grid.hpp"
-#include "mpm/materials/material.hpp"
-#include "mpm/shape/kernel_kind.hpp"
-#include "mpm/transfer/passes.hpp"
+#include "mpm/model/spec.hpp"
 
 namespace mpm {
 
@@ -23,40 +16,17 @@ namespace mpm {
 /// difference (CD) and the update-velocity-first / modified USL variant (UVF-MPM, "musl").
 enum class Integrator { usf, usl, cd, musl };
 
+/// An explicit simulation: the model and the explicit integrator's settings.
 template <int Dim>
-struct SimulationSpec {
-  Vec<Dim> grid_lo = Vec<Dim>::Zero();  ///< position of the first node [m]
-  Real h = 0;                           ///< cell width [m]
-  IVec<Dim> cells{};                    ///< cells per axis
+struct SimulationSpec : ModelSpec<Dim> {
   Integrator integrator = Integrator::usl;
-  KernelKind kernel = KernelKind::linear;
-  /// Neo-Hookean (hyperelastic) and rate-form (hypoelastic, von Mises) materials, in any mix.
-  std::vector<Material> materials;
-  /// 2-D only: plane strain, or with rate-form materials plane stress and axisymmetry (masses and volumes of
-  /// the particles given per unit thickness become per radian, times r).
-  Geometry geometry = Geometry::plane_strain;
-  BoundarySpec<Dim> boundary;
-  std::vector<RigidBody<Dim>> rigid_bodies;
   /// Velocity fields and their contact (one field by default): each particle projects to field
   /// ParticleSet::field.
   ContactSpec contact;
-  Vec<Dim> gravity = Vec<Dim>::Zero();  ///< [m/s^2]
   /// Local non-viscous damping alpha in [0, 1) of the grid update (node_update; Cundall 1987): 0 is none. It
   /// brings a body quasi-statically to equilibrium (a gravity ramp, a slope), and it is not
   /// energy-conserving.
   Real local_damping = 0;
-  /// alpha of the FLIP-PIC blend of the particle velocity update, in [0, 1]:
-  /// v_p = alpha (v_p + dt sum_i S_ip a_i) + (1 - alpha) sum_i S_ip v_i. 1 is FLIP (Wallstedt & Guilkey 2008,
-  /// Eq. (18)), 0 is PIC, which filters each velocity mode by the kernel's P2G-G2P round trip every step (it
-  /// dissipates; docs/transfers.md).
-  Real flip_fraction = 1;
-  /// APIC: v_p = sum_i S_ip v_i and B_p = sum_i S_ip v_i (x) (x_i - x_p) after the velocity update, P2G with
-  /// m_p (v_p + B_p D_p^-1 (x_i - x_p)) (transfer/g2p.hpp, p2g.hpp; docs/transfers.md). flip_fraction
-  /// stays 1.
-  Transfer transfer = Transfer::flip;
-  BodyForceFn<Dim> body_force;  ///< optional b(X, t), evaluated at the start of each step
-  /// Pressures and tractions on the surfaces of bodies, carried by their surface particles as body forces.
-  SurfaceLoads<Dim> surface_loads;
   Real dt = 0;   ///< fixed time step [s], or 0 to use the CFL number
   Real cfl = 0;  ///< dt = cfl h / max_p (c_p + |v_p|) when dt == 0
   /// CD and UVF-MPM: the particle velocities given are v^{-1/2}, so the first grid acceleration is not halved

@@ -161,9 +161,6 @@ class ImplicitSimulation {
   bool residual_at(const Eigen::VectorXd& x, Real dt, Eigen::VectorXd& r);
   void accept(Real dt);
   void compute_reactions(Real dt);
-  Real wave_speed_limit() const;
-  /// Dilatational wave speed of particle i [m/s].
-  Real wave_speed_of(const Material& material, std::size_t i) const;
   bool factorise_tangent(const Eigen::VectorXd& x, Real dt);
   /// The residual's scale 1 / (Y h^Dim dt) (Sulsky & Kaul 2004, Sec. 3.2.2).
   Real residual_scale(Real dt) const;

@@ -6,15 +6,9 @@
 #include <string_view>
 #include <vector>
 
-#include "mpm/boundary/boundary.hpp"
-#include "mpm/boundary/rigid_body.hpp"
-#include "mpm/boundary/surface_loads.hpp"
-#include "mpm/core/model_geometry.hpp"
 #include "mpm/core/types.hpp"
-#include "mpm/materials/material.hpp"
+#include "mpm/model/spec.hpp"
 #include "mpm/numerics/newton_krylov.hpp"
-#include "mpm/shape/kernel_kind.hpp"
-#include "mpm/transfer/passes.hpp"
 
 namespace mpm {
 
@@ -42,24 +36,13 @@ struct StepControl {
   int max_retries = 8;    ///< halvings allowed for one step
 };
 
+/// An implicit simulation: the model and the implicit step's settings.
 template <int Dim>
-struct ImplicitSpec {
-  Vec<Dim> grid_lo = Vec<Dim>::Zero();  ///< position of the first node [m]
-  Real h = 0;                           ///< cell width [m]
-  IVec<Dim> cells{};                    ///< cells per axis
-  KernelKind kernel = KernelKind::linear;
-  Geometry geometry = Geometry::plane_strain;  ///< 2-D only
+struct ImplicitSpec : ModelSpec<Dim> {
   Formulation formulation = Formulation::momentum;
   ImplicitSolver solver = ImplicitSolver::newton_gmres;
   /// mu of Sulsky & Kaul 2004, Eq. (2.4.1): 0 explicit, 1 fully implicit.
   Real theta = 1;
-  /// alpha of the FLIP-PIC blend of the particle velocity at the end of a step, in [0, 1]: alpha times the
-  /// formulation's update (Sulsky & Kaul 2004, Eq. (2.3.3) or Eq. (3.2.6)) plus 1 - alpha times sum_i S_ip
-  /// v_i. 1 is the papers' update; see SimulationSpec::flip_fraction.
-  Real flip_fraction = 1;
-  /// APIC at the end of a step: v_p = sum_i S_ip v_i, B_p = sum_i S_ip v_i (x) (x_i - x_p) of the step's
-  /// velocity field, and the next step's P2G carries B_p; see SimulationSpec::transfer.
-  Transfer transfer = Transfer::flip;
   numerics::NewtonSettings newton;
   /// Precondition the Krylov solves with a sparse LU factorisation of the Jacobian, assembled by coloured
   /// forward differences and reused while the unknowns, the step and the Krylov counts stay the same (not in
@@ -80,15 +63,6 @@ struct ImplicitSpec {
   /// (docs/implicit.md, Sec. 7).
   bool move_with_projected_velocity = false;
   StepControl step;
-  /// Neo-Hookean and rate-form materials (Neo-Hookean in plane strain only).
-  std::vector<Material> materials;
-  BoundarySpec<Dim> boundary;
-  std::vector<RigidBody<Dim>> rigid_bodies;
-  Vec<Dim> gravity = Vec<Dim>::Zero();  ///< [m/s^2]
-  /// Optional b(X, t) [m/s^2]; a step takes (1 - theta) b(X, t^k) + theta b(X, t^{k+1}).
-  BodyForceFn<Dim> body_force;
-  /// Pressures and tractions on the surfaces of bodies, carried by their surface particles as body forces.
-  SurfaceLoads<Dim> surface_loads;
 };
 
 /// Whether the momentum formulation moves the particles with v^L (Sulsky & Kaul 2004, Eq. (3.2.7)): when

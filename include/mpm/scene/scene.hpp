@@ -11,6 +11,7 @@
 #include "mpm/boundary/boundary.hpp"
 #include "mpm/contact/multi_field.hpp"
 #include "mpm/explicit/spec.hpp"
+#include "mpm/geometry/polygon.hpp"
 #include "mpm/implicit/spec.hpp"
 #include "mpm/materials/material.hpp"
 #include "mpm/scene/expression.hpp"
@@ -72,15 +73,16 @@ struct SceneImplicit {
   int max_retries = 8;
 };
 
-/// A body of particles: a box, a disk (sphere in 3-D), a ring (annulus; spherical shell in 3-D), or a CSV
-/// file of positions and volumes.
+/// A body of particles: a box, a disk (sphere in 3-D), a ring (annulus; spherical shell in 3-D), a polygon
+/// (2-D), or a CSV file of positions and volumes.
 struct SceneBody {
-  enum class Shape { box, disk, ring, file } shape = Shape::box;
+  enum class Shape { box, disk, ring, polygon, file } shape = Shape::box;
   std::string name;
   std::vector<double> lo, hi;               ///< box corners [m]
   std::vector<double> center;               ///< disk and ring centre [m]
   double radius = 0;                        ///< disk and outer ring radius [m]
   double inner_radius = 0;                  ///< ring inner radius [m]
+  Polygon polygon;                          ///< the outline of a polygon body [m]
   std::filesystem::path file;               ///< particle file (shape == file)
   int ppc = 2;                              ///< particles per cell per axis (lattice shapes)
   std::size_t material = 0;                 ///< index into Scene::materials
