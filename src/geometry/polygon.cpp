@@ -75,7 +75,8 @@ std::optional<std::pair<std::size_t, std::size_t>> first_crossing(const Polygon&
       const bool neighbours = j == i + 1 || (i == 0 && j == n - 1);
       if (neighbours) {
         // Neighbours share a vertex; they must not overlap beyond it (an edge folding back on the last).
-        const std::size_t shared = j == i + 1 ? j : i, far_i = j == i + 1 ? i : 1, far_j = j == i + 1 ? (j + 1) % n : n - 1;
+        const std::size_t shared = j == i + 1 ? j : i, far_i = j == i + 1 ? i : 1,
+                          far_j = j == i + 1 ? (j + 1) % n : n - 1;
         const Vec<2>& s = v[shared];
         if (orientation(v[far_i], s, v[far_j]) == 0 && (v[far_i] - s).dot(v[far_j] - s) > 0) return {{i, j}};
         continue;

@@ -84,6 +84,10 @@ double count_body(const Scene& sc, const SceneBody& b) {
       return count_file(b);
     case SceneBody::Shape::polygon:
       return count_polygon(sc, b);
+    case SceneBody::Shape::surface: {  // its volume over a particle's, plus a layer of them over its area
+      const double s = sc.h / b.ppc;
+      return b.surface.volume() / (s * s * s) + b.surface.area() / (s * s) + 1;
+    }
     case SceneBody::Shape::disk:
     case SceneBody::Shape::ring:
       break;

@@ -140,12 +140,21 @@ BodyForceFn<Dim> body_force_of(const Scene& sc) {
   };
 }
 
-/// Body k's particles as seeded on its lattice (reference positions; ids count on from `p`'s).
+/// The corners of the part of the lattice a box from the grid's lo would have (ppc particles per cell per
+/// axis) that covers [lo, hi]: shapes seeded on it meet boxes and each other without gaps or overlaps.
 template <int Dim>
-void seed_shape(const Scene& sc, std::size_t k, ParticleSet<Dim>& p) {
-  const SceneBody& b = sc.bodies[k];
-  const Real density = sc.materials[b.material].density;
-  const auto material = static_cast<std::uint16_t>(b.material);
+std::pair<Vec<Dim>, Vec<Dim>> lattice_cover(const Scene& sc, const Vec<Dim>& lo, const Vec<Dim>& hi,
+                                            Real spacing) {
+  const Vec<Dim> grid_lo = to_vec<Dim>(sc.grid_lo);
+  return {grid_lo.array() + spacing * ((lo - grid_lo) / spacing).array().floor(),
+          grid_lo.array() + spacing * ((hi - grid_lo) / spacing).array().ceil()};
+}
+
+/// The points of a shape's lattice (every shape but a file), each of volume s^Dim, density `density` and
+/// material `material` (reference positions; ids count on from `p`'s).
+template <int Dim>
+void fill_shape(const Scene& sc, const SceneShape& b, Real density, std::uint16_t material,
+                ParticleSet<Dim>& p) {
   const Real spacing = sc.h / b.ppc;
   switch (b.shape) {
     case SceneBody::Shape::box:
@@ -164,21 +173,45 @@ void seed_shape(const Scene& sc, std::size_t k, ParticleSet<Dim>& p) {
     }
     case SceneBody::Shape::polygon:
       if constexpr (Dim == 2) {
-        // On the lattice a box from the grid's corner would have (ppc particles per cell per axis), so that
-        // bodies meet without gaps or overlaps.
         const auto [lo, hi] = b.polygon.bounds();
-        const Vec<2> grid_lo = to_vec<2>(sc.grid_lo);
-        const Vec<2> start = grid_lo.array() + spacing * ((lo - grid_lo) / spacing).array().floor();
-        const Vec<2> end = grid_lo.array() + spacing * ((hi - grid_lo) / spacing).array().ceil();
+        const auto [start, end] = lattice_cover<2>(sc, lo, hi, spacing);
         fill_box<2>(p, start, end, spacing, density, material, {},
                     [&](const Vec<2>& x) { return b.polygon.contains(x); });
       }
       break;
-    case SceneBody::Shape::file:
-      read_particle_file<Dim>(b, "bodies[" + std::to_string(k) + "].file in " + sc.file.string(), density,
-                              material, p);
+    case SceneBody::Shape::surface:
+      if constexpr (Dim == 3) {
+        const auto [lo, hi] = b.surface.bounds();
+        const auto [start, end] = lattice_cover<3>(sc, lo, hi, spacing);
+        // fill_box visits the lattice row by row along x: the crossings of a row's line with the surface
+        // are found once, and a point is inside when an odd number of them lie below it.
+        std::vector<Real> row;
+        Vec<2> row_at(std::nan(""), std::nan(""));
+        fill_box<3>(p, start, end, spacing, density, material, {}, [&](const Vec<3>& x) {
+          if (x[1] != row_at[0] || x[2] != row_at[1]) {
+            row = b.surface.crossings(x[1], x[2]);
+            row_at = {x[1], x[2]};
+          }
+          return (std::lower_bound(row.begin(), row.end(), x[0]) - row.begin()) % 2 == 1;
+        });
+      }
+      break;
+    case SceneBody::Shape::file:  // a body's particles from a file: seed_shape
       break;
   }
+}
+
+/// Body k's particles: its shape's lattice, or the rows of its particle file.
+template <int Dim>
+void seed_shape(const Scene& sc, std::size_t k, ParticleSet<Dim>& p) {
+  const SceneBody& b = sc.bodies[k];
+  const Real density = sc.materials[b.material].density;
+  const auto material = static_cast<std::uint16_t>(b.material);
+  if (b.shape == SceneBody::Shape::file)
+    read_particle_file<Dim>(b, "bodies[" + std::to_string(k) + "].file in " + sc.file.string(), density,
+                            material, p);
+  else
+    fill_shape<Dim>(sc, b, density, material, p);
 }
 
 /// The scene's pressures and tractions on the surfaces of bodies (lattice_surface of each loaded body, ids as
@@ -234,13 +267,18 @@ std::vector<RigidBody<Dim>> rigid_bodies_of(const Scene& sc) {
   for (const SceneRigidBody& r : sc.rigid_bodies) {
     ParticleSet<Dim> points;
     const Real spacing = sc.h / r.ppc;
-    fill_box<Dim>(points, to_vec<Dim>(r.lo), to_vec<Dim>(r.hi), spacing, 1.0, 0);
+    fill_shape<Dim>(sc, r, 1.0, 0, points);
+    if (points.size() == 0)
+      throw InputError(sc.file.string() + ": rigid_bodies[" + std::to_string(out.size()) + "] (" + r.name +
+                       "): the shape holds no point of its lattice (a finer ppc may)");
     RigidBody<Dim> body{r.name, points.x, Vec<Dim>::Constant(0.5 * spacing), velocity_of<Dim>(r.velocity)};
     for (int d = 0; d < Dim; ++d) body.imposes[d] = r.imposes[d];
     body.friction = r.friction;
-    body.holds_inside = r.holds_inside;
-    body.lo = to_vec<Dim>(r.lo);
-    body.hi = to_vec<Dim>(r.hi);
+    body.holds_inside = r.holds_inside;  // a box's only (the reader)
+    if (r.holds_inside) {
+      body.lo = to_vec<Dim>(r.lo);
+      body.hi = to_vec<Dim>(r.hi);
+    }
     out.push_back(std::move(body));
   }
   return out;

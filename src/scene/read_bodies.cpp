@@ -7,86 +7,11 @@
 
 namespace mpm::scene_reading {
 
-namespace {
-/// Empty when [lo, hi] lies inside the grid, else "lo" or "hi" (the side that leaves it).
-std::string outside_grid(const Scene& sc, const std::vector<double>& lo, const std::vector<double>& hi) {
-  for (int d = 0; d < sc.dim; ++d)
-    if (lo[d] < sc.grid_lo[d] - 1e-12) return "lo";
-  for (int d = 0; d < sc.dim; ++d)
-    if (hi[d] > sc.grid_hi[d] + 1e-12) return "hi";
-  return "";
-}
-
-/// The grid's extent for messages, e.g. "[0, 1] x [0, 2]".
-std::string grid_extent(const Scene& sc) {
-  std::ostringstream os;
-  for (int d = 0; d < sc.dim; ++d) os << (d ? " x [" : "[") << sc.grid_lo[d] << ", " << sc.grid_hi[d] << "]";
-  return os.str();
-}
-
-/// The corners `lo` and `hi` of a box inside the grid, each component a number or an expression of the
-/// constants; `what` names it in the message ("the box").
-void read_box(const Section& s, const Scene& sc, const std::string& what, std::vector<double>& lo,
-              std::vector<double>& hi) {
-  const auto n = static_cast<std::size_t>(sc.dim);
-  lo = s.constant_numbers("lo", n, sc.constants);
-  hi = s.constant_numbers("hi", n, sc.constants);
-  for (std::size_t d = 0; d < n; ++d)
-    if (!(hi[d] > lo[d])) s.fail("hi", "expected hi > lo on every axis");
-  const std::string side = outside_grid(sc, lo, hi);
-  if (!side.empty()) s.fail(side, what + " must lie inside the grid " + grid_extent(sc));
-}
-}  // namespace
-
 void read_body(const Section& s, Scene& sc, std::size_t index) {
   const auto n = static_cast<std::size_t>(sc.dim);
   SceneBody b;
   b.name = s.name("name", "body " + std::to_string(index));
-  const std::string shape = s.choice("shape", "box", {"box", "disk", "sphere", "ring", "polygon", "file"});
-  if (shape == "box") {
-    b.shape = SceneBody::Shape::box;
-    read_box(s, sc, "the box", b.lo, b.hi);
-  } else if (shape == "polygon") {
-    if (sc.dim != 2) s.fail("shape", "\"polygon\" is for 2-D scenes");
-    b.shape = SceneBody::Shape::polygon;
-    b.polygon = read_outline(s, sc);
-    const auto [lo, hi] = b.polygon.bounds();
-    if (!outside_grid(sc, {lo[0], lo[1]}, {hi[0], hi[1]}).empty())
-      s.fail("vertices", "the polygon must lie inside the grid " + grid_extent(sc));
-  } else if (shape == "file") {
-    b.shape = SceneBody::Shape::file;
-    b.file = s.text("file", "");
-    if (b.file.empty()) s.fail("file", "missing (a CSV file of positions and volumes)");
-    if (b.file.is_relative()) b.file = sc.file.parent_path() / b.file;
-    std::error_code ec;  // a name the file system refuses (too long, say) is an error, not an exception
-    const std::filesystem::file_status status = std::filesystem::status(b.file, ec);
-    if (!std::filesystem::exists(status))
-      s.fail("file", "cannot open " + in_quotes(b.file.string()) + (ec ? " (" + ec.message() + ")" : ""));
-    if (!std::filesystem::is_regular_file(status))
-      s.fail("file",
-             in_quotes(b.file.string()) + " is not a regular file (a CSV file of positions and volumes)");
-  } else {
-    if ((shape == "disk" && sc.dim != 2) || (shape == "sphere" && sc.dim != 3))
-      s.fail("shape", "\"disk\" is for 2-D scenes, \"sphere\" for 3-D");
-    if (shape == "ring" && sc.dim == 1) s.fail("shape", "\"ring\" needs a 2-D or 3-D scene");
-    b.shape = shape == "ring" ? SceneBody::Shape::ring : SceneBody::Shape::disk;
-    b.center = s.numbers("center", n);
-    b.radius = s.required_number("radius");
-    if (!(b.radius > 0)) s.fail("radius", "expected a positive radius [m]");
-    if (b.shape == SceneBody::Shape::ring) {
-      b.inner_radius = s.required_number("inner_radius");
-      if (!(b.inner_radius >= 0 && b.inner_radius < b.radius))
-        s.fail("inner_radius", "expected 0 <= inner_radius < radius");
-    }
-    std::vector<double> lo = b.center, hi = b.center;
-    for (std::size_t d = 0; d < n; ++d) lo[d] -= b.radius, hi[d] += b.radius;
-    if (!outside_grid(sc, lo, hi).empty())
-      s.fail("radius", "the " + shape + " (center +- radius) must lie inside the grid " + grid_extent(sc));
-  }
-  b.ppc = s.integer("ppc", 2);
-  if (b.ppc < 1 || b.ppc > limits::max_ppc)
-    s.fail("ppc", "expected at least 1 and at most " + std::to_string(limits::max_ppc) +
-                      " particles per cell per axis");
+  read_shape(s, sc, "the box", true, b);
   const std::string material = s.text("material", sc.materials.size() == 1 ? sc.materials[0].name : "");
   if (material.empty()) s.fail("material", "missing (the name of a [[materials]] entry)");
   auto found = std::find_if(sc.materials.begin(), sc.materials.end(),
@@ -133,7 +58,8 @@ void read_surface_load(const Section& t, const std::string& kind, Scene& sc, con
   if (found == sc.bodies.end()) t.fail("body", "no body named " + in_quotes(body));
   if (found->shape == SceneBody::Shape::file)
     t.fail("body",
-           "surface loads need a body seeded on a lattice (box, disk, sphere or ring), not a particle file");
+           "surface loads need a body seeded on a lattice (box, disk, sphere, ring, polygon or surface), not "
+           "a particle file");
   load.body = static_cast<std::size_t>(found - sc.bodies.begin());
   if (t.has("face")) {
     const std::vector<std::string> names(face_names.begin(), face_names.begin() + 2 * sc.dim);
@@ -176,12 +102,7 @@ void read_rigid_body(const Section& s, Scene& sc, std::size_t index) {
   const auto n = static_cast<std::size_t>(sc.dim);
   SceneRigidBody r;
   r.name = s.name("name", "rigid " + std::to_string(index));
-  s.choice("shape", "box", {"box"});
-  read_box(s, sc, "the rigid body", r.lo, r.hi);
-  r.ppc = s.integer("ppc", 2);
-  if (r.ppc < 1 || r.ppc > limits::max_ppc)
-    s.fail("ppc", "expected at least 1 and at most " + std::to_string(limits::max_ppc) +
-                      " points per cell per axis");
+  read_shape(s, sc, "the rigid body", false, r);
   if (!s.has("velocity"))
     s.fail("velocity", "missing (the prescribed velocity, numbers or expressions of t)");
   r.velocity = s.expressions("velocity", n, time_var, sc.constants);
@@ -208,6 +129,8 @@ void read_rigid_body(const Section& s, Scene& sc, std::size_t index) {
       s.fail("friction", "expected a friction coefficient >= 0, got " + std::to_string(r.friction));
   }
   r.holds_inside = s.choice("nodes", "touched", {"touched", "inside"}) == "inside";
+  if (r.holds_inside && r.shape != SceneShape::Shape::box)
+    s.fail("nodes", "nodes = \"inside\" holds the nodes in a box: for shape = \"box\" only");
   if (r.holds_inside && r.friction >= 0)
     s.fail(
         "nodes",

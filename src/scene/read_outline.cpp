@@ -8,7 +8,8 @@
 namespace mpm::scene_reading {
 
 namespace {
-/// The most vertices an outline may have: the check that it does not cross itself compares every pair of edges.
+/// The most vertices an outline may have: the check that it does not cross itself compares every pair of
+/// edges.
 constexpr std::size_t max_vertices = 20'000;
 
 /// The vertices of a file: one "x, y" (or "x y") per line; empty lines and lines starting with '#' skipped,
@@ -36,7 +37,8 @@ std::vector<Vec<2>> read_vertex_file(const Section& s, const std::filesystem::pa
                              ": expected two finite numbers x, y, got " + in_quotes(shortened(line)));
     out.push_back(v);
     if (out.size() > max_vertices)
-      s.fail("vertices", in_quotes(file.string()) + " has more than " + std::to_string(max_vertices) + " vertices");
+      s.fail("vertices",
+             in_quotes(file.string()) + " has more than " + std::to_string(max_vertices) + " vertices");
   }
   return out;
 }
@@ -76,10 +78,11 @@ Polygon read_outline(const Section& s, const Scene& sc) {
   if (v.size() < 3) s.fail("vertices", "expected at least 3 vertices, got " + std::to_string(v.size()));
   for (std::size_t k = 0; k < v.size(); ++k)
     if (v[k] == v[(k + 1) % v.size()])
-      s.fail("vertices", "vertices " + std::to_string(k) + " and " + std::to_string((k + 1) % v.size()) +
-                             " coincide");
+      s.fail("vertices",
+             "vertices " + std::to_string(k) + " and " + std::to_string((k + 1) % v.size()) + " coincide");
   if (const auto crossing = first_crossing(polygon))
-    s.fail("vertices", "edges " + std::to_string(crossing->first) + " and " + std::to_string(crossing->second) +
+    s.fail("vertices", "edges " + std::to_string(crossing->first) + " and " +
+                           std::to_string(crossing->second) +
                            " meet (edge k joins vertex k to vertex k + 1): the outline must not cross or "
                            "touch itself");
   return polygon;

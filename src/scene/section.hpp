@@ -254,11 +254,21 @@ void refuse_deep_keys(std::string_view text, const std::string& file);
 void read_material(const Section& s, Scene& sc);
 /// Every key a [[materials]] table may hold (those of the laws that declare theirs included).
 std::vector<std::string> material_keys();
+/// The corners `lo` and `hi` of a box inside the grid, each component a number or an expression of the
+/// constants; `what` names it in the message ("the box").
+void read_box(const Section& s, const Scene& sc, const std::string& what, std::vector<double>& lo,
+              std::vector<double>& hi);
+/// Where a body (`files`: a particle file allowed) or a rigid body lies, inside the grid: its `shape` and
+/// that shape's keys, and `ppc`; `box` names a box in the message ("the box").
+void read_shape(const Section& s, const Scene& sc, const std::string& box, bool files, SceneShape& out);
 /// Read bodies[index] into sc.bodies.
 void read_body(const Section& s, Scene& sc, std::size_t index);
 /// A polygon body's outline from its `vertices` (inline [x, y] pairs or a file of them), refused with one
 /// line where it bounds no region (fewer than 3 vertices, repeated vertices, edges that cross or touch).
 Polygon read_outline(const Section& s, const Scene& sc);
+/// A surface body's closed triangulated surface from `file` (STL or OBJ), times `scale`, moved by
+/// `translate`; refused with one line where the file cannot be read or the surface has a hole.
+TriangleSurface read_surface(const Section& s, const Scene& sc, const std::filesystem::path& file);
 /// Read rigid_bodies[index] into sc.rigid_bodies.
 void read_rigid_body(const Section& s, Scene& sc, std::size_t index);
 /// Read one [[contact]] table into sc.contacts (after the bodies and rigid bodies).

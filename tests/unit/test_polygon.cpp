@@ -52,8 +52,8 @@ TEST(PolygonGeometry, CrossingsFound) {
   EXPECT_EQ(touch->first, 0u);
 }
 
-/// A scene of one polygon body (a slope: a 3 m base, a 1 m crest, 1 m high) on a 4 x 2 m grid of 0.25 m cells,
-/// and a box beside it.
+/// A scene of one polygon body (a slope: a 3 m base, a 1 m crest, 1 m high) on a 4 x 2 m grid of 0.25 m
+/// cells, and a box beside it.
 std::string slope_scene(int ppc) {
   return R"([simulation]
 dimension = 2
@@ -74,16 +74,16 @@ density = 2000.0
 name = "slope"
 shape = "polygon"
 vertices = [[0.25, 0.25], [3.25, 0.25], [1.25, 1.25], [0.25, 1.25]]
-ppc = )" + std::to_string(ppc) +
-         "\n";
+ppc = )" +
+         std::to_string(ppc) + "\n";
 }
 
 // The seeded volume and its centroid against the outline's. The other edges lie on lines of the particle
 // lattice's cells (multiples of s = h / ppc), so only the cells the slanted edge cuts can be counted wrongly,
-// each by at most its area s^2; a segment spanning dx and dy cuts at most (|dx| + |dy|) / s + 1 cells (one per
-// cell line it crosses, and the first), here dx = 2 m, dy = 1 m: |V - A| <= (3 / s + 1) s^2. A cell counted
-// wrongly moves the centroid by at most its volume times its distance from the centroid (at most the body's
-// diameter, sqrt(10) m) over V; the midpoint rule integrates x exactly over the cells counted rightly.
+// each by at most its area s^2; a segment spanning dx and dy cuts at most (|dx| + |dy|) / s + 1 cells (one
+// per cell line it crosses, and the first), here dx = 2 m, dy = 1 m: |V - A| <= (3 / s + 1) s^2. A cell
+// counted wrongly moves the centroid by at most its volume times its distance from the centroid (at most the
+// body's diameter, sqrt(10) m) over V; the midpoint rule integrates x exactly over the cells counted rightly.
 TEST(PolygonBody, VolumeAndCentroidConvergeToTheOutlines) {
   const Polygon outline{{{0.25, 0.25}, {3.25, 0.25}, {1.25, 1.25}, {0.25, 1.25}}};
   const Real area = outline.signed_area();

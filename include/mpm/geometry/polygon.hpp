@@ -11,10 +11,11 @@
 namespace mpm {
 
 struct Polygon {
-  std::vector<Vec<2>> vertices;  ///< in order around the outline, either way, the last joined to the first [m]
+  std::vector<Vec<2>>
+      vertices;  ///< in order around the outline, either way, the last joined to the first [m]
 
-  /// Whether x lies inside, by the crossing number (an edge counts from its lower end, inclusive, to its upper
-  /// end, exclusive, so that a point on a shared vertex is counted once).
+  /// Whether x lies inside, by the crossing number (an edge counts from its lower end, inclusive, to its
+  /// upper end, exclusive, so that a point on a shared vertex is counted once).
   bool contains(const Vec<2>& x) const;
   /// The signed area, positive counter-clockwise [m^2] (the shoelace formula).
   Real signed_area() const;

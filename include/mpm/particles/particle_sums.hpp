@@ -13,10 +13,11 @@
 
 namespace mpm {
 
-/// The sums over all the particles, every rank's, of the N values fn(i) gives particle i: the particles of each
-/// run of equal group(i) in storage order are added from zero in that order, and the runs' sums exactly
-/// (ExactSum) over runs and ranks. When each run holds one tile's particles in id order (the explicit engine's
-/// settled particles), the result is the same bits whatever the division of the grid and the thread count.
+/// The sums over all the particles, every rank's, of the N values fn(i) gives particle i: the particles of
+/// each run of equal group(i) in storage order are added from zero in that order, and the runs' sums exactly
+/// (ExactSum) over runs and ranks. When each run holds one tile's particles in id order (the explicit
+/// engine's settled particles), the result is the same bits whatever the division of the grid and the thread
+/// count.
 template <std::size_t N, class Group, class Fn>
 std::array<Real, N> exact_particle_sum(std::size_t n, Group&& group, Fn&& fn, const Communicator& comm) {
   std::array<ExactSum, N> total;
@@ -48,7 +49,7 @@ std::array<Real, N> exact_particle_sum(std::size_t n, Group&& group, Fn&& fn, co
 /// v_p^{n+1}) / 2, the trapezoidal rule on its velocities before and after (b empty: gravity alone).
 template <int Dim>
 Real particle_load_power(const ParticleSet<Dim>& p, std::size_t i, const Vec<Dim>& gravity,
-                const std::vector<Vec<Dim>>& b, const std::vector<Vec<Dim>>& v_before) {
+                         const std::vector<Vec<Dim>>& b, const std::vector<Vec<Dim>>& v_before) {
   const Vec<Dim> load = b.empty() ? gravity : Vec<Dim>(gravity + b[i]);
   return p.m[i] * load.dot(0.5 * (v_before[i] + p.v[i]));
 }

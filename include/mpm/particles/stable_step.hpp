@@ -19,8 +19,9 @@ inline Real cfl_step(Real cfl, Real h, Real fastest_signal) {
 }
 
 /// The fastest signal of the particles, max_p (c_p + |v_p|) [m/s]: c_p the dilatational wave speed of the
-/// particle's material at its volume ratio V / V0 (and its stress, for the laws whose stiffness depends on it;
-/// without a material state, unstressed), |v_p| its speed. A maximum, so the same bits for any thread count.
+/// particle's material at its volume ratio V / V0 (and its stress, for the laws whose stiffness depends on
+/// it; without a material state, unstressed), |v_p| its speed. A maximum, so the same bits for any thread
+/// count.
 template <int Dim>
 Real fastest_signal(const ParticleSet<Dim>& p, const std::vector<Material>& materials) {
   const SymTensor<3> unstressed{};
@@ -28,7 +29,8 @@ Real fastest_signal(const ParticleSet<Dim>& p, const std::vector<Material>& mate
   return parallel_reduce(
       static_cast<std::ptrdiff_t>(p.size()), Real{0},
       [&](std::ptrdiff_t i) {
-        return wave_speed(materials[p.material[i]], p.V[i] / p.V0[i], stressed ? p.state.sigma[i] : unstressed) +
+        return wave_speed(materials[p.material[i]], p.V[i] / p.V0[i],
+                          stressed ? p.state.sigma[i] : unstressed) +
                p.v[i].norm();
       },
       [](Real a, Real b) { return std::max(a, b); });

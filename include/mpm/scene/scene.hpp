@@ -12,6 +12,7 @@
 #include "mpm/contact/multi_field.hpp"
 #include "mpm/explicit/spec.hpp"
 #include "mpm/geometry/polygon.hpp"
+#include "mpm/geometry/surface.hpp"
 #include "mpm/implicit/spec.hpp"
 #include "mpm/materials/material.hpp"
 #include "mpm/scene/expression.hpp"
@@ -36,11 +37,24 @@ struct SceneMaterial {
   Material law;
 };
 
-/// A rigid box of material points moving at a prescribed velocity v(t).
-struct SceneRigidBody {
+/// Where a body or a rigid body lies: a box, a disk (sphere in 3-D), a ring (annulus; spherical shell in
+/// 3-D), a polygon (2-D) or a closed triangulated surface (3-D), seeded on a lattice of ppc points per cell
+/// per axis; or, for a body, a CSV file of positions and volumes.
+struct SceneShape {
+  enum class Shape { box, disk, ring, polygon, surface, file } shape = Shape::box;
+  std::vector<double> lo, hi;  ///< box corners [m]
+  std::vector<double> center;  ///< disk and ring centre [m]
+  double radius = 0;           ///< disk and outer ring radius [m]
+  double inner_radius = 0;     ///< ring inner radius [m]
+  Polygon polygon;             ///< a polygon's outline [m]
+  TriangleSurface surface;     ///< a surface's triangles, scaled and moved [m]
+  std::filesystem::path file;  ///< particle file (shape == file)
+  int ppc = 2;                 ///< points per cell per axis (lattice shapes)
+};
+
+/// A rigid body: material points in a SceneShape (not a file) moving at a prescribed velocity v(t).
+struct SceneRigidBody : SceneShape {
   std::string name;
-  std::vector<double> lo, hi;           ///< box corners [m]
-  int ppc = 2;                          ///< points per cell per axis
   std::vector<ExpressionPtr> velocity;  ///< expressions of t
   std::vector<bool> imposes;            ///< per axis: the body imposes this velocity component
   double friction = -1;                 ///< >= 0: a Coulomb body with this coefficient; < 0 no slip
@@ -73,18 +87,9 @@ struct SceneImplicit {
   int max_retries = 8;
 };
 
-/// A body of particles: a box, a disk (sphere in 3-D), a ring (annulus; spherical shell in 3-D), a polygon
-/// (2-D), or a CSV file of positions and volumes.
-struct SceneBody {
-  enum class Shape { box, disk, ring, polygon, file } shape = Shape::box;
+/// A body of particles of one material, in a SceneShape.
+struct SceneBody : SceneShape {
   std::string name;
-  std::vector<double> lo, hi;               ///< box corners [m]
-  std::vector<double> center;               ///< disk and ring centre [m]
-  double radius = 0;                        ///< disk and outer ring radius [m]
-  double inner_radius = 0;                  ///< ring inner radius [m]
-  Polygon polygon;                          ///< the outline of a polygon body [m]
-  std::filesystem::path file;               ///< particle file (shape == file)
-  int ppc = 2;                              ///< particles per cell per axis (lattice shapes)
   std::size_t material = 0;                 ///< index into Scene::materials
   std::vector<ExpressionPtr> velocity;      ///< initial velocity, expressions of x, y, z
   std::vector<ExpressionPtr> displacement;  ///< optional initial displacement u(X, Y, Z)
