@@ -25,14 +25,14 @@ double lattice(double lo, double hi, double spacing) {
 /// Bounding boxes with at most this many lattice points are counted point by point.
 constexpr double exact_count_limit = 4e6;
 
-double count_box(const Scene& sc, const SceneBody& b) {
+double count_box(const Scene& sc, const SceneShape& b) {
   double n = 1;
   for (int d = 0; d < sc.dim; ++d) n *= lattice(b.lo[d], b.hi[d], sc.h / b.ppc);
   return n;
 }
 
 /// Disk, sphere or ring: the lattice points of the bounding box inside the shape.
-double count_round(const Scene& sc, const SceneBody& b) {
+double count_round(const Scene& sc, const SceneShape& b) {
   const double s = sc.h / b.ppc, r = b.radius, r_in = b.inner_radius;
   const double per_axis = lattice(-r, r, s);
   const double box = std::pow(per_axis, sc.dim);
@@ -53,7 +53,7 @@ double count_round(const Scene& sc, const SceneBody& b) {
 }
 
 /// Data rows of a particle file: lines that are neither empty, comments, nor a header on line 1.
-double count_file(const SceneBody& b) {
+double count_file(const SceneShape& b) {
   std::ifstream is(b.file);
   double rows = 0;
   bool first = true;
@@ -68,7 +68,7 @@ double count_file(const SceneBody& b) {
 
 /// A polygon's particles, at most: its area over a particle's, plus a particle for each spacing of its
 /// perimeter (the lattice points near its edges).
-double count_polygon(const Scene& sc, const SceneBody& b) {
+double count_polygon(const Scene& sc, const SceneShape& b) {
   const double s = sc.h / b.ppc;
   const std::vector<Vec<2>>& v = b.polygon.vertices;
   double perimeter = 0;
@@ -76,7 +76,7 @@ double count_polygon(const Scene& sc, const SceneBody& b) {
   return std::abs(b.polygon.signed_area()) / (s * s) + perimeter / s + 1;
 }
 
-double count_body(const Scene& sc, const SceneBody& b) {
+double count_shape(const Scene& sc, const SceneShape& b) {
   switch (b.shape) {
     case SceneBody::Shape::box:
       return count_box(sc, b);
@@ -93,6 +93,14 @@ double count_body(const Scene& sc, const SceneBody& b) {
       break;
   }
   return count_round(sc, b);
+}
+
+/// A body's particles, at most: its shape's and those of the shapes it adds (what it subtracts or intersects
+/// with is not counted off).
+double count_body(const Scene& sc, const SceneBody& b) {
+  double n = count_shape(sc, b);
+  for (const SceneShape& s : b.add) n += count_shape(sc, s);
+  return n;
 }
 
 /// The largest wave speed at rest of the scene's materials [m/s].

@@ -6,20 +6,15 @@
 #include <sstream>
 
 #include "mpm/core/errors.hpp"
-#include "mpm/particles/generate.hpp"
 #include "mpm/particles/geostatic.hpp"
 #include "mpm/particles/surface.hpp"
 #include "mpm/scene/budget.hpp"
+#include "particle_file.hpp"
+#include "shapes.hpp"
 
 namespace mpm {
 
 namespace {
-template <int Dim>
-Vec<Dim> to_vec(const std::vector<double>& v) {
-  Vec<Dim> out;
-  for (int d = 0; d < Dim; ++d) out[d] = v[d];
-  return out;
-}
 
 template <int Dim>
 VelocityFn<Dim> velocity_of(const std::vector<ExpressionPtr>& components) {
@@ -46,42 +41,6 @@ Mat<Dim> gradient_of_displacement(const std::vector<ExpressionPtr>& u, const Vec
   return F;
 }
 
-/// The rows of a particle file; a bad row throws "FILE:LINE: row of KEY: ..." (`key` names the scene key).
-template <int Dim>
-void read_particle_file(const SceneBody& b, const std::string& key, Real density, std::uint16_t material,
-                        ParticleSet<Dim>& p) {
-  std::ifstream is(b.file);
-  std::string line;
-  int line_no = 0;
-  while (std::getline(is, line)) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();  // a file with Windows line ends
-    if (line.empty() || line[0] == '#') continue;
-    std::stringstream ss(line);
-    std::vector<double> row;
-    std::string cell;
-    bool numeric = true;
-    while (std::getline(ss, cell, ',')) {
-      try {
-        std::size_t used = 0;
-        row.push_back(std::stod(cell, &used));
-        if (cell.find_first_not_of(" \t\r", used) != std::string::npos) numeric = false;
-      } catch (const std::exception&) {
-        numeric = false;
-      }
-    }
-    if (!numeric && line_no == 1) continue;  // a header line
-    const std::string where = b.file.string() + ":" + std::to_string(line_no) + ": row of " + key + ": ";
-    if (!numeric || row.size() != static_cast<std::size_t>(Dim + 1))
-      throw InputError(where + "expected " + std::to_string(Dim + 1) +
-                       " comma-separated numbers (position then volume), got " + in_quotes(line));
-    const Real V = row[Dim];
-    if (!(V > 0 && std::isfinite(V))) throw InputError(where + "volume must be a positive number");
-    Vec<Dim> x;
-    for (int d = 0; d < Dim; ++d) x[d] = row[d];
-    p.add(x, Vec<Dim>::Zero(), density * V, V, Vec<Dim>::Constant(0.5 * std::pow(V, 1.0 / Dim)), material);
-  }
-}
 /// The grid faces' conditions.
 template <int Dim>
 BoundarySpec<Dim> boundary_of(const Scene& sc) {
@@ -140,67 +99,6 @@ BodyForceFn<Dim> body_force_of(const Scene& sc) {
   };
 }
 
-/// The corners of the part of the lattice a box from the grid's lo would have (ppc particles per cell per
-/// axis) that covers [lo, hi]: shapes seeded on it meet boxes and each other without gaps or overlaps.
-template <int Dim>
-std::pair<Vec<Dim>, Vec<Dim>> lattice_cover(const Scene& sc, const Vec<Dim>& lo, const Vec<Dim>& hi,
-                                            Real spacing) {
-  const Vec<Dim> grid_lo = to_vec<Dim>(sc.grid_lo);
-  return {grid_lo.array() + spacing * ((lo - grid_lo) / spacing).array().floor(),
-          grid_lo.array() + spacing * ((hi - grid_lo) / spacing).array().ceil()};
-}
-
-/// The points of a shape's lattice (every shape but a file), each of volume s^Dim, density `density` and
-/// material `material` (reference positions; ids count on from `p`'s).
-template <int Dim>
-void fill_shape(const Scene& sc, const SceneShape& b, Real density, std::uint16_t material,
-                ParticleSet<Dim>& p) {
-  const Real spacing = sc.h / b.ppc;
-  switch (b.shape) {
-    case SceneBody::Shape::box:
-      fill_box<Dim>(p, to_vec<Dim>(b.lo), to_vec<Dim>(b.hi), spacing, density, material);
-      break;
-    case SceneBody::Shape::disk:
-    case SceneBody::Shape::ring: {
-      const Vec<Dim> c = to_vec<Dim>(b.center);
-      const Real r_in = b.inner_radius, r_out = b.radius;
-      fill_box<Dim>(p, c.array() - r_out, c.array() + r_out, spacing, density, material, {},
-                    [&](const Vec<Dim>& x) {
-                      const Real r = (x - c).norm();
-                      return r <= r_out && r >= r_in;
-                    });
-      break;
-    }
-    case SceneBody::Shape::polygon:
-      if constexpr (Dim == 2) {
-        const auto [lo, hi] = b.polygon.bounds();
-        const auto [start, end] = lattice_cover<2>(sc, lo, hi, spacing);
-        fill_box<2>(p, start, end, spacing, density, material, {},
-                    [&](const Vec<2>& x) { return b.polygon.contains(x); });
-      }
-      break;
-    case SceneBody::Shape::surface:
-      if constexpr (Dim == 3) {
-        const auto [lo, hi] = b.surface.bounds();
-        const auto [start, end] = lattice_cover<3>(sc, lo, hi, spacing);
-        // fill_box visits the lattice row by row along x: the crossings of a row's line with the surface
-        // are found once, and a point is inside when an odd number of them lie below it.
-        std::vector<Real> row;
-        Vec<2> row_at(std::nan(""), std::nan(""));
-        fill_box<3>(p, start, end, spacing, density, material, {}, [&](const Vec<3>& x) {
-          if (x[1] != row_at[0] || x[2] != row_at[1]) {
-            row = b.surface.crossings(x[1], x[2]);
-            row_at = {x[1], x[2]};
-          }
-          return (std::lower_bound(row.begin(), row.end(), x[0]) - row.begin()) % 2 == 1;
-        });
-      }
-      break;
-    case SceneBody::Shape::file:  // a body's particles from a file: seed_shape
-      break;
-  }
-}
-
 /// Body k's particles: its shape's lattice, or the rows of its particle file.
 template <int Dim>
 void seed_shape(const Scene& sc, std::size_t k, ParticleSet<Dim>& p) {
@@ -208,10 +106,11 @@ void seed_shape(const Scene& sc, std::size_t k, ParticleSet<Dim>& p) {
   const Real density = sc.materials[b.material].density;
   const auto material = static_cast<std::uint16_t>(b.material);
   if (b.shape == SceneBody::Shape::file)
-    read_particle_file<Dim>(b, "bodies[" + std::to_string(k) + "].file in " + sc.file.string(), density,
-                            material, p);
-  else
+    read_particle_rows<Dim>(sc, b, "bodies[" + std::to_string(k) + "].file in " + sc.file.string(), p);
+  else if (b.add.empty() && b.subtract.empty() && b.intersect.empty())
     fill_shape<Dim>(sc, b, density, material, p);
+  else
+    fill_combined<Dim>(sc, b, density, material, p);
 }
 
 /// The scene's pressures and tractions on the surfaces of bodies (lattice_surface of each loaded body, ids as

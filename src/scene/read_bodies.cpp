@@ -3,6 +3,7 @@
 #include <system_error>
 
 #include "mpm/scene/budget.hpp"
+#include "particle_file.hpp"
 #include "section.hpp"
 
 namespace mpm::scene_reading {
@@ -12,7 +13,38 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
   SceneBody b;
   b.name = s.name("name", "body " + std::to_string(index));
   read_shape(s, sc, "the box", true, b);
-  const std::string material = s.text("material", sc.materials.size() == 1 ? sc.materials[0].name : "");
+  for (auto [key, shapes] :
+       {std::pair{"add", &b.add}, {"subtract", &b.subtract}, {"intersect", &b.intersect}}) {
+    const std::vector<const toml::table*> tables = s.tables(key);
+    if (!tables.empty() && b.shape == SceneBody::Shape::file)
+      s.fail(key, "a particle file's body is not combined with shapes");
+    for (std::size_t k = 0; k < tables.size(); ++k) {
+      const Section t = s.below(*tables[k], std::string(key) + "[" + std::to_string(k) + "]",
+                                {"shape", "lo", "hi", "center", "radius", "inner_radius", "vertices", "file",
+                                 "scale", "translate"});
+      shapes->push_back({});
+      read_shape(t, sc, "the box", false, shapes->back());
+      shapes->back().ppc = b.ppc;
+    }
+  }
+  // A particle file may give each particle's material, velocity and stress in columns its header names.
+  std::vector<ParticleColumn> columns;
+  if (b.shape == SceneBody::Shape::file) {
+    std::vector<Material> laws;
+    for (const SceneMaterial& m : sc.materials) laws.push_back(m.law);
+    try {
+      columns = particle_file_columns(b.file, sc.dim, laws);
+    } catch (const InputError& e) {
+      s.fail("file", e.what());
+    }
+  }
+  const bool per_particle_material = has_column(columns, ParticleColumn::Role::material);
+  if (per_particle_material && s.has("material"))
+    s.fail("material",
+           "the particle file gives each particle's material (its column 'material'); drop material");
+  const std::string material =  // with a material column, b.material is only a placeholder
+      per_particle_material ? sc.materials[0].name
+                            : s.text("material", sc.materials.size() == 1 ? sc.materials[0].name : "");
   if (material.empty()) s.fail("material", "missing (the name of a [[materials]] entry)");
   auto found = std::find_if(sc.materials.begin(), sc.materials.end(),
                             [&](const SceneMaterial& m) { return m.name == material; });
@@ -22,6 +54,8 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
     s.fail("material", "no material named " + in_quotes(material) + " (defined: " + join(names) + ")");
   }
   b.material = static_cast<std::size_t>(found - sc.materials.begin());
+  if (s.has("velocity") && has_column(columns, ParticleColumn::Role::velocity))
+    s.fail("velocity", "the particle file gives the velocities (its columns vx, ...); drop velocity");
   if (s.has("velocity")) b.velocity = s.expressions("velocity", n, position_vars[n - 1], sc.constants);
   if (s.has("displacement"))
     b.displacement = s.expressions("displacement", n, reference_vars[n - 1], sc.constants);
@@ -32,6 +66,9 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
   if (s.has("k0")) {
     b.k0 = s.constant_number("k0", 0, sc.constants);
     if (!(b.k0 >= 0)) s.fail("k0", "expected a lateral stress ratio K0 >= 0");
+    if (per_particle_material || has_column(columns, ParticleColumn::Role::stress) ||
+        has_column(columns, ParticleColumn::Role::plastic_strain))
+      s.fail("k0", "the particle file gives the stresses or the materials; a geostatic stress needs neither");
     const Material& law = sc.materials[b.material].law;
     if (!is_rate_form(law) || std::holds_alternative<NewtonianFluid>(law))
       s.fail(

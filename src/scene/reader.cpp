@@ -423,11 +423,28 @@ Scene read_scene_text(const std::string& text, const std::filesystem::path& file
   const std::vector<const toml::table*> bodies = top.tables("bodies");
   if (bodies.empty()) top.fail("bodies", "missing: at least one [[bodies]] table is needed");
   for (std::size_t k = 0; k < bodies.size(); ++k)
-    read_body(
-        Section(*bodies[k], "bodies[" + std::to_string(k) + "]", loc,
-                {"name", "shape", "lo", "hi", "center", "radius", "inner_radius", "vertices", "file", "scale",
-                 "translate", "ppc", "material", "velocity", "displacement", "deformation_gradient", "k0"}),
-        sc, k);
+    read_body(Section(*bodies[k], "bodies[" + std::to_string(k) + "]", loc,
+                      {"name",
+                       "shape",
+                       "lo",
+                       "hi",
+                       "center",
+                       "radius",
+                       "inner_radius",
+                       "vertices",
+                       "file",
+                       "scale",
+                       "translate",
+                       "ppc",
+                       "add",
+                       "subtract",
+                       "intersect",
+                       "material",
+                       "velocity",
+                       "displacement",
+                       "deformation_gradient",
+                       "k0"}),
+              sc, k);
   const std::vector<const toml::table*> rigid = top.tables("rigid_bodies");
   for (std::size_t k = 0; k < rigid.size(); ++k)
     read_rigid_body(

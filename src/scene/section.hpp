@@ -86,6 +86,10 @@ class Section {
   }
 
   std::string key_of(const std::string& k) const { return path_.empty() ? k : path_ + "." + k; }
+  /// The section of table `t` at key path `path` below this one, allowing the keys `allowed`.
+  Section below(const toml::table& t, const std::string& path, std::vector<std::string> allowed) const {
+    return Section(t, key_of(path), loc_, std::move(allowed));
+  }
   const toml::node* get(const std::string& k) const { return t_.get(k); }
   bool has(const std::string& k) const { return t_.contains(k); }
   [[noreturn]] void fail(const std::string& k, const std::string& what) const {

@@ -246,6 +246,24 @@ TEST(SurfaceBody, ObjFileScaledAndTranslated) {
   EXPECT_NEAR(V, 0.064, 1e-15);
 }
 
+// A surface as a cutter: the box [0.2, 1.0]^3 minus the cube [0.4, 0.8]^3 read from an OBJ file, every face
+// on a line of the lattice (s = 0.1 m): 8^3 - 4^3 particles exactly, none inside the cube.
+TEST(SurfaceBody, SubtractedFromABox) {
+  const Folder dir;
+  TriangleSurface cube = unit_cube();
+  for (Vec<3>& v : cube.vertices) v = 0.4 * v + Vec<3>::Constant(0.4);
+  write_obj(cube, dir.path / "hollow.obj");
+  std::string text = surface_scene(dir.path / "hollow.obj", 2);
+  const std::string shape_key = "shape = \"surface\"\nfile";
+  text.replace(text.find(shape_key), shape_key.size(),
+               "lo = [0.2, 0.2, 0.2]\nhi = [1.0, 1.0, 1.0]\nsubtract = [{ shape = \"surface\", file");
+  text.replace(text.find("\nppc"), 4, " }]\nppc");
+  const ParticleSet<3> p = seed_bodies<3>(read_scene_text(text, "hollow.toml"));
+  EXPECT_EQ(p.size(), 512u - 64u);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    EXPECT_FALSE((p.X[i].array() > 0.4).all() && (p.X[i].array() < 0.8).all()) << p.X[i].transpose();
+}
+
 TEST(SurfaceBody, HoleRefusedWithOneLine) {
   const Folder dir;
   TriangleSurface sphere = icosphere({1, 1, 1}, 0.5, 1);

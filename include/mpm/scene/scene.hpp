@@ -87,10 +87,13 @@ struct SceneImplicit {
   int max_retries = 8;
 };
 
-/// A body of particles of one material, in a SceneShape.
+/// A body of particles of one material, in a SceneShape combined with others: the points of its lattice that
+/// lie in its shape or one of `add`, in every one of `intersect`, and in none of `subtract`.
 struct SceneBody : SceneShape {
   std::string name;
-  std::size_t material = 0;                 ///< index into Scene::materials
+  std::vector<SceneShape> add, subtract, intersect;  ///< lattice shapes, the body's ppc
+
+  std::size_t material = 0;                 ///< index into Scene::materials (a file may give each particle's)
   std::vector<ExpressionPtr> velocity;      ///< initial velocity, expressions of x, y, z
   std::vector<ExpressionPtr> displacement;  ///< optional initial displacement u(X, Y, Z)
   std::vector<ExpressionPtr> deformation;   ///< optional initial F (row by row), expressions of X, Y, Z

@@ -1,0 +1,197 @@
+#include "particle_file.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "mpm/core/errors.hpp"
+
+namespace mpm {
+
+namespace {
+using Role = ParticleColumn::Role;
+
+/// The comma-separated cells of a line, each trimmed of spaces.
+std::vector<std::string> cells_of(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  for (std::string cell; std::getline(ss, cell, ',');) {
+    const std::size_t a = cell.find_first_not_of(" \t"), b = cell.find_last_not_of(" \t");
+    out.push_back(a == std::string::npos ? "" : cell.substr(a, b - a + 1));
+  }
+  if (!line.empty() && line.back() == ',') out.emplace_back();
+  return out;
+}
+
+/// The cell as a number, or nothing.
+std::optional<double> number_in(const std::string& cell) {
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(cell, &used);
+    if (used == cell.size()) return v;
+  } catch (const std::exception&) {
+  }
+  return std::nullopt;
+}
+
+/// The lines of a file, Windows line ends dropped.
+struct Lines {
+  std::ifstream is;
+  int number = 0;
+  std::string line;
+  explicit Lines(const std::filesystem::path& file) : is(file) {}
+  bool next() {
+    if (!std::getline(is, line)) return false;
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    return true;
+  }
+};
+
+const char* const axis_names = "xyz";
+const char* const stress_names[] = {"sxx", "syy", "szz", "sxy", "sxz", "syz"};  // SymTensor<3>'s order
+}  // namespace
+
+bool has_column(const std::vector<ParticleColumn>& columns, Role role) {
+  return std::any_of(columns.begin(), columns.end(), [&](const ParticleColumn& c) { return c.role == role; });
+}
+
+std::vector<ParticleColumn> particle_file_columns(const std::filesystem::path& file, int dim,
+                                                  const std::vector<Material>& materials) {
+  std::vector<ParticleColumn> positional;
+  for (int d = 0; d < dim; ++d) positional.push_back({Role::position, d});
+  positional.push_back({Role::volume, 0});
+  Lines lines(file);
+  if (!lines.next()) return positional;
+  const std::vector<std::string> names = cells_of(lines.line);
+  if (std::all_of(names.begin(), names.end(), [](const std::string& c) { return number_in(c).has_value(); }))
+    return positional;  // no header
+  std::vector<std::pair<std::string, ParticleColumn>> known;
+  for (int d = 0; d < dim; ++d) {
+    known.push_back({std::string(1, axis_names[d]), {Role::position, d}});
+    known.push_back({std::string("v") + axis_names[d], {Role::velocity, d}});
+  }
+  known.push_back({"volume", {Role::volume, 0}});
+  known.push_back({"material", {Role::material, 0}});
+  for (int k = 0; k < 6; ++k) known.push_back({stress_names[k], {Role::stress, k}});
+  known.push_back({"plastic_strain", {Role::plastic_strain, 0}});
+  const std::string at = file.string() + ":1: ";
+  std::vector<ParticleColumn> out;
+  std::vector<std::string> seen;
+  for (const std::string& name : names) {
+    for (const DeclaredColumn& c : declared_columns(materials))
+      if (c.name == name)
+        throw InputError(at + "column " + in_quotes(name) +
+                         ": a law's internal variables start from the particle's stress; a file cannot give "
+                         "them");
+    const auto it = std::find_if(known.begin(), known.end(), [&](const auto& k) { return k.first == name; });
+    if (it == known.end()) {
+      std::string expected;
+      for (const auto& k : known) expected += (expected.empty() ? "" : ", ") + k.first;
+      throw InputError(at + "unknown column " + in_quotes(shortened(name)) + " (expected " + expected + ")");
+    }
+    if (std::find(seen.begin(), seen.end(), name) != seen.end())
+      throw InputError(at + "column " + in_quotes(name) + " appears twice");
+    seen.push_back(name);
+    out.push_back(it->second);
+  }
+  for (int d = 0; d < dim; ++d)
+    if (std::find(seen.begin(), seen.end(), std::string(1, axis_names[d])) == seen.end())
+      throw InputError(at + "no column " + in_quotes(std::string(1, axis_names[d])) + " (the position)");
+  if (!has_column(out, Role::volume)) throw InputError(at + "no column 'volume'");
+  return out;
+}
+
+template <int Dim>
+void read_particle_rows(const Scene& sc, const SceneBody& b, const std::string& key, ParticleSet<Dim>& p) {
+  std::vector<Material> laws;
+  for (const SceneMaterial& m : sc.materials) laws.push_back(m.law);
+  const std::vector<ParticleColumn> columns = particle_file_columns(b.file, Dim, laws);
+  const bool stressed = has_column(columns, Role::stress) || has_column(columns, Role::plastic_strain);
+  Lines lines(b.file);
+  const bool plain = columns.size() == Dim + 1;  // positions and volumes only
+  const auto plain_error = [&](const std::string& where) {
+    return InputError(where + "expected " + std::to_string(Dim + 1) +
+                      " comma-separated numbers (position then volume), got " +
+                      in_quotes(shortened(lines.line)));
+  };
+  while (lines.next()) {
+    if (lines.line.empty() || lines.line[0] == '#') continue;
+    const std::vector<std::string> cells = cells_of(lines.line);
+    const bool header = !std::all_of(cells.begin(), cells.end(),
+                                     [](const std::string& c) { return number_in(c).has_value(); });
+    if (header && lines.number == 1) continue;
+    const std::string where = b.file.string() + ":" + std::to_string(lines.number) + ": row of " + key + ": ";
+    if (cells.size() != columns.size()) {
+      if (plain) throw plain_error(where);
+      throw InputError(where + "expected " + std::to_string(columns.size()) +
+                       " comma-separated values (one per column of line 1), got " +
+                       in_quotes(shortened(lines.line)));
+    }
+    Vec<Dim> x = Vec<Dim>::Zero(), v = Vec<Dim>::Zero();
+    SymTensor<3> sigma;
+    Real V = 0, eps_bar = 0;
+    std::size_t material = b.material;
+    for (std::size_t k = 0; k < columns.size(); ++k) {
+      const ParticleColumn& c = columns[k];
+      const std::optional<double> value = number_in(cells[k]);
+      if (c.role == Role::material) {
+        const auto named = std::find_if(sc.materials.begin(), sc.materials.end(),
+                                        [&](const SceneMaterial& m) { return m.name == cells[k]; });
+        if (named != sc.materials.end()) {
+          material = static_cast<std::size_t>(named - sc.materials.begin());
+        } else if (value && *value >= 0 && *value < static_cast<double>(sc.materials.size()) &&
+                   *value == std::floor(*value)) {
+          material = static_cast<std::size_t>(*value);
+        } else {
+          throw InputError(where + "material " + in_quotes(shortened(cells[k])) +
+                           ": expected the name of a [[materials]] entry or its index from 0");
+        }
+        continue;
+      }
+      if ((!value || !std::isfinite(*value)) && plain) throw plain_error(where);
+      if (!value || !std::isfinite(*value))
+        throw InputError(where + "expected a finite number in column " + std::to_string(k + 1) + ", got " +
+                         in_quotes(shortened(cells[k])));
+      switch (c.role) {
+        case Role::position:
+          x[c.component] = *value;
+          break;
+        case Role::volume:
+          V = *value;
+          break;
+        case Role::velocity:
+          v[c.component] = *value;
+          break;
+        case Role::stress:
+          sigma.c[static_cast<std::size_t>(c.component)] = *value;
+          break;
+        case Role::plastic_strain:
+          eps_bar = *value;
+          break;
+        case Role::material:
+          break;
+      }
+    }
+    if (!(V > 0)) throw InputError(where + "volume must be a positive number");
+    const Material& law = sc.materials[material].law;
+    if (stressed && (!is_rate_form(law) || std::holds_alternative<NewtonianFluid>(law)))
+      throw InputError(where + "material " + in_quotes(sc.materials[material].name) +
+                       " takes no initial stress or plastic strain (a rate-form solid does)");
+    if (stressed && !(eps_bar >= 0)) throw InputError(where + "plastic_strain must be >= 0");
+    p.add(x, v, sc.materials[material].density * V, V, Vec<Dim>::Constant(0.5 * std::pow(V, 1.0 / Dim)),
+          static_cast<std::uint16_t>(material));
+    if (stressed) {
+      p.state.resize_keeping(p.size());
+      p.state.sigma.back() = sigma;
+      p.state.eps_bar.back() = eps_bar;
+    }
+  }
+}
+
+template void read_particle_rows<1>(const Scene&, const SceneBody&, const std::string&, ParticleSet<1>&);
+template void read_particle_rows<2>(const Scene&, const SceneBody&, const std::string&, ParticleSet<2>&);
+template void read_particle_rows<3>(const Scene&, const SceneBody&, const std::string&, ParticleSet<3>&);
+
+}  // namespace mpm

@@ -1,0 +1,145 @@
+#include "shapes.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "mpm/particles/generate.hpp"
+
+namespace mpm {
+
+namespace {
+/// The corners of the part of the lattice a box from the grid's lo would have (ppc particles per cell per
+/// axis) that covers [lo, hi]: shapes seeded on it meet boxes and each other without gaps or overlaps.
+template <int Dim>
+std::pair<Vec<Dim>, Vec<Dim>> lattice_cover(const Scene& sc, const Vec<Dim>& lo, const Vec<Dim>& hi,
+                                            Real spacing) {
+  const Vec<Dim> grid_lo = to_vec<Dim>(sc.grid_lo);
+  return {grid_lo.array() + spacing * ((lo - grid_lo) / spacing).array().floor(),
+          grid_lo.array() + spacing * ((hi - grid_lo) / spacing).array().ceil()};
+}
+
+/// The corners of a lattice shape's bounding box [m].
+template <int Dim>
+std::pair<Vec<Dim>, Vec<Dim>> bounds_of(const SceneShape& s) {
+  switch (s.shape) {
+    case SceneShape::Shape::disk:
+    case SceneShape::Shape::ring: {
+      const Vec<Dim> c = to_vec<Dim>(s.center);
+      return {c.array() - s.radius, c.array() + s.radius};
+    }
+    case SceneShape::Shape::polygon:
+      if constexpr (Dim == 2) return s.polygon.bounds();
+      break;
+    case SceneShape::Shape::surface:
+      if constexpr (Dim == 3) return s.surface.bounds();
+      break;
+    case SceneShape::Shape::box:
+    case SceneShape::Shape::file:
+      break;
+  }
+  return {to_vec<Dim>(s.lo), to_vec<Dim>(s.hi)};
+}
+
+/// Whether x lies in a lattice shape (a surface's test casts one line; fill_shape casts one a row).
+template <int Dim>
+bool shape_contains(const SceneShape& s, const Vec<Dim>& x) {
+  switch (s.shape) {
+    case SceneShape::Shape::box:
+      return (x.array() >= to_vec<Dim>(s.lo).array()).all() && (x.array() <= to_vec<Dim>(s.hi).array()).all();
+    case SceneShape::Shape::disk:
+    case SceneShape::Shape::ring: {
+      const Real r = (x - to_vec<Dim>(s.center)).norm();
+      return r <= s.radius && r >= s.inner_radius;
+    }
+    case SceneShape::Shape::polygon:
+      if constexpr (Dim == 2) return s.polygon.contains(x);
+      break;
+    case SceneShape::Shape::surface:
+      if constexpr (Dim == 3) {
+        const std::vector<Real> row = s.surface.crossings(x[1], x[2]);
+        return (std::lower_bound(row.begin(), row.end(), x[0]) - row.begin()) % 2 == 1;
+      }
+      break;
+    case SceneShape::Shape::file:
+      break;
+  }
+  return false;
+}
+}  // namespace
+
+template <int Dim>
+void fill_shape(const Scene& sc, const SceneShape& b, Real density, std::uint16_t material,
+                ParticleSet<Dim>& p) {
+  const Real spacing = sc.h / b.ppc;
+  switch (b.shape) {
+    case SceneBody::Shape::box:
+      fill_box<Dim>(p, to_vec<Dim>(b.lo), to_vec<Dim>(b.hi), spacing, density, material);
+      break;
+    case SceneBody::Shape::disk:
+    case SceneBody::Shape::ring: {
+      const Vec<Dim> c = to_vec<Dim>(b.center);
+      const Real r_in = b.inner_radius, r_out = b.radius;
+      fill_box<Dim>(p, c.array() - r_out, c.array() + r_out, spacing, density, material, {},
+                    [&](const Vec<Dim>& x) {
+                      const Real r = (x - c).norm();
+                      return r <= r_out && r >= r_in;
+                    });
+      break;
+    }
+    case SceneBody::Shape::polygon:
+      if constexpr (Dim == 2) {
+        const auto [lo, hi] = b.polygon.bounds();
+        const auto [start, end] = lattice_cover<2>(sc, lo, hi, spacing);
+        fill_box<2>(p, start, end, spacing, density, material, {},
+                    [&](const Vec<2>& x) { return b.polygon.contains(x); });
+      }
+      break;
+    case SceneBody::Shape::surface:
+      if constexpr (Dim == 3) {
+        const auto [lo, hi] = b.surface.bounds();
+        const auto [start, end] = lattice_cover<3>(sc, lo, hi, spacing);
+        // fill_box visits the lattice row by row along x: the crossings of a row's line with the surface
+        // are found once, and a point is inside when an odd number of them lie below it.
+        std::vector<Real> row;
+        Vec<2> row_at(std::nan(""), std::nan(""));
+        fill_box<3>(p, start, end, spacing, density, material, {}, [&](const Vec<3>& x) {
+          if (x[1] != row_at[0] || x[2] != row_at[1]) {
+            row = b.surface.crossings(x[1], x[2]);
+            row_at = {x[1], x[2]};
+          }
+          return (std::lower_bound(row.begin(), row.end(), x[0]) - row.begin()) % 2 == 1;
+        });
+      }
+      break;
+    case SceneBody::Shape::file:  // a body's particles from a file: seed_shape
+      break;
+  }
+}
+
+template <int Dim>
+void fill_combined(const Scene& sc, const SceneBody& b, Real density, std::uint16_t material,
+                   ParticleSet<Dim>& p) {
+  auto [lo, hi] = bounds_of<Dim>(b);
+  for (const SceneShape& s : b.add) {
+    const auto [a, z] = bounds_of<Dim>(s);
+    lo = lo.cwiseMin(a), hi = hi.cwiseMax(z);
+  }
+  const Real spacing = sc.h / b.ppc;
+  const auto [start, end] = lattice_cover<Dim>(sc, lo, hi, spacing);
+  const auto in = [&](const SceneShape& s, const Vec<Dim>& x) { return shape_contains<Dim>(s, x); };
+  fill_box<Dim>(p, start, end, spacing, density, material, {}, [&](const Vec<Dim>& x) {
+    const auto at = [&](const SceneShape& s) { return in(s, x); };
+    return (in(b, x) || std::any_of(b.add.begin(), b.add.end(), at)) &&
+           std::all_of(b.intersect.begin(), b.intersect.end(), at) &&
+           std::none_of(b.subtract.begin(), b.subtract.end(), at);
+  });
+}
+
+template void fill_shape<1>(const Scene&, const SceneShape&, Real, std::uint16_t, ParticleSet<1>&);
+template void fill_shape<2>(const Scene&, const SceneShape&, Real, std::uint16_t, ParticleSet<2>&);
+template void fill_shape<3>(const Scene&, const SceneShape&, Real, std::uint16_t, ParticleSet<3>&);
+template void fill_combined<1>(const Scene&, const SceneBody&, Real, std::uint16_t, ParticleSet<1>&);
+template void fill_combined<2>(const Scene&, const SceneBody&, Real, std::uint16_t, ParticleSet<2>&);
+template void fill_combined<3>(const Scene&, const SceneBody&, Real, std::uint16_t, ParticleSet<3>&);
+
+}  // namespace mpm
