@@ -152,9 +152,7 @@ bool has_material_state(const Scene& sc) {
 /// rise, internal energy and the internal variables the laws declare), the points, and two 8-byte integers of
 /// vertex cells.
 double frame_bytes_per_particle(const Scene& sc) {
-  std::vector<Material> laws;
-  for (const SceneMaterial& m : sc.materials) laws.push_back(m.law);
-  const std::size_t state = has_material_state(sc) ? 3 + declared_columns(laws).size() : 0;
+  const std::size_t state = has_material_state(sc) ? 3 + declared_columns(material_laws(sc)).size() : 0;
   const std::size_t components = 3 + 3 + 6 + 9 + 5 + (sc.exact_displacement.empty() ? 0 : 1) + state;
   return 8.0 * static_cast<double>(components + 3 + 2);
 }

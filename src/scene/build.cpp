@@ -80,13 +80,6 @@ BoundarySpec<Dim> boundary_of(const Scene& sc) {
   return boundary;
 }
 
-/// The material table.
-std::vector<Material> materials_of(const Scene& sc) {
-  std::vector<Material> out;
-  for (const SceneMaterial& m : sc.materials) out.push_back(m.law);
-  return out;
-}
-
 /// The scene's body force b(X, t); empty when it has none.
 template <int Dim>
 BodyForceFn<Dim> body_force_of(const Scene& sc) {
@@ -194,7 +187,7 @@ ModelSpec<Dim> make_model(const Scene& sc) {
   for (int d = 0; d < Dim; ++d) model.cells[d] = sc.cells[d];
   model.kernel = sc.kernel;
   model.geometry = sc.geometry;
-  model.materials = materials_of(sc);
+  model.materials = material_laws(sc);
   model.boundary = boundary_of<Dim>(sc);
   model.rigid_bodies = rigid_bodies_of<Dim>(sc);
   model.gravity = to_vec<Dim>(sc.gravity);

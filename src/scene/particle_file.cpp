@@ -105,9 +105,7 @@ std::vector<ParticleColumn> particle_file_columns(const std::filesystem::path& f
 
 template <int Dim>
 void read_particle_rows(const Scene& sc, const SceneBody& b, const std::string& key, ParticleSet<Dim>& p) {
-  std::vector<Material> laws;
-  for (const SceneMaterial& m : sc.materials) laws.push_back(m.law);
-  const std::vector<ParticleColumn> columns = particle_file_columns(b.file, Dim, laws);
+  const std::vector<ParticleColumn> columns = particle_file_columns(b.file, Dim, material_laws(sc));
   const bool stressed = has_column(columns, Role::stress) || has_column(columns, Role::plastic_strain);
   Lines lines(b.file);
   const bool plain = columns.size() == Dim + 1;  // positions and volumes only

@@ -30,10 +30,8 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
   // A particle file may give each particle's material, velocity and stress in columns its header names.
   std::vector<ParticleColumn> columns;
   if (b.shape == SceneBody::Shape::file) {
-    std::vector<Material> laws;
-    for (const SceneMaterial& m : sc.materials) laws.push_back(m.law);
     try {
-      columns = particle_file_columns(b.file, sc.dim, laws);
+      columns = particle_file_columns(b.file, sc.dim, material_laws(sc));
     } catch (const InputError& e) {
       s.fail("file", e.what());
     }

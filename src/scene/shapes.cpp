@@ -18,6 +18,12 @@ std::pair<Vec<Dim>, Vec<Dim>> lattice_cover(const Scene& sc, const Vec<Dim>& lo,
           grid_lo.array() + spacing * ((hi - grid_lo) / spacing).array().ceil()};
 }
 
+/// Whether x lies inside, given the sorted crossings of its line with a closed surface: an odd number below
+/// it.
+bool odd_below(const std::vector<Real>& crossings, Real x) {
+  return (std::lower_bound(crossings.begin(), crossings.end(), x) - crossings.begin()) % 2 == 1;
+}
+
 /// The corners of a lattice shape's bounding box [m].
 template <int Dim>
 std::pair<Vec<Dim>, Vec<Dim>> bounds_of(const SceneShape& s) {
@@ -56,8 +62,7 @@ bool shape_contains(const SceneShape& s, const Vec<Dim>& x) {
       break;
     case SceneShape::Shape::surface:
       if constexpr (Dim == 3) {
-        const std::vector<Real> row = s.surface.crossings(x[1], x[2]);
-        return (std::lower_bound(row.begin(), row.end(), x[0]) - row.begin()) % 2 == 1;
+        return odd_below(s.surface.crossings(x[1], x[2]), x[0]);
       }
       break;
     case SceneShape::Shape::file:
@@ -107,7 +112,7 @@ void fill_shape(const Scene& sc, const SceneShape& b, Real density, std::uint16_
             row = b.surface.crossings(x[1], x[2]);
             row_at = {x[1], x[2]};
           }
-          return (std::lower_bound(row.begin(), row.end(), x[0]) - row.begin()) % 2 == 1;
+          return odd_below(row, x[0]);
         });
       }
       break;

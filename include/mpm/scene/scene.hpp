@@ -169,6 +169,12 @@ struct Scene {
 /// before validation, value in TOML syntax (a bare word is taken as a string). Throws InputError naming the
 /// file, the line where known, the key, and what was expected.
 Scene read_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides = {});
+/// The scene's material laws, in the order of its [[materials]] tables.
+inline std::vector<Material> material_laws(const Scene& sc) {
+  std::vector<Material> laws;
+  for (const SceneMaterial& m : sc.materials) laws.push_back(m.law);
+  return laws;
+}
 /// The same for a scene's text: `file` names it in messages, and particle files are relative to its folder.
 Scene read_scene_text(const std::string& text, const std::filesystem::path& file,
                       const std::vector<std::string>& overrides = {});
