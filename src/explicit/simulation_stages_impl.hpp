@@ -130,23 +130,28 @@ void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
     if constexpr (what.position &&
                   moves_corners<Kernel>)  // CPDI2: the corners, from the stencils of the step's start
       g2p_corners(stencils(), *fields[k], v_grid, dt, particles_.corners, particles_.corners, range);
+    // A deforming pass through the rate-form policy of the table (LaneStress: compiled once per dimension).
+    const auto deform = [&]<class Policy>(const Policy& policy) {
+      return g2p<what>(particles_, stencils(), *fields[k], v_grid, dt,
+                       LaneStress<Dim, Policy::reads_velocity>(policy), targets, range, blend);
+    };
     ParticleFault f;
     if constexpr (!what.deformation) {
       f = g2p<what>(particles_, stencils(), *fields[k], v_grid, dt, NoStress{}, targets, range, blend);
     } else if (!neo_hookean_.empty()) {
-      f = g2p<what>(particles_, stencils(), *fields[k], v_grid, dt, NeoHookeanLanes{neo_hookean_}, targets,
-                    range, blend);
-    } else if (!drucker_prager_.empty() && axisymmetric_) {
+      f = g2p<what>(particles_, stencils(), *fields[k], v_grid, dt, NeoHookeanLanes<Dim>{neo_hookean_},
+                    targets, range, blend);
+    } else if (axisymmetric_) {
       if constexpr (Dim == 2) {  // axisymmetry is 2-D: the other dimensions compile no such pass
-        const DruckerPragerLanes<Dim, true> step{spec_.materials, drucker_prager_, dt};
-        f = g2p<what>(particles_, stencils(), *fields[k], v_grid, dt, step, targets, range, blend);
+        if (!drucker_prager_.empty())
+          f = deform(DruckerPragerLanes<Dim, true>{spec_.materials, drucker_prager_, dt});
+        else
+          f = deform(RecordRates<Dim, true>{grad_v_, hoop_rate_});
       }
     } else if (!drucker_prager_.empty()) {
-      const DruckerPragerLanes<Dim, false> step{spec_.materials, drucker_prager_, dt};
-      f = g2p<what>(particles_, stencils(), *fields[k], v_grid, dt, step, targets, range, blend);
+      f = deform(DruckerPragerLanes<Dim, false>{spec_.materials, drucker_prager_, dt});
     } else {
-      const RecordRates<Dim> rates{grad_v_, hoop_rate_, axisymmetric_};
-      f = g2p<what>(particles_, stencils(), *fields[k], v_grid, dt, rates, targets, range, blend);
+      f = deform(RecordRates<Dim, false>{grad_v_, hoop_rate_});
     }
     fault.index = std::min(fault.index, f.index);
   }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "frictional_paths.hpp"
+#include "mpm/materials/material_step.hpp"
 #include "mpm/transfer/g2p_stress.hpp"
 
 namespace {
@@ -98,15 +99,17 @@ Branches expect_lanes_equal_one_particle_steps(const std::vector<Material>& mate
   const mpm::DruckerPragerLanes<Dim, Axisymmetric> lanes{materials, rows, dt};
   for (std::ptrdiff_t b = 0; b < LaneBlock::count(static_cast<std::size_t>(n)); ++b) {
     const LaneBlock block(b, n);
-    RealLanes F[Dim][Dim], grad_v[Dim][Dim], J_lanes, v_r_lanes, r_lanes;
+    mpm::DeformedBlock<Dim> d;
     for (int k = 0; k < LaneBlock::width; ++k) {
       const auto i = block.index[k];
       for (int a = 0; a < Dim; ++a)
-        for (int c = 0; c < Dim; ++c) F[a][c][k] = p.F[i](a, c), grad_v[a][c][k] = L[i](a, c);
-      J_lanes[k] = J[i], v_r_lanes[k] = v_r[i], r_lanes[k] = r[i];
+        for (int c = 0; c < Dim; ++c) d.F[a][c][k] = p.F[i](a, c), d.L[a][c][k] = L[i](a, c);
+      d.J[k] = J[i], d.v_r[k] = v_r[i], d.r_start[k] = r[i];
     }
-    const mpm::simd::MaskLanes valid = J_lanes > 0;
-    const mpm::simd::MaskLanes ok = lanes(block, p, F, J_lanes, valid, grad_v, v_r_lanes, r_lanes);
+    d.valid = d.J > 0;
+    d.ok = d.valid;
+    lanes.apply(block, p, d);
+    const mpm::simd::MaskLanes ok = d.ok;
     for (int k = 0; k < block.active; ++k) EXPECT_EQ(ok[k], -1) << "particle " << block.index[k];
   }
 

@@ -259,7 +259,7 @@ TYPED_TEST(TransferTest, g2p_reproduces_linear_velocity_field_and_its_gradient) 
       mpm::g2p_corners(t.stencils(), grid, &mpm::GridNode<Dim>::v_new, dt, p.corners, p.corners);
     const mpm::ParticleFault fault =
         mpm::g2p<mpm::Gather{.velocity = false, .position = true, .deformation = true}>(
-            p, t.stencils(), grid, &mpm::GridNode<Dim>::v_new, dt, mpm::NeoHookeanLanes{materials});
+            p, t.stencils(), grid, &mpm::GridNode<Dim>::v_new, dt, mpm::NeoHookeanLanes<Dim>{materials});
     EXPECT_FALSE(fault) << "particle " << fault.index;
 
     for (std::size_t i = 0; i < p.size(); ++i) {

@@ -13,6 +13,7 @@
 #include "mpm/grid/grid.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/shape/stencil.hpp"
+#include "mpm/transfer/g2p_stress.hpp"
 #include "mpm/transfer/lanes.hpp"
 #include "mpm/transfer/passes.hpp"
 
@@ -167,9 +168,10 @@ struct VelocityBlend {
 /// particles can also compute their stencils at the new positions for the next step, into `next` when given:
 /// the positions are then at hand, and no separate pass over the particles is needed. A deforming pass hands
 /// each block's F, J, velocity gradient, interpolated radial velocity and radius at the start of the step to
-/// `stress` (transfer/g2p_stress.hpp), which may fail lanes. Returns the lowest-index particle whose new
-/// state is non-finite, has J <= 0 or left the grid. Only the particles of `range` gather (those of the
-/// velocity field `grid` holds); all of them by default. A velocity update is blended with PIC's by `blend`.
+/// `stress` (a LaneStress of transfer/g2p_stress.hpp), which may fail lanes. Returns the lowest-index
+/// particle whose new state is non-finite, has J <= 0 or left the grid. Only the particles of `range` gather
+/// (those of the velocity field `grid` holds); all of them by default. A velocity update is blended with
+/// PIC's by `blend`.
 template <Gather what, int Dim, class Kernel, class Stress>
 ParticleFault g2p(ParticleSet<Dim>& p, const ParticleStencils<Dim, Kernel>& stencils, const Grid<Dim>& grid,
                   NodeVelocity<Dim> v_grid, Real dt, const Stress& stress,
