@@ -1,10 +1,12 @@
 #pragma once
-// The two engines a scene can run on, behind the one interface the run loop uses (SceneEngine, at the end):
-// the explicit integrators (Wallstedt & Guilkey 2008) and the implicit step (Sulsky & Kaul 2004).
+// The two engines a scene can run on, behind the one interface the run loop uses (SceneEngine,
+// scene_engine.hpp): the explicit integrators (Wallstedt & Guilkey 2008) and the implicit step (Sulsky & Kaul
+// 2004).
 #include <array>
 #include <cmath>
-#include <concepts>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
@@ -16,28 +18,11 @@
 #include "mpm/io/checkpoint.hpp"
 #include "mpm/io/vtk.hpp"
 #include "mpm/scene/build.hpp"
+#include "run_arrays.hpp"
+#include "scene_engine.hpp"
+#include "scene_entry.hpp"
 
 namespace mpm::scene_engines {
-
-template <class V>
-std::vector<double> flat(const std::vector<V>& a) {
-  std::vector<double> out;
-  for (const V& v : a) out.insert(out.end(), v.data(), v.data() + v.size());
-  return out;
-}
-template <class V>
-void unflat(const std::vector<double>& in, std::vector<V>& a, const std::string& name) {
-  const std::size_t per = static_cast<std::size_t>(V::SizeAtCompileTime);
-  if (in.size() != a.size() * per) throw InputError("checkpoint: array '" + name + "' has the wrong size");
-  for (std::size_t i = 0; i < a.size(); ++i)
-    std::copy(in.begin() + i * per, in.begin() + (i + 1) * per, a[i].data());
-}
-template <class Map>
-const auto& entry(const Map& map, const std::string& key, const std::string& where) {
-  auto it = map.find(key);
-  if (it == map.end()) throw InputError(where + ": not a checkpoint of this kind of run (no '" + key + "')");
-  return it->second;
-}
 
 /// The engine checks the particles it is given (inside the grid, positive mass, GIMP sizes); name the scene.
 template <class Make>
@@ -155,79 +140,88 @@ std::vector<double> failed_mask(const ParticleSet<Dim>& p, const GridGeometry<Di
 }
 
 template <int Dim, class Kernel>
-class Explicit {
+class Explicit final : public SceneEngine<Dim> {
  public:
-  /// After a SimulationFailure the particles hold the failed step's values.
-  static constexpr bool failure_keeps_state = false;
-
   explicit Explicit(const Scene& sc)
       : spec_(make_spec<Dim>(sc)), sim_(naming_scene(sc, [&] {
           return Simulation<Dim, Kernel>(spec_, seed_bodies<Dim>(sc), world());
         })) {}
 
-  Simulation<Dim, Kernel>& sim() { return sim_; }
-  const Simulation<Dim, Kernel>& sim() const { return sim_; }
-  std::vector<std::string> reaction_names() const {
+  void step(Real max_dt) override { sim_.step(max_dt); }
+  Real time() const override { return sim_.time(); }
+  std::int64_t steps() const override { return sim_.steps(); }
+  Real next_dt() const override { return sim_.next_dt(); }
+  ParticleSet<Dim>& particles() override { return sim_.particles(); }
+  const ParticleSet<Dim>& particles() const override { return sim_.particles(); }
+  const Grid<Dim>& grid() const override { return sim_.grid(); }
+  const Outflow<Dim>& outflow() const override { return sim_.outflow(); }
+  void restore_outflow(const Outflow<Dim>& out) override { sim_.restore_outflow(out); }
+  void remove_outflow() override { sim_.remove_outflow(); }
+  Transfer transfer() const override { return spec_.transfer; }
+  KernelKind kernel() const override { return spec_.kernel; }
+  int velocity_fields() const override { return spec_.contact.fields; }
+  /// After a SimulationFailure the particles hold the failed step's values.
+  bool failure_keeps_state() const override { return false; }
+  std::vector<std::string> reaction_names() const override {
     return constraint_names(sim_.constraints(), sim_.rigid_bodies());
   }
-  std::vector<Vec<Dim>> reactions() const {
+  std::vector<Vec<Dim>> reactions() const override {
     return constraint_forces(sim_.face_reactions(), sim_.rigid_reactions());
   }
   /// The power friction dissipated on the Coulomb walls in the last step [W].
-  Real friction_power() const { return sim_.friction_power(); }
-  std::vector<Vec<Dim>> reaction_velocities(Real t) const {
+  Real friction_power() const override { return sim_.friction_power(); }
+  std::vector<Vec<Dim>> reaction_velocities(Real t) const override {
     return constraint_velocities(sim_.constraints(), sim_.rigid_bodies(), t);
   }
   /// Stored energy V0 W(F) of a Neo-Hookean particle (the potential of Wallstedt & Guilkey 2008, Eq. (54)),
   /// the internal energy of a rate-form one (Sulsky & Kaul 2004, Eq. (2.2.16)).
-  Real strain_energy(std::size_t i) const { return sim_.strain_energy(i); }
-  /// Sums over the particles of every rank, the same bits for any division (Simulation::particle_sum).
-  template <std::size_t N, class Fn>
-  std::array<Real, N> particle_sum(Fn&& fn) const {
-    return sim_.template particle_sum<N>(fn);
+  Real strain_energy(std::size_t i) const override { return sim_.strain_energy(i); }
+  /// Each tile's particles in id order: the same bits for any division (Simulation::for_each_sum_run).
+  void for_each_sum_run(const std::function<void(std::size_t, std::size_t)>& visit) const override {
+    sim_.for_each_sum_run(visit);
   }
-  const Communicator& communicator() const { return sim_.communicator(); }
+  const Communicator& communicator() const override { return sim_.communicator(); }
   /// This rank's particles' count, and all ranks'.
-  std::int64_t particle_count() const {
+  std::int64_t particle_count() const override {
     std::vector<std::int64_t> n{static_cast<std::int64_t>(sim_.particles().size())};
     sim_.communicator().sum(n);
     return n[0];
   }
   /// The simulation accounts the loads' power itself (Simulation::load_power), as its particles move between
   /// ranks in a step: it needs no velocities from before the step.
-  static constexpr bool needs_velocities_before = false;
-  Real load_power(const std::vector<Vec<Dim>>&) const { return sim_.load_power(); }
+  bool needs_velocities_before() const override { return false; }
+  Real load_power(const std::vector<Vec<Dim>>&) const override { return sim_.load_power(); }
   /// Cauchy stress of particle i, xx yy zz xy xz yz; in 2-D a Neo-Hookean zz is the plane-strain lambda ln J
   /// / J (Wallstedt & Guilkey 2008, Eq. (55)).
-  void stress(std::size_t i, double* out) const {
+  void stress(std::size_t i, double* out) const override {
     const SymTensor<3> s = sim_.full_stress(i);
     for (int k = 0; k < 6; ++k) out[k] = s.c[k];
   }
   /// The rate-form state, and with [[contact]] each particle's velocity field (to tell the bodies apart).
-  void add_fields(std::vector<io::PointField>& fields) const {
+  void add_fields(std::vector<io::PointField>& fields) const override {
     if (!sim_.particles().state.empty()) add_state_fields(spec_.materials, sim_.particles(), fields);
     if (spec_.contact.fields > 1) {
       const std::vector<std::uint16_t>& field = sim_.particles().field;
       fields.push_back(io::PointField{"field", 1, std::vector<double>(field.begin(), field.end())});
     }
   }
-  void summarize(nlohmann::json&) const {}
+  void summarize(nlohmann::json&) const override {}
   /// newton.csv's rows: none for the explicit step.
-  std::vector<NewtonAttempt> newton_attempts() const { return {}; }
+  std::vector<NewtonAttempt> newton_attempts() const override { return {}; }
   /// history.csv's solver columns: none for the explicit step.
-  std::vector<std::string> counter_names() const { return {}; }
-  std::vector<std::int64_t> counters() const { return {}; }
+  std::vector<std::string> counter_names() const override { return {}; }
+  std::vector<std::int64_t> counters() const override { return {}; }
   /// What each [[contact]] pair transmitted in the last step (Simulation::contact_forces).
-  std::vector<PairForces<Dim>> contact_forces() const { return sim_.contact_forces(); }
+  std::vector<PairForces<Dim>> contact_forces() const override { return sim_.contact_forces(); }
   /// The Coulomb walls' names and the spread of their normal force in the last step [m] (contact_spread).
-  std::vector<std::string> spread_names() const {
+  std::vector<std::string> spread_names() const override {
     std::vector<std::string> out;
     const std::vector<std::string> names = sim_.constraints().names();
     for (std::size_t g = 0; g < names.size(); ++g)
       if (sim_.constraints().coulomb(g)) out.push_back(names[g]);
     return out;
   }
-  std::vector<Real> spreads() const {
+  std::vector<Real> spreads() const override {
     std::vector<Real> out;
     if (spread_names().empty()) return out;  // no Coulomb wall: no sums to exchange between ranks
     const std::vector<Real> all = sim_.face_contact_spreads();
@@ -235,7 +229,7 @@ class Explicit {
       if (sim_.constraints().coulomb(g)) out.push_back(all[g]);
     return out;
   }
-  void save(io::CheckpointData& c) const {
+  void save(io::CheckpointData& c) const override {
     if (sim_.has_material_state()) save_state(sim_.particles(), c);
     if (!spec_.rigid_bodies.empty())
       c.reals["rigid_displacement"] = flat(sim_.rigid_bodies().displacements());
@@ -243,7 +237,7 @@ class Explicit {
   /// Without rate-form materials, volume and stress follow from F exactly as the step computes them
   /// (Wallstedt & Guilkey 2008, Eq. (13), Eq. (55)); with them, the checkpoint holds the state and the
   /// volumes.
-  void load(const io::CheckpointData& c, const std::string& where) {
+  void load(const io::CheckpointData& c, const std::string& where) override {
     ParticleSet<Dim>& p = sim_.particles();
     const bool state = sim_.has_material_state();
     if (state) load_state(c, where, p);
@@ -263,10 +257,10 @@ class Explicit {
     sim_.restore_clock(entry(c.real_scalars, "time", where), entry(c.integer_scalars, "steps", where));
   }
   /// After every rank loaded its share: divide the grid by the particles and send each to its tile's owner.
-  void take_particles() { sim_.adopt_particles(); }
+  void take_particles() override { sim_.adopt_particles(); }
   /// After a SimulationFailure the particles hold the failed step's values: the particle the message names is
   /// marked, and any other that broke (failed_mask).
-  std::vector<double> failed_particles() const {
+  std::vector<double> failed_particles() const override {
     return failed_mask(sim_.particles(), sim_.grid().geometry, sim_.failed_particle());
   }
 
@@ -277,11 +271,8 @@ class Explicit {
 
 /// The theta-blended implicit step with hypoelastic / von Mises materials and rigid bodies.
 template <int Dim, class Kernel>
-class Implicit {
+class Implicit final : public SceneEngine<Dim> {
  public:
-  /// A step that fails (the solve, after every halving) leaves the particles at the last good state.
-  static constexpr bool failure_keeps_state = true;
-
   explicit Implicit(const Scene& sc)
       : spec_(make_implicit_spec<Dim>(sc)), sim_(naming_scene(sc, [&] {
           if (world().size() > 1)
@@ -291,46 +282,58 @@ class Implicit {
           return ImplicitSimulation<Dim, Kernel>(spec_, seed_bodies<Dim>(sc));
         })) {}
 
-  ImplicitSimulation<Dim, Kernel>& sim() { return sim_; }
-  const ImplicitSimulation<Dim, Kernel>& sim() const { return sim_; }
-  std::vector<std::string> reaction_names() const {
+  void step(Real max_dt) override { sim_.step(max_dt); }
+  Real time() const override { return sim_.time(); }
+  std::int64_t steps() const override { return sim_.steps(); }
+  Real next_dt() const override { return sim_.next_dt(); }
+  ParticleSet<Dim>& particles() override { return sim_.particles(); }
+  const ParticleSet<Dim>& particles() const override { return sim_.particles(); }
+  const Grid<Dim>& grid() const override { return sim_.grid(); }
+  const Outflow<Dim>& outflow() const override { return sim_.outflow(); }
+  void restore_outflow(const Outflow<Dim>& out) override { sim_.restore_outflow(out); }
+  void remove_outflow() override { sim_.remove_outflow(); }
+  Transfer transfer() const override { return spec_.transfer; }
+  KernelKind kernel() const override { return spec_.kernel; }
+  /// The implicit step has one velocity field (the scene reader refuses [[contact]]).
+  int velocity_fields() const override { return 1; }
+  /// A step that fails (the solve, after every halving) leaves the particles at the last good state.
+  bool failure_keeps_state() const override { return true; }
+  std::vector<std::string> reaction_names() const override {
     return constraint_names(sim_.constraints(), sim_.rigid_bodies());
   }
-  std::vector<Vec<Dim>> reactions() const {
+  std::vector<Vec<Dim>> reactions() const override {
     return constraint_forces(sim_.face_reactions(), sim_.rigid_reactions());
   }
   /// Coulomb walls are refused for the implicit step (the scene reader): nothing dissipates there.
-  Real friction_power() const { return 0; }
-  std::vector<Vec<Dim>> reaction_velocities(Real t) const {
+  Real friction_power() const override { return 0; }
+  std::vector<Vec<Dim>> reaction_velocities(Real t) const override {
     return constraint_velocities(sim_.constraints(), sim_.rigid_bodies(), t);
   }
   /// Internal energy e_p (Sulsky & Kaul 2004, Eq. (2.2.16)): stored plus dissipated; a Neo-Hookean particle's
   /// is its stored energy V0 W(F).
-  Real strain_energy(std::size_t i) const { return sim_.state().energy[i]; }
-  /// Sums over the particles (one process), in storage order (exact_particle_sum of one run).
-  template <std::size_t N, class Fn>
-  std::array<Real, N> particle_sum(Fn&& fn) const {
-    return exact_particle_sum<N>(
-        sim_.particles().size(), [](std::size_t) { return 0; }, fn, one_process());
+  Real strain_energy(std::size_t i) const override { return sim_.state().energy[i]; }
+  /// The particles (one process) in storage order, one run.
+  void for_each_sum_run(const std::function<void(std::size_t, std::size_t)>& visit) const override {
+    visit(0, sim_.particles().size());
   }
-  const Communicator& communicator() const { return one_process(); }
-  std::int64_t particle_count() const { return static_cast<std::int64_t>(sim_.particles().size()); }
+  const Communicator& communicator() const override { return one_process(); }
+  std::int64_t particle_count() const override { return static_cast<std::int64_t>(sim_.particles().size()); }
   /// Power of gravity and the body force over the last step: sum_p m_p (g + b_p) . (v_before + v_after) / 2.
-  static constexpr bool needs_velocities_before = true;
-  Real load_power(const std::vector<Vec<Dim>>& v_before) const {
-    return particle_sum<1>([&](std::size_t i) {
+  bool needs_velocities_before() const override { return true; }
+  Real load_power(const std::vector<Vec<Dim>>& v_before) const override {
+    return this->template particle_sum<1>([&](std::size_t i) {
       return std::array<Real, 1>{
           particle_load_power(sim_.particles(), i, spec_.gravity, sim_.body_acceleration(), v_before)};
     })[0];
   }
-  void stress(std::size_t i, double* out) const {
+  void stress(std::size_t i, double* out) const override {
     const SymTensor<3>& s = sim_.state().sigma[i];
     for (int k = 0; k < 6; ++k) out[k] = s.c[k];
   }
-  void add_fields(std::vector<io::PointField>& fields) const {
+  void add_fields(std::vector<io::PointField>& fields) const override {
     add_state_fields(spec_.materials, sim_.particles(), fields);
   }
-  void summarize(nlohmann::json& j) const {
+  void summarize(nlohmann::json& j) const override {
     const ImplicitCounters& c = sim_.counters();
     j["implicit"] = {{"theta", spec_.theta},
                      {"formulation", to_string(spec_.formulation)},
@@ -349,18 +352,20 @@ class Implicit {
                      {"step_retries", c.retries}};
   }
   /// newton.csv's rows: the tries at the last step (after a failure, at the step that failed).
-  const std::vector<NewtonAttempt>& newton_attempts() const { return sim_.last_step_attempts(); }
+  std::vector<NewtonAttempt> newton_attempts() const override { return sim_.last_step_attempts(); }
   /// history.csv's solver columns: Newton and Krylov iterations since t = 0 (their differences per step draw
   /// Sulsky & Kaul 2004, Fig. 9a).
   /// The implicit step has one velocity field and no Coulomb walls (the scene reader refuses both).
-  std::vector<PairForces<Dim>> contact_forces() const { return {}; }
-  std::vector<std::string> spread_names() const { return {}; }
-  std::vector<Real> spreads() const { return {}; }
-  std::vector<std::string> counter_names() const { return {"newton_iterations", "krylov_iterations"}; }
-  std::vector<std::int64_t> counters() const {
+  std::vector<PairForces<Dim>> contact_forces() const override { return {}; }
+  std::vector<std::string> spread_names() const override { return {}; }
+  std::vector<Real> spreads() const override { return {}; }
+  std::vector<std::string> counter_names() const override {
+    return {"newton_iterations", "krylov_iterations"};
+  }
+  std::vector<std::int64_t> counters() const override {
     return {sim_.counters().newton_iterations, sim_.counters().krylov_iterations};
   }
-  void save(io::CheckpointData& c) const {
+  void save(io::CheckpointData& c) const override {
     save_state(sim_.particles(), c);
     c.reals["rigid_displacement"] = flat(sim_.rigid_displacements());
     c.real_scalars["dt"] = sim_.next_dt();
@@ -372,7 +377,7 @@ class Implicit {
     c.integer_scalars["retries"] = n.retries;
     c.integer_scalars["preconditioner_builds"] = n.preconditioner_builds;
   }
-  void load(const io::CheckpointData& c, const std::string& where) {
+  void load(const io::CheckpointData& c, const std::string& where) override {
     load_state(c, where, sim_.particles());
     std::vector<Vec<Dim>> rigid(spec_.rigid_bodies.size());
     unflat(entry(c.reals, "rigid_displacement", where), rigid, "rigid_displacement");
@@ -384,9 +389,9 @@ class Implicit {
                  n, rigid);
   }
   /// The implicit step runs in one process and locates its particles at every step: nothing to do.
-  void take_particles() {}
+  void take_particles() override {}
   /// A failed step leaves the last good state: no particle is marked unless that state broke (failed_mask).
-  std::vector<double> failed_particles() const {
+  std::vector<double> failed_particles() const override {
     return failed_mask(sim_.particles(), sim_.grid().geometry, -1);
   }
 
@@ -395,42 +400,13 @@ class Implicit {
   ImplicitSimulation<Dim, Kernel> sim_;
 };
 
-/// What the run loop (SceneRun, SceneSession, the checkpoints and outputs) asks of an engine adapter in Dim
-/// dimensions: Explicit and Implicit above. A new engine that misses one is refused here, by name, at compile
-/// time.
-template <class E, int Dim>
-concept SceneEngine = std::constructible_from<E, const Scene&> &&
-    requires(E& e, const E& c, Real t, std::size_t i, double* out, std::vector<io::PointField>& fields,
-             io::CheckpointData& data, const std::string& where, const std::vector<Vec<Dim>>& v,
-             nlohmann::json& j) {
-  // What the particles hold after a SimulationFailure; whether load_power reads the step's first velocities.
-  { E::failure_keeps_state } -> std::convertible_to<bool>;
-  { E::needs_velocities_before } -> std::convertible_to<bool>;
-  e.sim();
-  { c.communicator() } -> std::same_as<const Communicator&>;
-  { c.particle_count() } -> std::same_as<std::int64_t>;
-  {
-    c.template particle_sum<1>([](std::size_t) { return std::array<Real, 1>{}; })
-    } -> std::same_as<std::array<Real, 1>>;
-  { c.strain_energy(i) } -> std::convertible_to<Real>;
-  { c.load_power(v) } -> std::convertible_to<Real>;
-  { c.friction_power() } -> std::convertible_to<Real>;
-  { c.reaction_names() } -> std::convertible_to<std::vector<std::string>>;
-  { c.reactions() } -> std::convertible_to<std::vector<Vec<Dim>>>;
-  { c.reaction_velocities(t) } -> std::convertible_to<std::vector<Vec<Dim>>>;
-  { c.contact_forces() } -> std::convertible_to<std::vector<PairForces<Dim>>>;
-  { c.spread_names() } -> std::convertible_to<std::vector<std::string>>;
-  { c.spreads() } -> std::convertible_to<std::vector<Real>>;
-  { c.newton_attempts() } -> std::convertible_to<std::vector<NewtonAttempt>>;
-  { c.counter_names() } -> std::convertible_to<std::vector<std::string>>;
-  { c.counters() } -> std::convertible_to<std::vector<std::int64_t>>;
-  c.stress(i, out);
-  c.add_fields(fields);
-  c.summarize(j);
-  c.save(data);
-  e.load(std::as_const(data), where);
-  e.take_particles();
-  { c.failed_particles() } -> std::convertible_to<std::vector<double>>;
-};
-
 }  // namespace mpm::scene_engines
+
+namespace mpm {
+
+template <int Dim, class Engine>
+std::unique_ptr<SceneEngine<Dim>> make_engine(const Scene& sc) {
+  return std::make_unique<Engine>(sc);
+}
+
+}  // namespace mpm

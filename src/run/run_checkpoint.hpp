@@ -6,12 +6,13 @@
 #include <string>
 #include <vector>
 
-#include "engines.hpp"
 #include "mpm/core/errors.hpp"
 #include "mpm/distributed/communicator.hpp"
 #include "mpm/io/checkpoint.hpp"
 #include "mpm/scene/scene.hpp"
 #include "mpm/verification/error_norms.hpp"
+#include "run_arrays.hpp"
+#include "scene_engine.hpp"
 
 namespace mpm::scene_checkpoint {
 
@@ -49,18 +50,18 @@ Outflow<Dim> load_outflow(const io::CheckpointData& c, const std::string& where)
   return out;
 }
 
-template <int Dim, class Engine>
-io::CheckpointData save(const Scene& sc, const Engine& engine, const Accumulators& a) {
+template <int Dim>
+io::CheckpointData save(const Scene& sc, const SceneEngine<Dim>& engine, const Accumulators& a) {
   using scene_engines::flat;
-  const ParticleSet<Dim>& p = engine.sim().particles();
+  const ParticleSet<Dim>& p = engine.particles();
   io::CheckpointData c;
   c.texts["scene"] = sc.text;
   c.integer_scalars = {{"dim", Dim},
                        {"particles", engine.particle_count()},
-                       {"steps", engine.sim().steps()},
+                       {"steps", engine.steps()},
                        {"frames", a.frames},
                        {"error_samples", a.error.samples}};
-  c.real_scalars = {{"time", engine.sim().time()},
+  c.real_scalars = {{"time", engine.time()},
                     {"external_work", a.external_work},
                     {"friction_dissipation", a.friction_dissipation},
                     {"last_frame_time", a.last_frame_time},
@@ -82,15 +83,15 @@ io::CheckpointData save(const Scene& sc, const Engine& engine, const Accumulator
   }
   // The optional arrays go by the run's choices, not by whether this rank holds any particle: every rank of a
   // divided run writes the same arrays (HDF5 creates them together).
-  if (engine.sim().spec().transfer == Transfer::apic) {  // APIC's affine matrices
+  if (engine.transfer() == Transfer::apic) {  // APIC's affine matrices
     c.reals["B"] = flat(p.B);
     c.row_widths["B"] = Dim * Dim;
   }
-  if (engine.sim().spec().kernel == KernelKind::cpdi2) {  // CPDI2's domain corners
+  if (engine.kernel() == KernelKind::cpdi2) {  // CPDI2's domain corners
     c.reals["corners"] = flat(p.corners);
     c.row_widths["corners"] = Dim << Dim;
   }
-  save_outflow(engine.sim().outflow(), c);
+  save_outflow(engine.outflow(), c);
   engine.save(c);
   return c;
 }
@@ -105,8 +106,8 @@ const auto& scalar(const Map& map, const std::string& key, const std::string& wh
 
 /// What restore() sets from this rank's share alone, with no other rank: its particles, the engine's state of
 /// them and the accumulators.
-template <int Dim, class Engine>
-void load_share(const io::CheckpointData& c, Engine& engine, Accumulators& a, std::int64_t seeded,
+template <int Dim>
+void load_share(const io::CheckpointData& c, SceneEngine<Dim>& engine, Accumulators& a, std::int64_t seeded,
                 const std::string& where) {
   using scene_engines::unflat;
   const auto other_scene = [&] {
@@ -117,7 +118,7 @@ void load_share(const io::CheckpointData& c, Engine& engine, Accumulators& a, st
   const std::int64_t particles = scalar(c.integer_scalars, "particles", where);
   const Outflow<Dim> out = load_outflow<Dim>(c, where);
   if (particles < 0 || out.particles < 0 || particles + out.particles != seeded) throw other_scene();
-  engine.sim().restore_outflow(out);
+  engine.restore_outflow(out);
   // A checkpoint of an mpm older than divided runs marks no rows, and each rank would hold them all.
   if (c.row_widths.empty() && engine.communicator().size() > 1)
     throw InputError(where +
@@ -127,7 +128,7 @@ void load_share(const io::CheckpointData& c, Engine& engine, Accumulators& a, st
     return scalar(c.reals, key, where);
   };
   const std::size_t rows = array("x").size() / Dim;
-  ParticleSet<Dim>& p = engine.sim().particles();
+  ParticleSet<Dim>& p = engine.particles();
   p.for_each_field([&](auto& field) { field.resize(rows); });
   unflat(array("x"), p.x, "x");
   unflat(array("X"), p.X, "X");
@@ -138,11 +139,11 @@ void load_share(const io::CheckpointData& c, Engine& engine, Accumulators& a, st
     p.l0.resize(rows);
     unflat(array("l0"), p.l0, "l0");
   }
-  if (engine.sim().spec().transfer == Transfer::apic) {  // an APIC run's
+  if (engine.transfer() == Transfer::apic) {  // an APIC run's
     p.B.resize(rows);
     unflat(array("B"), p.B, "B");
   }
-  if (engine.sim().spec().kernel == KernelKind::cpdi2) {  // a CPDI2 run's
+  if (engine.kernel() == KernelKind::cpdi2) {  // a CPDI2 run's
     p.corners.resize(rows);
     unflat(array("corners"), p.corners, "corners");
   }
@@ -157,8 +158,7 @@ void load_share(const io::CheckpointData& c, Engine& engine, Accumulators& a, st
   const auto field = c.integers.find("field");
   if (field != c.integers.end()) {
     if (field->second.size() != rows) throw InputError(where + ": array 'field' has the wrong size");
-    std::int64_t fields = 1;
-    if constexpr (requires { engine.sim().spec().contact; }) fields = engine.sim().spec().contact.fields;
+    const std::int64_t fields = engine.velocity_fields();
     for (std::size_t i = 0; i < rows; ++i) {
       if (field->second[i] < 0 || field->second[i] >= fields)
         throw InputError(where + ": array 'field' names a velocity field the scene does not have");
@@ -190,8 +190,9 @@ void load_share(const io::CheckpointData& c, Engine& engine, Accumulators& a, st
 /// Set the engine's particles and state and the accumulators from `c`, this rank's share of a checkpoint
 /// (io::read_checkpoint), on every rank; InputError prefixed with `where`, the same on every rank, when `c`
 /// is not a checkpoint of this scene.
-template <int Dim, class Engine>
-void restore(const io::CheckpointData& c, Engine& engine, Accumulators& a, const std::string& where) {
+template <int Dim>
+void restore(const io::CheckpointData& c, SceneEngine<Dim>& engine, Accumulators& a,
+             const std::string& where) {
   const Communicator& comm = engine.communicator();
   const std::int64_t seeded = engine.particle_count();
   std::string failure;
@@ -201,7 +202,7 @@ void restore(const io::CheckpointData& c, Engine& engine, Accumulators& a, const
     failure = e.what();
   }
   if (const std::string first = first_failure(comm, failure); !first.empty()) throw InputError(first);
-  std::vector<std::int64_t> rows{static_cast<std::int64_t>(engine.sim().particles().size())};
+  std::vector<std::int64_t> rows{static_cast<std::int64_t>(engine.particles().size())};
   comm.sum(rows);
   if (rows[0] != c.integer_scalars.at("particles"))
     throw InputError(where + ": the checkpoint holds " + std::to_string(rows[0]) +

@@ -5,6 +5,7 @@
 #include "mpm/io/vtk.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/scene/expression.hpp"
+#include "scene_engine.hpp"
 
 namespace mpm {
 
@@ -23,10 +24,10 @@ struct ExactFromScene {
 /// Points (3 coordinates each) and fields of the engine's particles at time t: velocity, displacement, Cauchy
 /// stress (xx yy zz xy xz yz), F (3 x 3), J, volume, mass, material, id (Int64), the [check] error |u -
 /// u_exact| when `exact` is given, and the engine's own fields.
-template <int Dim, class Engine>
-void frame_fields(const Engine& engine, const std::vector<ExpressionPtr>& exact, Real t,
+template <int Dim>
+void frame_fields(const SceneEngine<Dim>& engine, const std::vector<ExpressionPtr>& exact, Real t,
                   std::vector<double>& points, std::vector<io::PointField>& fields) {
-  const ParticleSet<Dim>& p = engine.sim().particles();
+  const ParticleSet<Dim>& p = engine.particles();
   const std::size_t n = p.size();
   points.assign(3 * n, 0.0);
   io::PointField velocity{"velocity", 3, std::vector<double>(3 * n, 0.0)};

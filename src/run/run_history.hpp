@@ -3,6 +3,7 @@
 #include <string>
 
 #include "mpm/scene/scene.hpp"
+#include "scene_engine.hpp"
 
 namespace mpm {
 
@@ -23,8 +24,8 @@ inline bool has_outflow(const Scene& sc) {
 
 /// history.csv's header: the clock, energies, momentum, the constraints' reactions, the engine's counters,
 /// the Coulomb walls' spreads, the contact pairs' forces, friction and outflow.
-template <int Dim, class Engine>
-std::string history_header(const Scene& sc, const Engine& engine) {
+template <int Dim>
+std::string history_header(const Scene& sc, const SceneEngine<Dim>& engine) {
   static constexpr const char* axis[] = {"x", "y", "z"};
   std::string h = "step,time,kinetic_energy,strain_energy,total_energy,external_work";
   for (int d = 0; d < Dim; ++d) h += std::string(",momentum_") + axis[d];

@@ -10,11 +10,11 @@
 #include <filesystem>
 #include <iostream>
 #include <limits>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <utility>
 
-#include "engines.hpp"
 #include "mpm/core/errors.hpp"
 #include "mpm/core/interrupt.hpp"
 #include "mpm/core/parallel.hpp"
@@ -23,6 +23,7 @@
 #include "mpm/io/vtk.hpp"
 #include "mpm/run/run.hpp"
 #include "mpm/scene/budget.hpp"
+#include "mpm/scene/build.hpp"
 #include "mpm/verification/error_norms.hpp"
 #include "run_checkpoint.hpp"
 #include "run_files.hpp"
@@ -30,34 +31,29 @@
 #include "run_history.hpp"
 #include "run_progress.hpp"
 #include "run_totals.hpp"
+#include "scene_engine.hpp"
 #include "scene_entry.hpp"
 
 namespace mpm {
 
 /// A scene on one engine, from its start or a checkpoint to its end. With an empty RunOptions::out_dir it
 /// writes nothing (a Session that only steps).
-template <int Dim, class Engine>
-requires scene_engines::SceneEngine<Engine, Dim>
+template <int Dim>
 class SceneRun {
   using Clock = std::chrono::steady_clock;
 
  public:
-  SceneRun(const Scene& sc, const RunOptions& o)
-      : sc_(sc),
-        o_(o),
-        engine_(sc),
-        sim_(engine_.sim()),
-        comm_(engine_.communicator()),
-        root_(comm_.rank() == 0) {
+  SceneRun(const Scene& sc, const RunOptions& o, EngineFactory<Dim> make)
+      : sc_(sc), o_(o), engine_(make(sc)), comm_(engine_->communicator()), root_(comm_.rank() == 0) {
     if (comm_.size() > 1 && o.checkpoint_every > 0 && !io::collective_checkpoints())
       throw InputError(
           "--checkpoint-every: this mpm was built without parallel HDF5 (libhdf5-openmpi-dev), which "
           "the checkpoints of a run divided between ranks need; run in one process to checkpoint");
     if (!o.restart.empty()) {
       try {
-        scene_checkpoint::restore<Dim>(io::read_checkpoint(o.restart, comm_), engine_, acc_,
+        scene_checkpoint::restore<Dim>(io::read_checkpoint(o.restart, comm_), *engine_, acc_,
                                        "--restart " + o.restart.string());
-        previous_time_ = sim_.time();
+        previous_time_ = engine_->time();
       } catch (
           const InputError& e) {  // name the option: "checkpoint FILE: not an HDF5 file" alone is unclear
         const std::string what = e.what();
@@ -66,8 +62,8 @@ class SceneRun {
     }
     // What is left to run, from the particles' speeds: a restart's output fits what remains of the run, not
     // the whole of it (its memory was checked before the particles were built).
-    budget_ =
-        estimate_budget(sc_, comm_.max(fastest_speed<Dim>(std::as_const(sim_).particles().v)), sim_.time());
+    budget_ = estimate_budget(sc_, comm_.max(fastest_speed<Dim>(std::as_const(*engine_).particles().v)),
+                              engine_->time());
     if (!o.restart.empty() && writes())
       check_budget(sc_, budget_, {std::numeric_limits<double>::infinity(), free_space_bytes(o_.out_dir)});
   }
@@ -78,17 +74,17 @@ class SceneRun {
     if (root_) std::cout << describe(budget_) << std::endl;
     if (o_.dry_run) return 0;
     const InterruptHandlers handlers;
-    Progress progress(o_.quiet || !root_, sim_.time(), sc_.end_time);
-    progress.start_at(sim_.steps());
+    Progress progress(o_.quiet || !root_, engine_->time(), sc_.end_time);
+    progress.start_at(engine_->steps());
     std::string failure;
     int signal = 0;
     try {
       open();
-      const std::int64_t stop_at = o_.stop_after > 0 ? sim_.steps() + o_.stop_after : -1;
+      const std::int64_t stop_at = o_.stop_after > 0 ? engine_->steps() + o_.stop_after : -1;
       try {
-        while (!at_end() && sim_.steps() != stop_at && !interrupted()) {
+        while (!at_end() && engine_->steps() != stop_at && !interrupted()) {
           advance();
-          progress.update(sim_.steps(), sim_.time());
+          progress.update(engine_->steps(), engine_->time());
         }
       } catch (const SimulationFailure& e) {
         failure = failed(e.what());
@@ -111,8 +107,8 @@ class SceneRun {
     }
     if (signal) {
       if (root_)
-        std::cerr << "mpm: interrupted by " << signal_name(signal) << " after step " << sim_.steps()
-                  << ", t = " << sim_.time() << " s; "
+        std::cerr << "mpm: interrupted by " << signal_name(signal) << " after step " << engine_->steps()
+                  << ", t = " << engine_->time() << " s; "
                   << (can_checkpoint()
                           ? "continue with --restart " + (o_.out_dir / "checkpoint.h5").string()
                           : std::string("this mpm writes no checkpoint of a divided run (no parallel HDF5)"))
@@ -127,9 +123,9 @@ class SceneRun {
   void open() {
     wall_start_ = Clock::now();
     if (!writes()) return;
-    acc_.frames = files_.prepare(!o_.restart.empty(), sim_.time(), sim_.steps(),
-                                 history_header<Dim>(sc_, engine_), sc_.newton_log);
-    if (sim_.steps() == 0) {
+    acc_.frames = files_.prepare(!o_.restart.empty(), engine_->time(), engine_->steps(),
+                                 history_header<Dim>(sc_, *engine_), sc_.newton_log);
+    if (engine_->steps() == 0) {
       write_frame();
       write_history_row();
     }
@@ -139,25 +135,26 @@ class SceneRun {
   /// log, a frame when one is due and a checkpoint every checkpoint_every steps. A SimulationFailure or
   /// bad_alloc propagates: pass it to failed() or out_of_memory().
   void advance() {
-    if constexpr (Engine::needs_velocities_before) v_before_ = std::as_const(sim_).particles().v;
+    if (engine_->needs_velocities_before()) v_before_ = std::as_const(*engine_).particles().v;
     const auto step_start = Clock::now();
     in_step_ = true;
-    sim_.step(sc_.end_time - sim_.time());
+    engine_->step(sc_.end_time - engine_->time());
     in_step_ = false;
     compute_seconds_ += std::chrono::duration<double>(Clock::now() - step_start).count();
     account_work();
-    sim_.remove_outflow();
+    engine_->remove_outflow();
     if (has_check()) record_error();
     if (writes()) {
       write_history_row();
-      if (files_.newton_log().is_open()) files_.newton_log().write(sim_.steps(), engine_.newton_attempts());
-      if (sc_.output_every > 0 && sim_.time() >= next_output_time() * (1 - 1e-12)) write_frame();
-      if (o_.checkpoint_every > 0 && sim_.steps() % o_.checkpoint_every == 0) write_checkpoint();
+      if (files_.newton_log().is_open())
+        files_.newton_log().write(engine_->steps(), engine_->newton_attempts());
+      if (sc_.output_every > 0 && engine_->time() >= next_output_time() * (1 - 1e-12)) write_frame();
+      if (o_.checkpoint_every > 0 && engine_->steps() % o_.checkpoint_every == 0) write_checkpoint();
     }
   }
 
   /// Whether the run reached the scene's end time.
-  bool at_end() const { return sim_.time() >= sc_.end_time * (1 - 1e-14); }
+  bool at_end() const { return engine_->time() >= sc_.end_time * (1 - 1e-14); }
 
   /// After a SimulationFailure in advance(): the engine that keeps its state checkpoints the last good one to
   /// restart from, the Newton log gets the failed step's attempts, and the particles as the failure left them
@@ -166,9 +163,9 @@ class SceneRun {
     if (writes()) {
       // The implicit engine fails before it touches the particles: checkpoint the last good state to restart
       // from.
-      if (Engine::failure_keeps_state) write_checkpoint();
+      if (engine_->failure_keeps_state()) write_checkpoint();
       if (files_.newton_log().is_open())
-        files_.newton_log().write(sim_.steps() + 1, engine_.newton_attempts());
+        files_.newton_log().write(engine_->steps() + 1, engine_->newton_attempts());
       write_failure_frame();
     }
     return what;
@@ -177,8 +174,8 @@ class SceneRun {
   std::string out_of_memory() {
     // Steps of the explicit engine allocate nothing: memory ran out in the outputs, after a good step.
     // Among several ranks the others are elsewhere in the step: no checkpoint they would have to join.
-    if (writes() && comm_.size() == 1 && (!in_step_ || Engine::failure_keeps_state)) write_checkpoint();
-    return "out of memory at step " + std::to_string(sim_.steps() + 1) + " (estimated need " +
+    if (writes() && comm_.size() == 1 && (!in_step_ || engine_->failure_keeps_state())) write_checkpoint();
+    return "out of memory at step " + std::to_string(engine_->steps() + 1) + " (estimated need " +
            std::to_string(budget_.memory_bytes / 1e6) + " MB)";
   }
 
@@ -189,7 +186,7 @@ class SceneRun {
     if (!writes()) return;
     const bool unfinished = !at_end();
     if (failure.empty()) {
-      if (!unfinished && (acc_.frames == 0 || acc_.last_frame_time < sim_.time())) write_frame();
+      if (!unfinished && (acc_.frames == 0 || acc_.last_frame_time < engine_->time())) write_frame();
       if (o_.checkpoint_every > 0 || (unfinished && can_checkpoint())) write_checkpoint();
     }
     files_.flush();
@@ -209,18 +206,18 @@ class SceneRun {
   /// A checkpoint of this state, restartable with RunOptions::restart (collective among ranks).
   void write_checkpoint(const std::filesystem::path& file) {
     if (writes()) files_.flush();
-    io::write_checkpoint(file, scene_checkpoint::save<Dim>(sc_, engine_, acc_), comm_);
+    io::write_checkpoint(file, scene_checkpoint::save<Dim>(sc_, *engine_, acc_), comm_);
   }
 
-  Engine& engine() { return engine_; }
-  const Engine& engine() const { return engine_; }
+  SceneEngine<Dim>& engine() { return *engine_; }
+  const SceneEngine<Dim>& engine() const { return *engine_; }
   /// Energies and momentum over every rank's particles (the same bits whatever the division).
   Totals<Dim> totals() const {
-    const ParticleSet<Dim>& p = sim_.particles();
-    const std::array<Real, Dim + 2> sums = engine_.template particle_sum<Dim + 2>([&](std::size_t i) {
+    const ParticleSet<Dim>& p = engine_->particles();
+    const std::array<Real, Dim + 2> sums = engine_->template particle_sum<Dim + 2>([&](std::size_t i) {
       std::array<Real, Dim + 2> v;
       v[0] = 0.5 * p.m[i] * p.v[i].squaredNorm();
-      v[1] = engine_.strain_energy(i);
+      v[1] = engine_->strain_energy(i);
       for (int d = 0; d < Dim; ++d) v[2 + d] = p.m[i] * p.v[i][d];
       return v;
     });
@@ -245,34 +242,34 @@ class SceneRun {
   /// The [check] error of this step's particles (Wallstedt & Guilkey 2008, Eq. (64)), over every rank.
   void record_error() {
     const ExactFromScene<Dim> exact{&sc_.exact_displacement};
-    const ParticleSet<Dim>& p = sim_.particles();
+    const ParticleSet<Dim>& p = engine_->particles();
     Real largest = 0;
     const auto delta = [&](std::size_t i) {
-      return ((p.x[i] - p.X[i]) - exact.displacement(p.X[i], sim_.time())).norm();
+      return ((p.x[i] - p.X[i]) - exact.displacement(p.X[i], engine_->time())).norm();
     };
-    const std::array<Real, 2> sums = engine_.template particle_sum<2>([&](std::size_t i) {
+    const std::array<Real, 2> sums = engine_->template particle_sum<2>([&](std::size_t i) {
       const Real d = delta(i);
       largest = std::max(largest, d);
       return std::array<Real, 2>{d, d * d};
     });
-    acc_.error.add_sums(comm_.max(largest), sums[0], sums[1], engine_.particle_count());
+    acc_.error.add_sums(comm_.max(largest), sums[0], sums[1], engine_->particle_count());
   }
   Real next_output_time() const { return static_cast<Real>(acc_.frames) * sc_.output_every; }
 
   void write_history_row() {
     const Totals<Dim> t = totals();
-    settling_.observe(sim_.time(), t.kinetic);
-    const std::vector<Vec<Dim>> reactions = engine_.reactions();
-    const std::vector<PairForces<Dim>> contact = engine_.contact_forces();
-    const std::vector<Real> spreads = engine_.spreads();
+    settling_.observe(engine_->time(), t.kinetic);
+    const std::vector<Vec<Dim>> reactions = engine_->reactions();
+    const std::vector<PairForces<Dim>> contact = engine_->contact_forces();
+    const std::vector<Real> spreads = engine_->spreads();
     if (!root_) return;
     std::ostream& history = files_.history().row();
-    history << sim_.steps() << ',' << sim_.time() << ',' << t.kinetic << ',' << t.strain << ','
+    history << engine_->steps() << ',' << engine_->time() << ',' << t.kinetic << ',' << t.strain << ','
             << t.kinetic + t.strain << ',' << acc_.external_work;
     for (int d = 0; d < Dim; ++d) history << ',' << t.momentum[d];
     for (const Vec<Dim>& r : reactions)
       for (int d = 0; d < Dim; ++d) history << ',' << r[d];
-    for (const std::int64_t n : engine_.counters()) history << ',' << n;
+    for (const std::int64_t n : engine_->counters()) history << ',' << n;
     for (const Real w : spreads) history << ',' << w;
     for (const PairForces<Dim>& c : contact) {
       for (int d = 0; d < Dim; ++d) history << ',' << c.force[d];
@@ -280,7 +277,7 @@ class SceneRun {
     }
     if (has_friction(sc_)) history << ',' << acc_.friction_dissipation;
     if (has_outflow(sc_)) {
-      const Outflow<Dim>& out = sim_.outflow();
+      const Outflow<Dim>& out = engine_->outflow();
       history << ',' << out.mass << ',' << out.kinetic_energy + out.strain_energy;
       for (int d = 0; d < Dim; ++d) history << ',' << out.momentum[d];
     }
@@ -291,14 +288,14 @@ class SceneRun {
   /// velocities) plus the work of the moving constraints (reaction times prescribed velocity); and the energy
   /// friction dissipated on the Coulomb walls (their power over the step times the step).
   void account_work() {
-    const Real dt = sim_.time() - previous_time_;
-    previous_time_ = sim_.time();
-    Real power = engine_.load_power(v_before_);
-    const std::vector<Vec<Dim>> walls = engine_.reaction_velocities(sim_.time());
-    const std::vector<Vec<Dim>> reactions = engine_.reactions();
+    const Real dt = engine_->time() - previous_time_;
+    previous_time_ = engine_->time();
+    Real power = engine_->load_power(v_before_);
+    const std::vector<Vec<Dim>> walls = engine_->reaction_velocities(engine_->time());
+    const std::vector<Vec<Dim>> reactions = engine_->reactions();
     for (std::size_t g = 0; g < walls.size(); ++g) power += reactions[g].dot(walls[g]);
     acc_.external_work += dt * power;
-    acc_.friction_dissipation += dt * engine_.friction_power();
+    acc_.friction_dissipation += dt * engine_->friction_power();
   }
 
   /// One frame of every rank's particles (RunFiles::frame).
@@ -307,22 +304,22 @@ class SceneRun {
   void write_failure_frame() {
     std::vector<double> points;
     std::vector<io::PointField> fields;
-    frame_fields<Dim>(engine_, sc_.exact_displacement, sim_.time(), points, fields);
-    fields.push_back(io::PointField{"failed", 1, engine_.failed_particles()});
+    frame_fields<Dim>(*engine_, sc_.exact_displacement, engine_->time(), points, fields);
+    fields.push_back(io::PointField{"failed", 1, engine_->failed_particles()});
     failure_frame_ = files_.failure_frame(points, fields);
   }
 
   void write_frame() {
     std::vector<double> points;
     std::vector<io::PointField> fields;
-    frame_fields<Dim>(engine_, sc_.exact_displacement, sim_.time(), points, fields);
-    files_.frame(acc_.frames, sim_.time(), points, fields);
+    frame_fields<Dim>(*engine_, sc_.exact_displacement, engine_->time(), points, fields);
+    files_.frame(acc_.frames, engine_->time(), points, fields);
     ++acc_.frames;
-    acc_.last_frame_time = sim_.time();
+    acc_.last_frame_time = engine_->time();
   }
 
   void write_summary(const std::string& failure, const char* status, double wall, int signal = 0) {
-    const std::int64_t particles = engine_.particle_count();
+    const std::int64_t particles = engine_->particle_count();
     // After a failure the particle state is not valid: no energies from it.
     const std::optional<Totals<Dim>> t = failure.empty() ? std::optional(totals()) : std::nullopt;
     if (!root_) return;
@@ -333,8 +330,8 @@ class SceneRun {
                      {"dimension", Dim},
                      {"integrator", sc_.implicit ? std::string_view("implicit") : to_string(sc_.integrator)},
                      {"kernel", to_string(sc_.kernel)},
-                     {"steps", sim_.steps()},
-                     {"time", sim_.time()},
+                     {"steps", engine_->steps()},
+                     {"time", engine_->time()},
                      {"end_time", sc_.end_time},
                      {"wall_seconds", wall},
                      {"compute_seconds", compute_seconds_},
@@ -348,7 +345,7 @@ class SceneRun {
     if (!failure.empty()) j["failure"] = failure;
     if (!failure_frame_.empty()) j["failure_frame"] = failure_frame_;
     if (signal) j["signal"] = signal_name(signal);
-    engine_.summarize(j);
+    engine_->summarize(j);
     if (!o_.restart.empty()) j["restarted_from"] = o_.restart.string();
     if (has_check())
       j["error"] = {{"linf", failure.empty() ? acc_.error.linf : 1.0},
@@ -359,7 +356,7 @@ class SceneRun {
     if (t && sc_.local_damping > 0) j["settled"] = settling_.report();
     if (t && has_friction(sc_)) j["energy"]["friction_dissipation"] = acc_.friction_dissipation;
     if (has_outflow(sc_)) {
-      const Outflow<Dim>& out = sim_.outflow();
+      const Outflow<Dim>& out = engine_->outflow();
       j["outflow"] = {{"particles", out.particles},
                       {"mass", out.mass},
                       {"momentum", std::vector<double>(out.momentum.data(), out.momentum.data() + Dim)},
@@ -374,8 +371,7 @@ class SceneRun {
 
   const Scene& sc_;
   const RunOptions& o_;
-  Engine engine_;
-  decltype(engine_.sim())& sim_;
+  std::unique_ptr<SceneEngine<Dim>> engine_;
   const Communicator& comm_;
   Budget budget_;              // of what is left to run (set by the constructor)
   std::string failure_frame_;  // the last state of a failed run, in the output folder ("": none)
@@ -385,14 +381,14 @@ class SceneRun {
   scene_checkpoint::Accumulators acc_;  // what a checkpoint carries beside the particles
   Real previous_time_ = 0;
   std::vector<Vec<Dim>> v_before_;  // particle velocities before the step, for the work of the loads
-  bool in_step_ = false;        // inside sim_.step(): a failure there may leave the particles half-updated
+  bool in_step_ = false;  // inside engine_->step(): a failure there may leave the particles half-updated
   double compute_seconds_ = 0;  // inside the time steps, outputs excluded (this run only, not since t = 0)
   Clock::time_point wall_start_ = Clock::now();
 };
 
-template <int Dim, class Engine>
-int run_scene_on(const Scene& sc, const RunOptions& o) {
-  return SceneRun<Dim, Engine>(sc, o).run();
+template <int Dim>
+int run_scene_on(const Scene& sc, const RunOptions& o, EngineFactory<Dim> make) {
+  return SceneRun<Dim>(sc, o, make).run();
 }
 
 }  // namespace mpm

@@ -11,6 +11,7 @@
 
 #include "mpm/core/errors.hpp"
 #include "mpm/run/session.hpp"
+#include "run_arrays.hpp"
 #include "scene_entry.hpp"
 #include "scene_run.hpp"
 
@@ -44,10 +45,11 @@ FieldArray integers(std::string name, const std::vector<T>& a) {
 }
 }  // namespace scene_views
 
-template <int Dim, class Engine>
+template <int Dim>
 class SceneSession final : public Session {
  public:
-  SceneSession(const Scene& sc, const RunOptions& o) : scene_(sc), options_(o), run_(scene_, options_) {
+  SceneSession(const Scene& sc, const RunOptions& o, EngineFactory<Dim> make)
+      : scene_(sc), options_(o), run_(scene_, options_, make) {
     run_.open();
   }
   ~SceneSession() override {
@@ -58,10 +60,10 @@ class SceneSession final : public Session {
   }
 
   int dim() const override { return Dim; }
-  double time() const override { return sim().time(); }
-  std::int64_t steps() const override { return sim().steps(); }
+  double time() const override { return engine().time(); }
+  std::int64_t steps() const override { return engine().steps(); }
   double end_time() const override { return scene_.end_time; }
-  double next_dt() const override { return sim().next_dt(); }
+  double next_dt() const override { return engine().next_dt(); }
 
   void step() override {
     if (failure_.size()) throw SimulationFailure("the run failed earlier: " + failure_);
@@ -97,8 +99,8 @@ class SceneSession final : public Session {
             std::vector<double>(t.momentum.data(), t.momentum.data() + Dim)};
   }
 
-  std::vector<std::string> reaction_names() const override { return run_.engine().reaction_names(); }
-  std::vector<double> reactions() const override { return scene_engines::flat(run_.engine().reactions()); }
+  std::vector<std::string> reaction_names() const override { return engine().reaction_names(); }
+  std::vector<double> reactions() const override { return scene_engines::flat(engine().reactions()); }
 
   std::vector<std::string> particle_field_names() const override {
     std::vector<std::string> names{"x", "X",      "velocity", "displacement", "stress", "F",
@@ -109,7 +111,7 @@ class SceneSession final : public Session {
   }
 
   FieldArray particle_field(const std::string& name) const override {
-    const ParticleSet<Dim>& p = sim().particles();
+    const ParticleSet<Dim>& p = engine().particles();
     const std::size_t n = p.size();
     constexpr auto vec = static_cast<std::ptrdiff_t>(sizeof(Vec<Dim>));
     const auto per_particle = [&](int components, auto&& value) {
@@ -136,13 +138,12 @@ class SceneSession final : public Session {
       return per_particle(Dim, [&](std::size_t i, double* u) {
         for (int d = 0; d < Dim; ++d) u[d] = p.x[i][d] - p.X[i][d];
       });
-    if (name == "stress")
-      return per_particle(6, [&](std::size_t i, double* s) { run_.engine().stress(i, s); });
+    if (name == "stress") return per_particle(6, [&](std::size_t i, double* s) { engine().stress(i, s); });
     if (name == "J") return per_particle(1, [&](std::size_t i, double* J) { *J = p.F[i].determinant(); });
     if (name == "error" && !scene().exact_displacement.empty()) {  // Wallstedt & Guilkey 2008, Eq. (64)
       const ExactFromScene<Dim> exact{&scene().exact_displacement};
       return per_particle(1, [&](std::size_t i, double* e) {
-        *e = ((p.x[i] - p.X[i]) - exact.displacement(p.X[i], sim().time())).norm();
+        *e = ((p.x[i] - p.X[i]) - exact.displacement(p.X[i], engine().time())).norm();
       });
     }
     for (io::PointField& f : engine_fields())
@@ -151,7 +152,7 @@ class SceneSession final : public Session {
   }
 
   std::vector<FieldArray> grid_fields() const override {
-    const Grid<Dim>& g = sim().grid();
+    const Grid<Dim>& g = engine().grid();
     const std::size_t n = g.size();
     std::vector<double> position(n * Dim);
     for (std::size_t k = 0; k < n; ++k) {
@@ -167,21 +168,21 @@ class SceneSession final : public Session {
   std::vector<std::size_t> grid_shape() const override {
     std::vector<std::size_t> shape;
     for (int d = 0; d < Dim; ++d)
-      shape.push_back(static_cast<std::size_t>(sim().grid().geometry.nodes_along(d)));
+      shape.push_back(static_cast<std::size_t>(engine().grid().geometry.nodes_along(d)));
     return shape;
   }
 
   void set_velocities(const double* v, std::size_t count) override {
     refuse_if_closed("set_velocities");
-    if (count != sim().particles().size() * Dim)
-      throw InputError("velocities: expected " + std::to_string(sim().particles().size()) + " x " +
+    if (count != engine().particles().size() * Dim)
+      throw InputError("velocities: expected " + std::to_string(engine().particles().size()) + " x " +
                        std::to_string(Dim) + " values, got " + std::to_string(count));
     std::vector<Vec<Dim>> given(count / Dim);
     for (std::size_t i = 0; i < given.size(); ++i)
       for (int d = 0; d < Dim; ++d) given[i][d] = v[i * Dim + d];
     check_initial_speed(scene_, "set_velocities", fastest_speed<Dim>(given));
     // Through the mutable particles: the explicit engine then recomputes its stencils before the next step.
-    run_.engine().sim().particles().v = std::move(given);
+    run_.engine().particles().v = std::move(given);
   }
 
  private:
@@ -192,25 +193,25 @@ class SceneSession final : public Session {
                        ": the simulation is closed (its outputs are finished); open a new one, with restart "
                        "from a checkpoint to go on");
   }
-  const auto& sim() const { return run_.engine().sim(); }
+  const SceneEngine<Dim>& engine() const { return run_.engine(); }
   const Scene& scene() const { return scene_; }
   /// The engine's own fields, as the frames write them (the rate-form state, the contact field).
   std::vector<io::PointField> engine_fields() const {
     std::vector<io::PointField> fields;
-    run_.engine().add_fields(fields);
+    engine().add_fields(fields);
     return fields;
   }
 
   const Scene scene_;  // SceneRun refers to it and to options_
   const RunOptions options_;
-  SceneRun<Dim, Engine> run_;
+  SceneRun<Dim> run_;
   std::string failure_;
   bool closed_ = false;
 };
 
-template <int Dim, class Engine>
-std::unique_ptr<Session> open_session_on(const Scene& sc, const RunOptions& o) {
-  return std::make_unique<SceneSession<Dim, Engine>>(sc, o);
+template <int Dim>
+std::unique_ptr<Session> open_session_on(const Scene& sc, const RunOptions& o, EngineFactory<Dim> make) {
+  return std::make_unique<SceneSession<Dim>>(sc, o, make);
 }
 
 }  // namespace mpm

@@ -5,21 +5,9 @@
 #include "mpm/core/errors.hpp"
 #include "mpm/core/parallel.hpp"
 #include "mpm/scene/budget.hpp"
-#include "mpm/shape/kernel_policies.hpp"
 #include "scene_entry.hpp"
 
 namespace mpm {
-
-namespace {
-
-template <int Dim>
-std::unique_ptr<Session> open_in(const Scene& sc, const RunOptions& o) {
-  return with_kernel<Dim>(sc.kernel, [&]<class Kernel>() -> std::unique_ptr<Session> {
-    if (sc.implicit) return open_session_on<Dim, scene_engines::Implicit<Dim, Kernel>>(sc, o);
-    return open_session_on<Dim, scene_engines::Explicit<Dim, Kernel>>(sc, o);
-  });
-}
-}  // namespace
 
 std::unique_ptr<Session> open_session(const Scene& scene, const RunOptions& options) {
   if (options.threads < 0 || options.threads > max_threads)
@@ -34,11 +22,11 @@ std::unique_ptr<Session> open_session(const Scene& scene, const RunOptions& opti
   set_num_threads(options.threads > 0 ? options.threads : scene.threads);
   switch (scene.dim) {
     case 1:
-      return open_in<1>(scene, options);
+      return open_session_on<1>(scene, options, engine_of<1>(scene));
     case 2:
-      return open_in<2>(scene, options);
+      return open_session_on<2>(scene, options, engine_of<2>(scene));
     default:
-      return open_in<3>(scene, options);
+      return open_session_on<3>(scene, options, engine_of<3>(scene));
   }
 }
 

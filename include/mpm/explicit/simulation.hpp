@@ -89,15 +89,15 @@ class Simulation {
   /// 2 over every rank's particles (each particle's load and velocities, however the particles moved between
   /// ranks after it) [W]; zero without loads or unless SimulationSpec::account_load_power.
   Real load_power() const { return load_power_; }
-  /// The sums over all the particles, every rank's, of the N values fn(i) gives particle i, the same bits
-  /// whatever the division of the grid and the thread count: each tile's particles are added in id order from
-  /// zero, and the tiles' sums exactly (ExactSum), over tiles and ranks. The particles must be settled (as
-  /// every step, outflow removal and settle() leave them).
-  template <std::size_t N, class Fn>
-  std::array<Real, N> particle_sum(Fn&& fn) const {
+  /// Visit the particles in runs [begin, end) of one tile each (visit(begin, end)), whose exact sums
+  /// (exact_run_sum) give the same bits whatever the division of the grid and the thread count: each tile's
+  /// particles in id order. The particles must be settled (as every step, outflow removal and settle() leave
+  /// them).
+  template <class Visit>
+  void for_each_sum_run(Visit&& visit) const {
     const StencilTiles<Dim, Kernel> tiles{stencils_};
-    return exact_particle_sum<N>(
-        particles_.size(), [&](std::size_t i) { return tiles[i]; }, fn, *comm_);
+    for_each_run(
+        particles_.size(), [&](std::size_t i) { return tiles[i]; }, visit);
   }
   /// The grid of velocity field 0 (the only one without contact).
   const Grid<Dim>& grid() const { return grid_; }

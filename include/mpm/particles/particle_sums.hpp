@@ -13,23 +13,31 @@
 
 namespace mpm {
 
-/// The sums over all the particles, every rank's, of the N values fn(i) gives particle i: the particles of
-/// each run of equal group(i) in storage order are added from zero in that order, and the runs' sums exactly
-/// (ExactSum) over runs and ranks. When each run holds one tile's particles in id order (the explicit
-/// engine's settled particles), the result is the same bits whatever the division of the grid and the thread
-/// count.
-template <std::size_t N, class Group, class Fn>
-std::array<Real, N> exact_particle_sum(std::size_t n, Group&& group, Fn&& fn, const Communicator& comm) {
-  std::array<ExactSum, N> total;
+/// Visit the runs of equal group(i) among particles 0 .. n - 1 in storage order: visit(begin, end).
+template <class Group, class Visit>
+void for_each_run(std::size_t n, Group&& group, Visit&& visit) {
   for (std::size_t i = 0; i < n;) {
-    std::array<Real, N> partial{};
+    const std::size_t begin = i;
     const std::int32_t g = group(i);
-    for (; i < n && group(i) == g; ++i) {
+    while (i < n && group(i) == g) ++i;
+    visit(begin, i);
+  }
+}
+
+/// The sums over all the particles, every rank's, of the N values fn(i) gives particle i, the particles
+/// visited in runs by for_each(visit) (visit(begin, end)): each run's particles are added from zero in order,
+/// and the runs' sums exactly (ExactSum) over runs and ranks.
+template <std::size_t N, class ForEachRun, class Fn>
+std::array<Real, N> exact_run_sum(ForEachRun&& for_each, Fn&& fn, const Communicator& comm) {
+  std::array<ExactSum, N> total;
+  for_each([&](std::size_t begin, std::size_t end) {
+    std::array<Real, N> partial{};
+    for (std::size_t i = begin; i < end; ++i) {
       const std::array<Real, N> v = fn(i);
       for (std::size_t k = 0; k < N; ++k) partial[k] += v[k];
     }
     for (std::size_t k = 0; k < N; ++k) total[k].add(partial[k]);
-  }
+  });
   std::vector<std::int64_t> integers;
   for (const ExactSum& e : total) {
     const std::vector<std::int64_t> mine = e.integers();
@@ -43,6 +51,14 @@ std::array<Real, N> exact_particle_sum(std::size_t n, Group&& group, Fn&& fn, co
                  .value();
   }
   return out;
+}
+
+/// exact_run_sum over the runs of equal group(i) in storage order. When each run holds one tile's particles
+/// in id order (the explicit engine's settled particles), the result is the same bits whatever the division
+/// of the grid and the thread count.
+template <std::size_t N, class Group, class Fn>
+std::array<Real, N> exact_particle_sum(std::size_t n, Group&& group, Fn&& fn, const Communicator& comm) {
+  return exact_run_sum<N>([&](const auto& visit) { for_each_run(n, group, visit); }, fn, comm);
 }
 
 /// The power of gravity g and the body force b_p on particle i over a step [W]: m_p (g + b_p) . (v_p^n +
