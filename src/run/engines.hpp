@@ -36,28 +36,51 @@ auto naming_scene(const Scene& sc, Make&& make) {
   }
 }
 
-/// What history.csv reports of the constraints, in one order for both engines: the grid's faces and regions,
-/// then the rigid bodies. Their names, the forces they applied (the faces' given), and their velocities at t.
-template <int Dim>
-std::vector<std::string> constraint_names(const KinematicConstraints<Dim>& faces,
-                                          const RigidBodies<Dim>& rigid) {
-  std::vector<std::string> names = faces.names();
-  for (const RigidBody<Dim>& b : rigid.bodies()) names.push_back(b.name);
-  return names;
-}
-template <int Dim>
-std::vector<Vec<Dim>> constraint_forces(std::vector<Vec<Dim>> faces, const std::vector<Vec<Dim>>& bodies) {
-  faces.insert(faces.end(), bodies.begin(), bodies.end());
-  return faces;
-}
-template <int Dim>
-std::vector<Vec<Dim>> constraint_velocities(const KinematicConstraints<Dim>& faces,
-                                            const RigidBodies<Dim>& rigid, Real t) {
-  std::vector<Vec<Dim>> v = faces.velocities(t);
-  const std::vector<Vec<Dim>> bodies = rigid.velocities(t);
-  v.insert(v.end(), bodies.begin(), bodies.end());
-  return v;
-}
+/// What both adapters forward to their simulation alike: the step, the clock, the particles and grid, the
+/// choices of the spec, and the constraints as history.csv reports them, in one order for both engines (the
+/// grid's faces and regions, then the rigid bodies: their names, the forces they applied, their velocities at
+/// t).
+template <int Dim, class Spec, class Sim>
+class SimulationAdapter : public SceneEngine<Dim> {
+ public:
+  void step(Real max_dt) override { sim_.step(max_dt); }
+  Real time() const override { return sim_.time(); }
+  std::int64_t steps() const override { return sim_.steps(); }
+  Real next_dt() const override { return sim_.next_dt(); }
+  ParticleSet<Dim>& particles() override { return sim_.particles(); }
+  const ParticleSet<Dim>& particles() const override { return sim_.particles(); }
+  const Grid<Dim>& grid() const override { return sim_.grid(); }
+  const Outflow<Dim>& outflow() const override { return sim_.outflow(); }
+  void restore_outflow(const Outflow<Dim>& out) override { sim_.restore_outflow(out); }
+  void remove_outflow() override { sim_.remove_outflow(); }
+  Transfer transfer() const override { return spec_.transfer; }
+  KernelKind kernel() const override { return spec_.kernel; }
+  std::vector<std::string> reaction_names() const override {
+    std::vector<std::string> names = sim_.constraints().names();
+    for (const RigidBody<Dim>& b : sim_.rigid_bodies().bodies()) names.push_back(b.name);
+    return names;
+  }
+  std::vector<Vec<Dim>> reactions() const override {
+    std::vector<Vec<Dim>> forces = sim_.face_reactions();
+    const std::vector<Vec<Dim>> bodies = sim_.rigid_reactions();
+    forces.insert(forces.end(), bodies.begin(), bodies.end());
+    return forces;
+  }
+  std::vector<Vec<Dim>> reaction_velocities(Real t) const override {
+    std::vector<Vec<Dim>> v = sim_.constraints().velocities(t);
+    const std::vector<Vec<Dim>> bodies = sim_.rigid_bodies().velocities(t);
+    v.insert(v.end(), bodies.begin(), bodies.end());
+    return v;
+  }
+
+ protected:
+  /// The spec, and the simulation make(spec_) builds from it (naming the scene in its errors).
+  template <class Make>
+  SimulationAdapter(const Scene& sc, Spec spec, Make&& make)
+      : spec_(std::move(spec)), sim_(naming_scene(sc, [&] { return make(spec_); })) {}
+  Spec spec_;
+  Sim sim_;
+};
 
 /// The output fields of the rate-form state, and one for each internal variable the table's laws declare
 /// (zero at the particles whose law does not declare it).
@@ -140,39 +163,22 @@ std::vector<double> failed_mask(const ParticleSet<Dim>& p, const GridGeometry<Di
 }
 
 template <int Dim, class Kernel>
-class Explicit final : public SceneEngine<Dim> {
+class Explicit final : public SimulationAdapter<Dim, SimulationSpec<Dim>, Simulation<Dim, Kernel>> {
+  using SimulationAdapter<Dim, SimulationSpec<Dim>, Simulation<Dim, Kernel>>::spec_;
+  using SimulationAdapter<Dim, SimulationSpec<Dim>, Simulation<Dim, Kernel>>::sim_;
+
  public:
   explicit Explicit(const Scene& sc)
-      : spec_(make_spec<Dim>(sc)), sim_(naming_scene(sc, [&] {
-          return Simulation<Dim, Kernel>(spec_, seed_bodies<Dim>(sc), world());
-        })) {}
+      : SimulationAdapter<Dim, SimulationSpec<Dim>, Simulation<Dim, Kernel>>(
+            sc, make_spec<Dim>(sc), [&](const SimulationSpec<Dim>& spec) {
+              return Simulation<Dim, Kernel>(spec, seed_bodies<Dim>(sc), world());
+            }) {}
 
-  void step(Real max_dt) override { sim_.step(max_dt); }
-  Real time() const override { return sim_.time(); }
-  std::int64_t steps() const override { return sim_.steps(); }
-  Real next_dt() const override { return sim_.next_dt(); }
-  ParticleSet<Dim>& particles() override { return sim_.particles(); }
-  const ParticleSet<Dim>& particles() const override { return sim_.particles(); }
-  const Grid<Dim>& grid() const override { return sim_.grid(); }
-  const Outflow<Dim>& outflow() const override { return sim_.outflow(); }
-  void restore_outflow(const Outflow<Dim>& out) override { sim_.restore_outflow(out); }
-  void remove_outflow() override { sim_.remove_outflow(); }
-  Transfer transfer() const override { return spec_.transfer; }
-  KernelKind kernel() const override { return spec_.kernel; }
   int velocity_fields() const override { return spec_.contact.fields; }
   /// After a SimulationFailure the particles hold the failed step's values.
   bool failure_keeps_state() const override { return false; }
-  std::vector<std::string> reaction_names() const override {
-    return constraint_names(sim_.constraints(), sim_.rigid_bodies());
-  }
-  std::vector<Vec<Dim>> reactions() const override {
-    return constraint_forces(sim_.face_reactions(), sim_.rigid_reactions());
-  }
   /// The power friction dissipated on the Coulomb walls in the last step [W].
   Real friction_power() const override { return sim_.friction_power(); }
-  std::vector<Vec<Dim>> reaction_velocities(Real t) const override {
-    return constraint_velocities(sim_.constraints(), sim_.rigid_bodies(), t);
-  }
   /// Stored energy V0 W(F) of a Neo-Hookean particle (the potential of Wallstedt & Guilkey 2008, Eq. (54)),
   /// the internal energy of a rate-form one (Sulsky & Kaul 2004, Eq. (2.2.16)).
   Real strain_energy(std::size_t i) const override { return sim_.strain_energy(i); }
@@ -263,52 +269,31 @@ class Explicit final : public SceneEngine<Dim> {
   std::vector<double> failed_particles() const override {
     return failed_mask(sim_.particles(), sim_.grid().geometry, sim_.failed_particle());
   }
-
- private:
-  SimulationSpec<Dim> spec_;
-  Simulation<Dim, Kernel> sim_;
 };
 
 /// The theta-blended implicit step with hypoelastic / von Mises materials and rigid bodies.
 template <int Dim, class Kernel>
-class Implicit final : public SceneEngine<Dim> {
+class Implicit final : public SimulationAdapter<Dim, ImplicitSpec<Dim>, ImplicitSimulation<Dim, Kernel>> {
+  using SimulationAdapter<Dim, ImplicitSpec<Dim>, ImplicitSimulation<Dim, Kernel>>::spec_;
+  using SimulationAdapter<Dim, ImplicitSpec<Dim>, ImplicitSimulation<Dim, Kernel>>::sim_;
+
  public:
   explicit Implicit(const Scene& sc)
-      : spec_(make_implicit_spec<Dim>(sc)), sim_(naming_scene(sc, [&] {
-          if (world().size() > 1)
-            throw InputError(
-                "simulation.integrator = \"implicit\": the implicit integrator runs in one process (its "
-                "distributed solver is a later step); start mpm without mpirun or srun");
-          return ImplicitSimulation<Dim, Kernel>(spec_, seed_bodies<Dim>(sc));
-        })) {}
+      : SimulationAdapter<Dim, ImplicitSpec<Dim>, ImplicitSimulation<Dim, Kernel>>(
+            sc, make_implicit_spec<Dim>(sc), [&](const ImplicitSpec<Dim>& spec) {
+              if (world().size() > 1)
+                throw InputError(
+                    "simulation.integrator = \"implicit\": the implicit integrator runs in one process (its "
+                    "distributed solver is a later step); start mpm without mpirun or srun");
+              return ImplicitSimulation<Dim, Kernel>(spec, seed_bodies<Dim>(sc));
+            }) {}
 
-  void step(Real max_dt) override { sim_.step(max_dt); }
-  Real time() const override { return sim_.time(); }
-  std::int64_t steps() const override { return sim_.steps(); }
-  Real next_dt() const override { return sim_.next_dt(); }
-  ParticleSet<Dim>& particles() override { return sim_.particles(); }
-  const ParticleSet<Dim>& particles() const override { return sim_.particles(); }
-  const Grid<Dim>& grid() const override { return sim_.grid(); }
-  const Outflow<Dim>& outflow() const override { return sim_.outflow(); }
-  void restore_outflow(const Outflow<Dim>& out) override { sim_.restore_outflow(out); }
-  void remove_outflow() override { sim_.remove_outflow(); }
-  Transfer transfer() const override { return spec_.transfer; }
-  KernelKind kernel() const override { return spec_.kernel; }
   /// The implicit step has one velocity field (the scene reader refuses [[contact]]).
   int velocity_fields() const override { return 1; }
   /// A step that fails (the solve, after every halving) leaves the particles at the last good state.
   bool failure_keeps_state() const override { return true; }
-  std::vector<std::string> reaction_names() const override {
-    return constraint_names(sim_.constraints(), sim_.rigid_bodies());
-  }
-  std::vector<Vec<Dim>> reactions() const override {
-    return constraint_forces(sim_.face_reactions(), sim_.rigid_reactions());
-  }
   /// Coulomb walls are refused for the implicit step (the scene reader): nothing dissipates there.
   Real friction_power() const override { return 0; }
-  std::vector<Vec<Dim>> reaction_velocities(Real t) const override {
-    return constraint_velocities(sim_.constraints(), sim_.rigid_bodies(), t);
-  }
   /// Internal energy e_p (Sulsky & Kaul 2004, Eq. (2.2.16)): stored plus dissipated; a Neo-Hookean particle's
   /// is its stored energy V0 W(F).
   Real strain_energy(std::size_t i) const override { return sim_.state().energy[i]; }
@@ -394,10 +379,6 @@ class Implicit final : public SceneEngine<Dim> {
   std::vector<double> failed_particles() const override {
     return failed_mask(sim_.particles(), sim_.grid().geometry, -1);
   }
-
- private:
-  ImplicitSpec<Dim> spec_;
-  ImplicitSimulation<Dim, Kernel> sim_;
 };
 
 }  // namespace mpm::scene_engines
