@@ -210,7 +210,7 @@ std::string Simulation<Dim, Kernel>::failure_message(std::size_t i, Real dt) con
     cause = "its CPDI2 domain folded (the Jacobian of its corners' map <= 0 at a corner)";
   else
     cause = "cpGIMP half-lengths " + format_point<Dim>(p.half_length(i)) + " left " +
-            half_length_bound(spec_.kernel);
+            outgrown_half_length_bound(spec_.kernel);
   std::ostringstream os;
   os.precision(9);
   os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << p.id[i] << ": " << cause;

@@ -319,7 +319,7 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
         if (!(p.l0[i][d] * F(d, d) > 0 &&
               p.l0[i][d] * F(d, d) <= max_half_length(spec_.kernel) * grid_.geometry.h))
           fail(i, "would take its cpGIMP half-length " + std::to_string(p.l0[i][d] * F(d, d)) + " out of " +
-                      half_length_bound(spec_.kernel));
+                      outgrown_half_length_bound(spec_.kernel));
     }
   }
   parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {

@@ -59,10 +59,14 @@ void expect_stopped(const Expansion& e, Real at, const std::string& bound) {
 TEST(GimpReach, EachStencilHoldsTheHalfLengthsItPromises) {
   // Measured: cpgimp stops in the step to t = 1.0084 (F = 2.020 > 2), cpgimp-wide in the step to t = 3.0253
   // (F = 4.065 > 4), CPDI reaches t = 5 with F = 5.9987 (its domains scaled to one cell from F = 4 on).
-  expect_stopped(expand(KernelKind::cpgimp), 1,
-                 "left (0, h/2] (kernel = \"cpgimp-wide\" takes half-lengths up to h");
+  // The message names the kinds that go further: the wide stencil, CPDI, and uGIMP's fixed half-lengths.
+  expect_stopped(
+      expand(KernelKind::cpgimp), 1,
+      "left (0, h/2] (kernel = \"cpgimp-wide\" takes half-lengths up to h, kernel = \"cpdi\" follows "
+      "any deformation, kernel = \"ugimp\" keeps each particle's initial half-lengths)");
   expect_stopped(expand(KernelKind::cpgimp_wide), 3,
-                 "left (0, h] (kernel = \"cpdi\" follows any deformation)");
+                 "left (0, h] (kernel = \"cpdi\" follows any deformation, kernel = \"ugimp-wide\" keeps each "
+                 "particle's initial half-lengths)");
   const Expansion cpdi = expand(KernelKind::cpdi);
   EXPECT_TRUE(cpdi.failure.empty()) << cpdi.failure;
   EXPECT_NEAR(cpdi.time, 5, 1e-12);
