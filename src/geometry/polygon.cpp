@@ -1,6 +1,8 @@
 #include "mpm/geometry/polygon.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace mpm {
 
@@ -46,6 +48,30 @@ Real Polygon::signed_area() const {
   for (std::size_t i = 0, j = n - 1; i < n; j = i++)
     twice += vertices[j][0] * vertices[i][1] - vertices[i][0] * vertices[j][1];
   return 0.5 * twice;
+}
+
+Vec<2> Polygon::outward_normal(const Vec<2>& x) const {
+  // Counter-clockwise, the region lies left of each edge a -> b, whose outward normal is (b - a) turned
+  // clockwise.
+  const Real sense = signed_area() > 0 ? 1 : -1;
+  Real nearest_squared = std::numeric_limits<Real>::infinity();
+  Vec<2> nearest = x, edge_normal = Vec<2>::Zero();
+  const std::size_t n = vertices.size();
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+    const Vec<2> a = vertices[j], e = vertices[i] - vertices[j];
+    const Vec<2> s = a + std::clamp((x - a).dot(e) / e.squaredNorm(), Real(0), Real(1)) * e;
+    const Real d2 = (x - s).squaredNorm();
+    if (d2 < nearest_squared) {
+      nearest_squared = d2;
+      nearest = s;
+      edge_normal = sense * Vec<2>(e[1], -e[0]).normalized();
+    }
+  }
+  const auto [lo, hi] = bounds();
+  const Real distance = std::sqrt(nearest_squared);
+  if (distance <= 1e-12 * (hi - lo).norm()) return edge_normal;
+  const Vec<2> away = (x - nearest) / distance;
+  return contains(x) ? Vec<2>(-away) : away;
 }
 
 Vec<2> Polygon::centroid() const {

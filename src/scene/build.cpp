@@ -166,6 +166,7 @@ std::vector<RigidBody<Dim>> rigid_bodies_of(const Scene& sc) {
     RigidBody<Dim> body{r.name, points.x, Vec<Dim>::Constant(0.5 * spacing), velocity_of<Dim>(r.velocity)};
     for (int d = 0; d < Dim; ++d) body.imposes[d] = r.imposes[d];
     body.friction = r.friction;
+    if (r.friction >= 0) body.outward = outward_normal_of<Dim>(r);
     body.holds_inside = r.holds_inside;  // a box's only (the reader)
     if (r.holds_inside) {
       body.lo = to_vec<Dim>(r.lo);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "mpm/particles/generate.hpp"
 
@@ -140,11 +141,56 @@ void fill_combined(const Scene& sc, const SceneBody& b, Real density, std::uint1
   });
 }
 
+template <int Dim>
+OutwardNormalFn<Dim> outward_normal_of(const SceneShape& shape) {
+  switch (shape.shape) {
+    case SceneShape::Shape::box:
+      return [lo = to_vec<Dim>(shape.lo), hi = to_vec<Dim>(shape.hi)](const Vec<Dim>& x) {
+        // Outside: from the nearest point of the box; inside or on it: the nearest face's normal.
+        const Vec<Dim> away = x - x.cwiseMax(lo).cwiseMin(hi);
+        if (away.norm() > 1e-12 * (hi - lo).norm()) return Vec<Dim>(away.normalized());
+        Vec<Dim> n = Vec<Dim>::Zero();
+        Real nearest = std::numeric_limits<Real>::infinity();
+        for (int d = 0; d < Dim; ++d)
+          for (const Real side : {-1.0, 1.0}) {
+            const Real to_face = side < 0 ? x[d] - lo[d] : hi[d] - x[d];
+            if (to_face < nearest) {
+              nearest = to_face;
+              n = Vec<Dim>::Zero();
+              n[d] = side;
+            }
+          }
+        return n;
+      };
+    case SceneShape::Shape::disk:
+    case SceneShape::Shape::ring:
+      // Radial: out of the outer circle, or into the hole from the nearer inner one.
+      return [c = to_vec<Dim>(shape.center), mid = 0.5 * (shape.radius + shape.inner_radius),
+              solid = shape.inner_radius == 0](const Vec<Dim>& x) {
+        const Real r = (x - c).norm();
+        if (r == 0) return Vec<Dim>(Vec<Dim>::Unit(0));
+        return Vec<Dim>((solid || r >= mid ? 1 : -1) * (x - c) / r);
+      };
+    case SceneShape::Shape::polygon:
+      if constexpr (Dim == 2)
+        return [polygon = shape.polygon](const Vec<2>& x) { return polygon.outward_normal(x); };
+      break;
+    case SceneShape::Shape::surface:
+    case SceneShape::Shape::file:
+      break;
+  }
+  return {};
+}
+
 template void fill_shape<1>(const Scene&, const SceneShape&, Real, std::uint16_t, ParticleSet<1>&);
 template void fill_shape<2>(const Scene&, const SceneShape&, Real, std::uint16_t, ParticleSet<2>&);
 template void fill_shape<3>(const Scene&, const SceneShape&, Real, std::uint16_t, ParticleSet<3>&);
 template void fill_combined<1>(const Scene&, const SceneBody&, Real, std::uint16_t, ParticleSet<1>&);
 template void fill_combined<2>(const Scene&, const SceneBody&, Real, std::uint16_t, ParticleSet<2>&);
 template void fill_combined<3>(const Scene&, const SceneBody&, Real, std::uint16_t, ParticleSet<3>&);
+
+template OutwardNormalFn<1> outward_normal_of<1>(const SceneShape&);
+template OutwardNormalFn<2> outward_normal_of<2>(const SceneShape&);
+template OutwardNormalFn<3> outward_normal_of<3>(const SceneShape&);
 
 }  // namespace mpm

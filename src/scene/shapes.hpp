@@ -5,6 +5,7 @@
 #include <utility>
 #include <vector>
 
+#include "mpm/boundary/rigid_body.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/scene/scene.hpp"
 
@@ -28,5 +29,11 @@ void fill_shape(const Scene& sc, const SceneShape& shape, Real density, std::uin
 template <int Dim>
 void fill_combined(const Scene& sc, const SceneBody& b, Real density, std::uint16_t material,
                    ParticleSet<Dim>& p);
+
+/// The outward unit normal of a lattice shape's surface at the point nearest x (the gradient of its signed
+/// distance; on the surface, the face's normal): boxes, disks, spheres, rings and polygons; empty for a
+/// triangulated surface, whose rigid bodies take their normals from their points.
+template <int Dim>
+OutwardNormalFn<Dim> outward_normal_of(const SceneShape& shape);
 
 }  // namespace mpm

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -127,6 +128,56 @@ TEST(ContactWalls, ACoulombRigidBodyActsAsTheWall) {
         << slurp(dir / "log.txt");
   }
   fs::remove_all(dir);
+}
+
+TEST(ContactWalls, ASlabTiltedInUntiltedGravityActsAsTheInclinedWall) {
+  // examples/contact/tilted-slab.toml to 0.6 s: the block on a polygon slab tilted by 30 degrees, a Coulomb
+  // rigid body whose normal comes from its outline (RigidBody::outward), in untilted gravity. The elastic
+  // block rocks on the slab after the ramp, and its normal force with it, so the acceleration along the slope
+  // t = (cos theta, -sin theta) is the least-squares slope of its velocity over t >= 0.15 s. Measured against
+  // g (sin theta - mu cos theta): -0.20%, -0.28%, -0.48% at mu = 0, 0.2, 0.4; the mean force along the
+  // slab's normal n = (sin theta, cos theta) against m g cos theta: -0.19%, +0.50%, -0.81%, -0.20% (mu = 0.7,
+  // where the block stays put). Asserted within 1%. While it slides, every node gives mu times its normal
+  // force along the slope, and so does the whole slab.
+  const std::string slab = (source_dir / "examples/contact/tilted-slab.toml").string();
+  using Vec2 = std::array<double, 2>;
+  const Vec2 along{std::cos(theta), -std::sin(theta)}, normal{std::sin(theta), std::cos(theta)};
+  for (double mu : {0.0, 0.2, 0.4, 0.7}) {
+    const fs::path dir = scratch("contact_walls", "slab" + std::to_string(mu));
+    ASSERT_EQ(run_mpm(slab,
+                      "--out " + (dir / "out").string() + " --set simulation.end_time=0.6" +
+                          " --set rigid_bodies.0.friction=" + std::to_string(mu),
+                      dir / "log.txt"),
+              0)
+        << slurp(dir / "log.txt");
+    const auto h = csv_columns(dir / "out/history.csv");
+    fs::remove_all(dir);
+    const auto component = [&](const std::string& x, const std::string& y, const Vec2& e, std::size_t i) {
+      return h.at(x)[i] * e[0] + h.at(y)[i] * e[1];
+    };
+    // Sums over the rows after the ramp: the mean normal force, and the least-squares line through the
+    // velocity along the slope.
+    double rows = 0, st = 0, sv = 0, stt = 0, stv = 0, pushed = 0;
+    for (std::size_t i = 0; i < h.at("time").size(); ++i) {
+      const double t = h.at("time")[i], v = component("momentum_x", "momentum_y", along, i) / mass;
+      if (t < 0.15) continue;
+      rows += 1, st += t, sv += v, stt += t * t, stv += t * v;
+      pushed += component("reaction_slab_x", "reaction_slab_y", normal, i);
+    }
+    const double a = (rows * stv - st * sv) / (rows * stt - st * st), weight = mass * g * std::cos(theta);
+    EXPECT_NEAR(pushed / rows, weight, 0.01 * weight) << "mu = " << mu;
+    const std::size_t last = h.at("time").size() - 1;
+    if (mu > std::tan(theta)) {
+      EXPECT_LT(std::abs(component("momentum_x", "momentum_y", along, last) / mass), 2e-3);
+      EXPECT_LT(std::abs(a), 0.01);
+      continue;
+    }
+    const double expected = g * (std::sin(theta) - mu * std::cos(theta));
+    EXPECT_NEAR(a, expected, 0.01 * expected) << "mu = " << mu;
+    const double n = component("reaction_slab_x", "reaction_slab_y", normal, last);
+    EXPECT_NEAR(component("reaction_slab_x", "reaction_slab_y", along, last), -mu * n, 1e-9 * n)
+        << "mu = " << mu;
+  }
 }
 
 TEST(ContactWalls, SameBitsOnOneToFourRanks) {

@@ -37,6 +37,36 @@ TEST(PolygonGeometry, AreaCentroidAndInsideOfAnL) {
   EXPECT_EQ(l.bounds().second, Vec<2>(2, 2));
 }
 
+TEST(PolygonGeometry, OutwardNormalIsTheSignedDistancesGradient) {
+  // The L either way round: on an edge its outward normal; off the outline the unit vector from the nearest
+  // outline point, outward (outside) or toward it (inside); off a convex corner the diagonal, in the notch
+  // the normals of the edges that bound it.
+  const Polygon l = l_shape();
+  const Polygon clockwise{{l.vertices.rbegin(), l.vertices.rend()}};
+  const Real r = std::sqrt(0.5);
+  struct Case {
+    Vec<2> x, n;
+  };
+  for (const Polygon& p : {l, clockwise})
+    for (const Case& c : {Case{{1.5, 0}, {0, -1}}, Case{{0.5, -0.3}, {0, -1}}, Case{{0.5, 0.1}, {0, -1}},
+                          Case{{2.5, 0.5}, {1, 0}}, Case{{1.9, 0.5}, {1, 0}}, Case{{2.2, 1.2}, {r, r}},
+                          Case{{1.5, 1.2}, {0, 1}}, Case{{1.2, 1.5}, {1, 0}}, Case{{0.5, 2}, {0, 1}},
+                          Case{{-1, -1}, {-r, -r}}}) {
+      const Vec<2> n = p.outward_normal(c.x);
+      EXPECT_NEAR(n[0], c.n[0], 1e-15) << c.x.transpose();
+      EXPECT_NEAR(n[1], c.n[1], 1e-15) << c.x.transpose();
+    }
+  // A slab tilted by 30 degrees: the normal of its upper face above it, on it and just inside.
+  const Real c30 = std::cos(M_PI / 6), s30 = std::sin(M_PI / 6);
+  const Polygon slab{
+      {{0, 0}, {2 * c30, -2 * s30}, {2 * c30 + 0.1 * s30, -2 * s30 - 0.1 * c30}, {0.1 * s30, -0.1 * c30}}};
+  for (const Real above : {0.3, 0.0, -0.02}) {
+    const Vec<2> n = slab.outward_normal(Vec<2>(c30, -s30) + above * Vec<2>(s30, c30));
+    EXPECT_NEAR(n[0], s30, 1e-15) << above;
+    EXPECT_NEAR(n[1], c30, 1e-15) << above;
+  }
+}
+
 TEST(PolygonGeometry, CrossingsFound) {
   EXPECT_FALSE(first_crossing(l_shape()));
   const auto bowtie = first_crossing({{{0, 0}, {1, 1}, {1, 0}, {0, 1}}});

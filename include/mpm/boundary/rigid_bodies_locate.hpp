@@ -59,7 +59,7 @@ void RigidBodies<Dim>::locate(const GridGeometry<Dim>& g, const std::string& whe
             if (!inside) continue;
             touched.emplace_back(flat,
                                  mine && !repeats_another<Dim>(faces_, g.cells, global_node(g, layers)));
-            if (body.friction < 0) continue;
+            if (body.friction < 0 || body.outward) continue;
             Vec<Dim> grad;
             for (int d = 0; d < Dim; ++d) {
               grad[d] = dw[d][k[d]];
@@ -79,6 +79,11 @@ void RigidBodies<Dim>::locate(const GridGeometry<Dim>& g, const std::string& whe
     }
     normals_[b].assign(nodes_[b].size(), Vec<Dim>::Zero());
     if (body.friction < 0) continue;
+    if (body.outward) {  // the material meets the surface along minus its outward normal
+      for (std::size_t k = 0; k < nodes_[b].size(); ++k)
+        normals_[b][k] = -body.outward(g.position(g.coords(nodes_[b][k])) - displacement_[b]);
+      continue;
+    }
     // The points' gradient at a node points out of the body; the material meets it along minus that. Added
     // per node in the points' order, so the normals do not depend on how the grid is divided.
     std::stable_sort(gradients.begin(), gradients.end(),

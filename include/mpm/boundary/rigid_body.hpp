@@ -3,6 +3,7 @@
 /// they touch (no-slip contact through the single velocity field, Sulsky & Kaul 2004 Secs 3.1.1 and 3.2.7),
 /// in both engines. What a run does with them is RigidBodies (boundary/rigid_bodies.hpp).
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,10 @@ constexpr std::array<bool, Dim> filled(bool value) {
   return a;
 }
 
+/// The outward unit normal of a body's surface at the point nearest x [-].
+template <int Dim>
+using OutwardNormalFn = std::function<Vec<Dim>(const Vec<Dim>& x)>;
+
 template <int Dim>
 struct RigidBody {
   std::string name;
@@ -30,6 +35,10 @@ struct RigidBody {
   /// gradient of its points' shape functions there; the material may leave it and slides along it against
   /// friction.
   Real friction = -1;
+  /// A Coulomb body's normal from the surface it models instead (the shape's, at the body's position at t =
+  /// 0: evaluated at a node moved back by the body's displacement), so that a slab at any angle meets the
+  /// material along its own normal; empty: from its points' shape-function gradients.
+  OutwardNormalFn<Dim> outward{};
   /// Whether the body holds the nodes inside its box [lo, hi] (moved with it) rather than every node its
   /// points touch: a footing or platen whose width is its box's, not the box's widened by the kernel's
   /// support.

@@ -23,6 +23,11 @@ struct Polygon {
   Vec<2> centroid() const;
   /// The lower and upper corners of the bounding box [m].
   std::pair<Vec<2>, Vec<2>> bounds() const;
+  /// The outward unit normal of the outline at the point nearest x: the gradient of the distance to the
+  /// outline, signed positive outside, i.e. (x - s) / |x - s| outside and (s - x) / |s - x| inside for the
+  /// nearest point s; the nearest edge's outward normal for x on the outline (to 1e-12 of the polygon's
+  /// size).
+  Vec<2> outward_normal(const Vec<2>& x) const;
 };
 
 /// The first pair of edges (i, j), i < j, edge k joining vertex k to vertex k + 1, that cross or touch other
