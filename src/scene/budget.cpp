@@ -88,6 +88,8 @@ double count_shape(const Scene& sc, const SceneShape& b) {
       const double s = sc.h / b.ppc;
       return b.surface.volume() / (s * s * s) + b.surface.area() / (s * s) + 1;
     }
+    case SceneBody::Shape::mesh:  // its Gauss points, which only the body holds: count_body
+      return 0;
     case SceneBody::Shape::disk:
     case SceneBody::Shape::ring:
       break;
@@ -98,7 +100,7 @@ double count_shape(const Scene& sc, const SceneShape& b) {
 /// A body's particles, at most: its shape's and those of the shapes it adds (what it subtracts or intersects
 /// with is not counted off).
 double count_body(const Scene& sc, const SceneBody& b) {
-  double n = count_shape(sc, b);
+  double n = count_shape(sc, b) + static_cast<double>(b.mesh_points.size());
   for (const SceneShape& s : b.add) n += count_shape(sc, s);
   return n;
 }

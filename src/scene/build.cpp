@@ -92,18 +92,24 @@ BodyForceFn<Dim> body_force_of(const Scene& sc) {
   };
 }
 
-/// Body k's particles: its shape's lattice, or the rows of its particle file.
+/// Body k's particles: its shape's lattice, the rows of its particle file, or its mesh's Gauss points.
 template <int Dim>
 void seed_shape(const Scene& sc, std::size_t k, ParticleSet<Dim>& p) {
   const SceneBody& b = sc.bodies[k];
   const Real density = sc.materials[b.material].density;
   const auto material = static_cast<std::uint16_t>(b.material);
-  if (b.shape == SceneBody::Shape::file)
+  if (b.shape == SceneBody::Shape::file) {
     read_particle_rows<Dim>(sc, b, "bodies[" + std::to_string(k) + "].file in " + sc.file.string(), p);
-  else if (b.add.empty() && b.subtract.empty() && b.intersect.empty())
+  } else if (b.shape == SceneBody::Shape::mesh) {  // half-lengths as a file's particles have them
+    for (const MeshPoint& m : b.mesh_points)
+      p.add(Eigen::Map<const Vec<3>>(m.x.data()).template head<Dim>(), Vec<Dim>::Zero(),
+            sc.materials[m.material].density * m.volume, m.volume,
+            Vec<Dim>::Constant(0.5 * std::pow(m.volume, 1.0 / Dim)), static_cast<std::uint16_t>(m.material));
+  } else if (b.add.empty() && b.subtract.empty() && b.intersect.empty()) {
     fill_shape<Dim>(sc, b, density, material, p);
-  else
+  } else {
     fill_combined<Dim>(sc, b, density, material, p);
+  }
 }
 
 /// The scene's pressures and tractions on the surfaces of bodies (lattice_surface of each loaded body, ids as

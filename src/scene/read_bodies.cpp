@@ -1,5 +1,7 @@
 // Reading the bodies, rigid bodies and loads of a scene.
 #include <filesystem>
+#include <map>
+#include <optional>
 #include <system_error>
 
 #include "mpm/scene/budget.hpp"
@@ -16,8 +18,8 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
   for (auto [key, shapes] :
        {std::pair{"add", &b.add}, {"subtract", &b.subtract}, {"intersect", &b.intersect}}) {
     const std::vector<const toml::table*> tables = s.tables(key);
-    if (!tables.empty() && b.shape == SceneBody::Shape::file)
-      s.fail(key, "a particle file's body is not combined with shapes");
+    if (!tables.empty() && (b.shape == SceneBody::Shape::file || b.shape == SceneBody::Shape::mesh))
+      s.fail(key, "a particle file's or a mesh's body is not combined with shapes");
     for (std::size_t k = 0; k < tables.size(); ++k) {
       const Section t = s.below(*tables[k], std::string(key) + "[" + std::to_string(k) + "]",
                                 {"shape", "lo", "hi", "center", "radius", "inner_radius", "vertices", "file",
@@ -40,9 +42,18 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
   if (per_particle_material && s.has("material"))
     s.fail("material",
            "the particle file gives each particle's material (its column 'material'); drop material");
-  const std::string material =  // with a material column, b.material is only a placeholder
-      per_particle_material ? sc.materials[0].name
-                            : s.text("material", sc.materials.size() == 1 ? sc.materials[0].name : "");
+  // A mesh body's physical groups may each have a material; `material` is then that of the others.
+  const bool mesh = b.shape == SceneBody::Shape::mesh;
+  if (!mesh)
+    for (const char* key : {"materials", "quadrature"})
+      if (s.has(key)) s.fail(key, "for a mesh body (shape = \"mesh\") only");
+  if (mesh && s.has("ppc"))
+    s.fail("ppc", "a mesh body's particles are its elements' Gauss points (set their rule with quadrature)");
+  const bool per_group_only = mesh && s.has("materials") && !s.has("material");
+  const std::string material =  // with a material column or groups' materials, only a placeholder
+      per_particle_material || per_group_only
+          ? sc.materials[0].name
+          : s.text("material", sc.materials.size() == 1 ? sc.materials[0].name : "");
   if (material.empty()) s.fail("material", "missing (the name of a [[materials]] entry)");
   auto found = std::find_if(sc.materials.begin(), sc.materials.end(),
                             [&](const SceneMaterial& m) { return m.name == material; });
@@ -52,6 +63,24 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
     s.fail("material", "no material named " + in_quotes(material) + " (defined: " + join(names) + ")");
   }
   b.material = static_cast<std::size_t>(found - sc.materials.begin());
+  if (mesh) {
+    std::map<std::string, std::size_t> groups;
+    if (const toml::table* t = s.table("materials"))
+      for (const auto& [group, node] : *t) {
+        const std::string name = node.value<std::string>().value_or("");
+        const auto law = std::find_if(sc.materials.begin(), sc.materials.end(),
+                                      [&](const SceneMaterial& m) { return m.name == name; });
+        if (!node.is_string() || law == sc.materials.end())
+          s.fail("materials", "physical group " + in_quotes(std::string(group.str())) +
+                                  ": expected the name of a [[materials]] entry, got " + describe(node));
+        groups[std::string(group.str())] = static_cast<std::size_t>(law - sc.materials.begin());
+      }
+    const int quadrature = s.integer("quadrature", 0);  // 0: by element type (read_mesh)
+    if (s.has("quadrature") && (quadrature < 1 || quadrature > 8))
+      s.fail("quadrature", "expected the degree of a Gauss rule, from 1 to 8");
+    b.mesh_points = read_mesh(s, sc, b.file, quadrature, groups,
+                              per_group_only ? std::nullopt : std::optional<std::size_t>(b.material));
+  }
   if (s.has("velocity") && has_column(columns, ParticleColumn::Role::velocity))
     s.fail("velocity", "the particle file gives the velocities (its columns vx, ...); drop velocity");
   if (s.has("velocity")) b.velocity = s.expressions("velocity", n, position_vars[n - 1], sc.constants);
@@ -64,6 +93,10 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
   if (s.has("k0")) {
     b.k0 = s.constant_number("k0", 0, sc.constants);
     if (!(b.k0 >= 0)) s.fail("k0", "expected a lateral stress ratio K0 >= 0");
+    if (mesh)
+      s.fail("k0",
+             "a geostatic stress needs a body seeded on a lattice (it finds the top of each column of "
+             "particles); a mesh body's Gauss points are not");
     if (per_particle_material || has_column(columns, ParticleColumn::Role::stress) ||
         has_column(columns, ParticleColumn::Role::plastic_strain))
       s.fail("k0", "the particle file gives the stresses or the materials; a geostatic stress needs neither");
@@ -91,10 +124,10 @@ void read_surface_load(const Section& t, const std::string& kind, Scene& sc, con
   auto found =
       std::find_if(sc.bodies.begin(), sc.bodies.end(), [&](const SceneBody& b) { return b.name == body; });
   if (found == sc.bodies.end()) t.fail("body", "no body named " + in_quotes(body));
-  if (found->shape == SceneBody::Shape::file)
+  if (found->shape == SceneBody::Shape::file || found->shape == SceneBody::Shape::mesh)
     t.fail("body",
            "surface loads need a body seeded on a lattice (box, disk, sphere, ring, polygon or surface), not "
-           "a particle file");
+           "a particle file or a mesh");
   load.body = static_cast<std::size_t>(found - sc.bodies.begin());
   if (t.has("face")) {
     const std::vector<std::string> names(face_names.begin(), face_names.begin() + 2 * sc.dim);

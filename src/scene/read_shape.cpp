@@ -1,5 +1,5 @@
 // Reading where a body or a rigid body lies: a box, a disk or sphere, a ring, a polygon, a closed surface or
-// (bodies) a particle file, inside the grid.
+// (bodies) a particle file or a Gmsh mesh, inside the grid.
 #include <filesystem>
 #include <sstream>
 #include <system_error>
@@ -26,6 +26,20 @@ std::string grid_extent(const Scene& sc) {
   return os.str();
 }
 
+/// The regular file `file` names (relative to the scene's folder); `what` says what it should hold.
+std::filesystem::path existing_file(const Section& s, const Scene& sc, const std::string& what) {
+  std::filesystem::path file = s.text("file", "");
+  if (file.empty()) s.fail("file", "missing (" + what + ")");
+  if (file.is_relative()) file = sc.file.parent_path() / file;
+  std::error_code ec;  // a name the file system refuses (too long, say) is an error, not an exception
+  const std::filesystem::file_status status = std::filesystem::status(file, ec);
+  if (!std::filesystem::exists(status))
+    s.fail("file", "cannot open " + in_quotes(file.string()) + (ec ? " (" + ec.message() + ")" : ""));
+  if (!std::filesystem::is_regular_file(status))
+    s.fail("file", in_quotes(file.string()) + " is not a regular file (" + what + ")");
+  return file;
+}
+
 }  // namespace
 
 /// The corners `lo` and `hi` of a box inside the grid, each component a number or an expression of the
@@ -43,7 +57,7 @@ void read_box(const Section& s, const Scene& sc, const std::string& what, std::v
 void read_shape(const Section& s, const Scene& sc, const std::string& box, bool files, SceneShape& out) {
   const auto n = static_cast<std::size_t>(sc.dim);
   std::vector<std::string> shapes{"box", "disk", "sphere", "ring", "polygon", "surface"};
-  if (files) shapes.push_back("file");
+  if (files) shapes.insert(shapes.end(), {"file", "mesh"});
   const std::string shape = s.choice("shape", "box", shapes);
   if (shape == "box") {
     out.shape = SceneShape::Shape::box;
@@ -67,16 +81,14 @@ void read_shape(const Section& s, const Scene& sc, const std::string& box, bool 
       s.fail("file", "the surface (scaled and translated) must lie inside the grid " + grid_extent(sc));
   } else if (shape == "file") {
     out.shape = SceneShape::Shape::file;
-    out.file = s.text("file", "");
-    if (out.file.empty()) s.fail("file", "missing (a CSV file of positions and volumes)");
-    if (out.file.is_relative()) out.file = sc.file.parent_path() / out.file;
-    std::error_code ec;  // a name the file system refuses (too long, say) is an error, not an exception
-    const std::filesystem::file_status status = std::filesystem::status(out.file, ec);
-    if (!std::filesystem::exists(status))
-      s.fail("file", "cannot open " + in_quotes(out.file.string()) + (ec ? " (" + ec.message() + ")" : ""));
-    if (!std::filesystem::is_regular_file(status))
-      s.fail("file",
-             in_quotes(out.file.string()) + " is not a regular file (a CSV file of positions and volumes)");
+    out.file = existing_file(s, sc, "a CSV file of positions and volumes");
+  } else if (shape == "mesh") {
+    if (sc.dim == 1) s.fail("shape", "\"mesh\" needs a 2-D or 3-D scene");
+    out.shape = SceneShape::Shape::mesh;
+    out.file = existing_file(s, sc, "a Gmsh mesh, .msh");
+    // Gmsh reads a file by its extension, and runs a .geo script's commands: only meshes are read.
+    if (out.file.extension() != ".msh")
+      s.fail("file", in_quotes(out.file.string()) + ": expected a Gmsh mesh file, named *.msh");
   } else {
     if ((shape == "disk" && sc.dim != 2) || (shape == "sphere" && sc.dim != 3))
       s.fail("shape", "\"disk\" is for 2-D scenes, \"sphere\" for 3-D");

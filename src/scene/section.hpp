@@ -9,6 +9,7 @@
 #include <cctype>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -273,6 +274,15 @@ Polygon read_outline(const Section& s, const Scene& sc);
 /// A surface body's closed triangulated surface from `file` (STL or OBJ), times `scale`, moved by
 /// `translate`; refused with one line where the file cannot be read or the surface has a hole.
 TriangleSurface read_surface(const Section& s, const Scene& sc, const std::filesystem::path& file);
+/// A mesh body's particles: the Gauss points of the elements of the scene's dimension in the Gmsh mesh
+/// `file` (a rule exact to degree `quadrature`; 0: 2 on simplices, 3 on quadrangles and hexahedra), each with
+/// the material its element's physical group has in `groups` (group name, or number when unnamed, to material
+/// index), else `fallback`. Refused with one line at `file` or `materials` where Gmsh cannot read the file,
+/// it holds no such element, an element is degenerate, a 2-D mesh leaves the plane z = 0, a group named is
+/// not in the mesh, or an element has no material.
+std::vector<MeshPoint> read_mesh(const Section& s, const Scene& sc, const std::filesystem::path& file,
+                                 int quadrature, const std::map<std::string, std::size_t>& groups,
+                                 std::optional<std::size_t> fallback);
 /// Read rigid_bodies[index] into sc.rigid_bodies.
 void read_rigid_body(const Section& s, Scene& sc, std::size_t index);
 /// Read one [[contact]] table into sc.contacts (after the bodies and rigid bodies).

@@ -42,6 +42,7 @@ std::pair<Vec<Dim>, Vec<Dim>> bounds_of(const SceneShape& s) {
       break;
     case SceneShape::Shape::box:
     case SceneShape::Shape::file:
+    case SceneShape::Shape::mesh:
       break;
   }
   return {to_vec<Dim>(s.lo), to_vec<Dim>(s.hi)};
@@ -67,6 +68,7 @@ bool shape_contains(const SceneShape& s, const Vec<Dim>& x) {
       }
       break;
     case SceneShape::Shape::file:
+    case SceneShape::Shape::mesh:
       break;
   }
   return false;
@@ -117,7 +119,8 @@ void fill_shape(const Scene& sc, const SceneShape& b, Real density, std::uint16_
         });
       }
       break;
-    case SceneBody::Shape::file:  // a body's particles from a file: seed_shape
+    case SceneBody::Shape::file:  // a body's particles from a file or a mesh: seed_shape
+    case SceneBody::Shape::mesh:
       break;
   }
 }
@@ -177,6 +180,7 @@ OutwardNormalFn<Dim> outward_normal_of(const SceneShape& shape) {
       break;
     case SceneShape::Shape::surface:
     case SceneShape::Shape::file:
+    case SceneShape::Shape::mesh:
       break;
   }
   return {};

@@ -113,9 +113,9 @@ TEST(CombinedShapes, AFileBodyIsNotCombined) {
          "\"\nsubtract = [{ lo = [0.5, 0.5], hi = [1.0, 1.0] }]");
     FAIL() << "a file body with subtract was accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(
-        std::string(e.what()).find("bodies[0].subtract: a particle file's body is not combined with shapes"),
-        std::string::npos)
+    EXPECT_NE(std::string(e.what()).find(
+                  "bodies[0].subtract: a particle file's or a mesh's body is not combined with shapes"),
+              std::string::npos)
         << e.what();
   }
   std::filesystem::remove(csv);

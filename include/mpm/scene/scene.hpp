@@ -41,14 +41,14 @@ struct SceneMaterial {
 /// 3-D), a polygon (2-D) or a closed triangulated surface (3-D), seeded on a lattice of ppc points per cell
 /// per axis; or, for a body, a CSV file of positions and volumes.
 struct SceneShape {
-  enum class Shape { box, disk, ring, polygon, surface, file } shape = Shape::box;
+  enum class Shape { box, disk, ring, polygon, surface, file, mesh } shape = Shape::box;
   std::vector<double> lo, hi;  ///< box corners [m]
   std::vector<double> center;  ///< disk and ring centre [m]
   double radius = 0;           ///< disk and outer ring radius [m]
   double inner_radius = 0;     ///< ring inner radius [m]
   Polygon polygon;             ///< a polygon's outline [m]
   TriangleSurface surface;     ///< a surface's triangles, scaled and moved [m]
-  std::filesystem::path file;  ///< particle file (shape == file)
+  std::filesystem::path file;  ///< particle file (shape == file) or Gmsh mesh (shape == mesh)
   int ppc = 2;                 ///< points per cell per axis (lattice shapes)
 };
 
@@ -87,6 +87,14 @@ struct SceneImplicit {
   int max_retries = 8;
 };
 
+/// A particle of a mesh body: a Gauss point of one of the mesh's elements, the volume it stands for (its
+/// weight times |det J|; per unit thickness in 2-D) and the material of the element's physical group.
+struct MeshPoint {
+  std::array<double, 3> x{};  ///< [m]
+  double volume = 0;          ///< [m^3, or m^2 in 2-D]
+  std::size_t material = 0;   ///< index into Scene::materials
+};
+
 /// A body of particles of one material, in a SceneShape combined with others: the points of its lattice that
 /// lie in its shape or one of `add`, in every one of `intersect`, and in none of `subtract`.
 struct SceneBody : SceneShape {
@@ -99,6 +107,7 @@ struct SceneBody : SceneShape {
   std::vector<ExpressionPtr> deformation;   ///< optional initial F (row by row), expressions of X, Y, Z
   double k0 = -1;  ///< >= 0: the body starts in the geostatic stress of its weight with this K0
                    ///< (set_geostatic_stress)
+  std::vector<MeshPoint> mesh_points;  ///< shape == mesh: its particles (read_mesh)
 };
 
 /// A traction [Pa] on one face of a box body, carried by the body's outermost particle layer at that face.
