@@ -100,6 +100,16 @@ std::vector<std::pair<int, int>> pairs(const std::vector<int>& flat) {
   for (std::size_t k = 0; k + 1 < flat.size(); k += 2) out.emplace_back(flat[k], flat[k + 1]);
   return out;
 }
+/// The (dim, tag) pairs of dimension `dim` that one of the API's listing calls gives.
+template <class Listing>
+std::vector<std::pair<int, int>> dim_tags(Listing listing, int dim) {
+  int* tags = nullptr;
+  std::size_t n = 0;
+  int ierr = 0;
+  listing(&tags, &n, dim, &ierr);
+  check(ierr);
+  return pairs(take(tags, n));
+}
 }  // namespace
 
 GmshSession::GmshSession() {
@@ -129,21 +139,11 @@ void GmshSession::open(const std::string& file) const {
 }
 
 std::vector<std::pair<int, int>> GmshSession::entities(int dim) const {
-  int* tags = nullptr;
-  std::size_t n = 0;
-  int ierr = 0;
-  api().entities(&tags, &n, dim, &ierr);
-  check(ierr);
-  return pairs(take(tags, n));
+  return dim_tags(api().entities, dim);
 }
 
 std::vector<std::pair<int, int>> GmshSession::physical_groups(int dim) const {
-  int* tags = nullptr;
-  std::size_t n = 0;
-  int ierr = 0;
-  api().physical_groups(&tags, &n, dim, &ierr);
-  check(ierr);
-  return pairs(take(tags, n));
+  return dim_tags(api().physical_groups, dim);
 }
 
 std::string GmshSession::physical_name(int dim, int tag) const {
