@@ -28,7 +28,7 @@ with open(args[0], newline="") as f:
     rows = list(csv.DictReader(f))
 t = [float(r["time"]) for r in rows]
 fig, ax = plt.subplots(figsize=(6, 3.6))
-for key, label in (("kinetic_energy", "kinetic"), ("strain_energy", "strain"), ("total_energy", "total")):
+for key, label in (("kinetic_energy", "kinetic"), ("internal_energy", "strain"), ("total_energy", "total")):
     ax.plot(t, [float(r[key]) for r in rows], label=label)
 for (time, label), style in zip(marks, (":", "--", "-.")):
     ax.axvline(time, color="gray", linestyle=style, linewidth=1, label=label)

@@ -44,11 +44,11 @@ def disks(args):
             continue
         h = r.history()
         ax.plot(h["time"], h["kinetic_energy"], "--", label="kinetic")
-        ax.plot(h["time"], h["strain_energy"], ":", label="strain")
+        ax.plot(h["time"], h["internal_energy"], ":", label="strain")
         ax.plot(h["time"], h["total_energy"], "-", color="k", lw=1, label="total")
         energy[r.name] = (h["total_energy"][-1] / h["total_energy"][0], h["kinetic_energy"][-1] / h["total_energy"][0],
-                          h["strain_energy"].max() / h["total_energy"][0], h["time"][np.argmax(h["strain_energy"])],
-                          h["time"][np.argmax(h["strain_energy"] > 1e-3 * h["total_energy"][0])])
+                          h["internal_energy"].max() / h["total_energy"][0], h["time"][np.argmax(h["internal_energy"])],
+                          h["time"][np.argmax(h["internal_energy"] > 1e-3 * h["total_energy"][0])])
     axes[0, 0].legend(fontsize=7)
     for ax in axes[1]:
         ax.set_xlabel("time")
@@ -112,7 +112,7 @@ def disks(args):
     if cg.ok and cg_step.ok:
         per, paper_per = cg_step.imp("krylov_iterations") / cg_step.imp("newton_iterations"), 12524 / 428
         h = cg_step.history()
-        contact = h["strain_energy"][1:] > 1e-3 * h["total_energy"][0]
+        contact = h["internal_energy"][1:] > 1e-3 * h["total_energy"][0]
         iterating = np.diff(h["newton_iterations"]) > 0
         d.append(f"- At the paper's step as well ({cg_step.explicit_dt:.4g}, `simulation.cfl = {paper_cfl:.4f}`) the "
                  f"steps are the paper's ({cg_step.steps} against 6151) and so are the CG iterations per Newton "

@@ -180,13 +180,13 @@ void Simulation<Dim, Kernel>::remove_outflow() {
   for (bool f : grid_.geometry.outflow) faces = faces || f;
   if (!faces) return;
   // What leaves now, over every rank, summed exactly: the same bits whatever the division. Terms: mass,
-  // 1/2 m v^2, strain energy, m v.
+  // 1/2 m v^2, internal energy, m v.
   const ParticleSet<Dim>& p = particles_;
   std::vector<ExactSum> sums(3 + Dim);
   for (std::size_t i : gone) {
     sums[0].add(p.m[i]);
     sums[1].add(0.5 * p.m[i] * p.v[i].squaredNorm());
-    sums[2].add(strain_energy(i));
+    sums[2].add(internal_energy(i));
     for (int d = 0; d < Dim; ++d) sums[3 + d].add(p.m[i] * p.v[i][d]);
   }
   std::vector<std::int64_t> count{static_cast<std::int64_t>(gone.size())};
@@ -212,7 +212,7 @@ void Simulation<Dim, Kernel>::erase(const std::vector<std::size_t>& gone) {
 }
 
 template <int Dim, class Kernel>
-Real Simulation<Dim, Kernel>::strain_energy(std::size_t i) const {
+Real Simulation<Dim, Kernel>::internal_energy(std::size_t i) const {
   const ParticleSet<Dim>& p = particles_;
   const Material& m = spec_.materials[p.material[i]];
   return is_rate_form(m)

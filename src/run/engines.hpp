@@ -181,7 +181,7 @@ class Explicit final : public SimulationAdapter<Dim, SimulationSpec<Dim>, Simula
   Real friction_power() const override { return sim_.friction_power(); }
   /// Stored energy V0 W(F) of a Neo-Hookean particle (the potential of Wallstedt & Guilkey 2008, Eq. (54)),
   /// the internal energy of a rate-form one (Sulsky & Kaul 2004, Eq. (2.2.16)).
-  Real strain_energy(std::size_t i) const override { return sim_.strain_energy(i); }
+  Real internal_energy(std::size_t i) const override { return sim_.internal_energy(i); }
   /// Each tile's particles in id order: the same bits for any division (Simulation::for_each_sum_run).
   void for_each_sum_run(const std::function<void(std::size_t, std::size_t)>& visit) const override {
     sim_.for_each_sum_run(visit);
@@ -296,7 +296,7 @@ class Implicit final : public SimulationAdapter<Dim, ImplicitSpec<Dim>, Implicit
   Real friction_power() const override { return 0; }
   /// Internal energy e_p (Sulsky & Kaul 2004, Eq. (2.2.16)): stored plus dissipated; a Neo-Hookean particle's
   /// is its stored energy V0 W(F).
-  Real strain_energy(std::size_t i) const override { return sim_.state().energy[i]; }
+  Real internal_energy(std::size_t i) const override { return sim_.state().energy[i]; }
   /// The particles (one process) in storage order, one run.
   void for_each_sum_run(const std::function<void(std::size_t, std::size_t)>& visit) const override {
     visit(0, sim_.particles().size());

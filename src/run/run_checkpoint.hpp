@@ -32,7 +32,7 @@ void save_outflow(const Outflow<Dim>& out, io::CheckpointData& c) {
   c.integer_scalars["outflow_particles"] = out.particles;
   c.real_scalars["outflow_mass"] = out.mass;
   c.real_scalars["outflow_kinetic_energy"] = out.kinetic_energy;
-  c.real_scalars["outflow_strain_energy"] = out.strain_energy;
+  c.real_scalars["outflow_internal_energy"] = out.internal_energy;
   c.reals["outflow_momentum"] = std::vector<double>(out.momentum.data(), out.momentum.data() + Dim);
 }
 template <int Dim>
@@ -43,7 +43,12 @@ Outflow<Dim> load_outflow(const io::CheckpointData& c, const std::string& where)
   out.particles = gone->second;
   out.mass = scene_engines::entry(c.real_scalars, "outflow_mass", where);
   out.kinetic_energy = scene_engines::entry(c.real_scalars, "outflow_kinetic_energy", where);
-  out.strain_energy = scene_engines::entry(c.real_scalars, "outflow_strain_energy", where);
+  // Checkpoints written before the history column's name changed hold it as outflow_strain_energy.
+  out.internal_energy =
+      scene_engines::entry(c.real_scalars,
+                           c.real_scalars.contains("outflow_internal_energy") ? "outflow_internal_energy"
+                                                                              : "outflow_strain_energy",
+                           where);
   const std::vector<double>& momentum = scene_engines::entry(c.reals, "outflow_momentum", where);
   if (momentum.size() != Dim) throw InputError(where + ": array 'outflow_momentum' has the wrong size");
   std::copy(momentum.begin(), momentum.end(), out.momentum.data());

@@ -27,7 +27,7 @@ inline bool has_outflow(const Scene& sc) {
 template <int Dim>
 std::string history_header(const Scene& sc, const SceneEngine<Dim>& engine) {
   static constexpr const char* axis[] = {"x", "y", "z"};
-  std::string h = "step,time,kinetic_energy,strain_energy,total_energy,external_work";
+  std::string h = "step,time,kinetic_energy,internal_energy,total_energy,external_work";
   for (int d = 0; d < Dim; ++d) h += std::string(",momentum_") + axis[d];
   for (const std::string& name : engine.reaction_names())
     for (int d = 0; d < Dim; ++d) h += ",reaction_" + name + "_" + axis[d];

@@ -64,9 +64,10 @@ class SceneEngine {
   }
 
   // Energies and work.
-  /// Particle i's strain energy [J]: stored V0 W(F) of a hyperelastic one, internal energy of a rate-form one
-  /// (Sulsky & Kaul 2004, Eq. (2.2.16)).
-  virtual Real strain_energy(std::size_t i) const = 0;
+  /// Particle i's internal energy [J]: the stored V0 W(F) of a hyperelastic one (which dissipates nothing),
+  /// the accumulated stress work of a rate-form one, stored plus dissipated:
+  /// Sulsky & Kaul 2004, Eq. (2.2.16).
+  virtual Real internal_energy(std::size_t i) const = 0;
   /// Whether load_power reads the particles' velocities from before the step.
   virtual bool needs_velocities_before() const = 0;
   /// The power of gravity and the body forces over the last step [W].

@@ -217,7 +217,7 @@ class SceneRun {
     const std::array<Real, Dim + 2> sums = engine_->template particle_sum<Dim + 2>([&](std::size_t i) {
       std::array<Real, Dim + 2> v;
       v[0] = 0.5 * p.m[i] * p.v[i].squaredNorm();
-      v[1] = engine_->strain_energy(i);
+      v[1] = engine_->internal_energy(i);
       for (int d = 0; d < Dim; ++d) v[2 + d] = p.m[i] * p.v[i][d];
       return v;
     });
@@ -278,7 +278,7 @@ class SceneRun {
     if (has_friction(sc_)) history << ',' << acc_.friction_dissipation;
     if (has_outflow(sc_)) {
       const Outflow<Dim>& out = engine_->outflow();
-      history << ',' << out.mass << ',' << out.kinetic_energy + out.strain_energy;
+      history << ',' << out.mass << ',' << out.kinetic_energy + out.internal_energy;
       for (int d = 0; d < Dim; ++d) history << ',' << out.momentum[d];
     }
     files_.history().end_row();
@@ -361,7 +361,7 @@ class SceneRun {
                       {"mass", out.mass},
                       {"momentum", std::vector<double>(out.momentum.data(), out.momentum.data() + Dim)},
                       {"kinetic_energy", out.kinetic_energy},
-                      {"strain_energy", out.strain_energy}};
+                      {"internal_energy", out.internal_energy}};
     }
     io::write_file_atomically(o_.out_dir / "summary.json", j.dump(2) + '\n');
   }

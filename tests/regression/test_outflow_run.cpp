@@ -58,7 +58,7 @@ TEST_P(OutflowRun, HistoryCountsWhatLeftAndTheMomentumBalanceCloses) {
   const nlohmann::json s = nlohmann::json::parse(slurp(dir / "one/summary.json"));
   EXPECT_EQ(s["particles"].get<int>() + s["outflow"]["particles"].get<int>(), 128);
   EXPECT_EQ(s["outflow"]["mass"].get<double>(), h["outflow_mass"].back());
-  EXPECT_GT(s["outflow"]["strain_energy"].get<double>(), 0);
+  EXPECT_GT(s["outflow"]["internal_energy"].get<double>(), 0);
   // The particles that stay keep the ids they were seeded with (0 to 127, in order): the last frame lists the
   // remaining ids ascending, and with them the seeded reference positions (x - displacement).
   const std::vector<double> id = mpm::testing::vtp_array(dir / "one/particles_0004.vtp", "id");
@@ -118,7 +118,7 @@ TEST(OutflowCheckpoint, AnOlderCheckpointWithoutOutflowEntriesRestarts) {
       << slurp(dir / "log");
   mpm::io::CheckpointData c = mpm::io::read_checkpoint(two / "checkpoint.h5");
   ASSERT_EQ(c.integer_scalars.erase("outflow_particles"), 1u);
-  for (const char* k : {"outflow_mass", "outflow_kinetic_energy", "outflow_strain_energy"})
+  for (const char* k : {"outflow_mass", "outflow_kinetic_energy", "outflow_internal_energy"})
     c.real_scalars.erase(k);
   c.reals.erase("outflow_momentum");
   mpm::io::write_checkpoint(two / "checkpoint.h5", c);

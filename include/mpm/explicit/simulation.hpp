@@ -54,7 +54,7 @@ class Simulation {
   void adopt_particles();
   /// Stored energy of particle i: V0 W(F) of a Neo-Hookean particle (Wallstedt & Guilkey 2008, Eq. (54)), the
   /// internal energy of a rate-form one (Sulsky & Kaul 2004, Eq. (2.2.16)) [J].
-  Real strain_energy(std::size_t i) const;
+  Real internal_energy(std::size_t i) const;
   /// Step until time t_end is reached (the last step is shortened to land on t_end).
   void run_until(Real t_end);
 

@@ -15,25 +15,25 @@ namespace mpm {
 template <int Dim>
 struct Outflow {
   std::int64_t particles = 0;
-  Real mass = 0;                               ///< [kg]
-  Vec<Dim> momentum = Vec<Dim>::Zero();        ///< [kg m/s]
-  Real kinetic_energy = 0, strain_energy = 0;  ///< 1/2 m v^2 and the engine's strain (internal) energy [J]
+  Real mass = 0;                                 ///< [kg]
+  Vec<Dim> momentum = Vec<Dim>::Zero();          ///< [kg m/s]
+  Real kinetic_energy = 0, internal_energy = 0;  ///< 1/2 m v^2 and the engine's internal energy [J]
 
-  /// Count particle i of p, whose strain (internal) energy is `strain`, as gone.
-  void add(const ParticleSet<Dim>& p, std::size_t i, Real strain) {
+  /// Count particle i of p, whose internal energy is `internal`, as gone.
+  void add(const ParticleSet<Dim>& p, std::size_t i, Real internal) {
     ++particles;
     mass += p.m[i];
     momentum += p.m[i] * p.v[i];
     kinetic_energy += 0.5 * p.m[i] * p.v[i].squaredNorm();
-    strain_energy += strain;
+    internal_energy += internal;
   }
   /// Count the particles of one removal, their sums given (over every rank, summed exactly).
-  void add_sums(std::int64_t count, Real m, const Vec<Dim>& mv, Real kinetic, Real strain) {
+  void add_sums(std::int64_t count, Real m, const Vec<Dim>& mv, Real kinetic, Real internal) {
     particles += count;
     mass += m;
     momentum += mv;
     kinetic_energy += kinetic;
-    strain_energy += strain;
+    internal_energy += internal;
   }
 };
 
