@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "mpm/geometry/surface_normal.hpp"
 #include "mpm/particles/generate.hpp"
 
 namespace mpm {
@@ -179,6 +180,9 @@ OutwardNormalFn<Dim> outward_normal_of(const SceneShape& shape) {
         return [polygon = shape.polygon](const Vec<2>& x) { return polygon.outward_normal(x); };
       break;
     case SceneShape::Shape::surface:
+      if constexpr (Dim == 3)
+        return [normal = SurfaceNormal(shape.surface)](const Vec<3>& x) mutable { return normal(x); };
+      break;
     case SceneShape::Shape::file:
     case SceneShape::Shape::mesh:
       break;

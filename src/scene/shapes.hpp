@@ -31,8 +31,8 @@ void fill_combined(const Scene& sc, const SceneBody& b, Real density, std::uint1
                    ParticleSet<Dim>& p);
 
 /// The outward unit normal of a lattice shape's surface at the point nearest x (the gradient of its signed
-/// distance; on the surface, the face's normal): boxes, disks, spheres, rings and polygons; empty for a
-/// triangulated surface, whose rigid bodies take their normals from their points.
+/// distance; on the surface, the face's normal): boxes, disks, spheres, rings, polygons and triangulated
+/// surfaces (SurfaceNormal, which keeps state between calls: one caller at a time).
 template <int Dim>
 OutwardNormalFn<Dim> outward_normal_of(const SceneShape& shape);
 

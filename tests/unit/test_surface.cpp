@@ -9,11 +9,13 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <string>
 
 #include "mpm/core/errors.hpp"
 #include "mpm/geometry/surface.hpp"
+#include "mpm/geometry/surface_normal.hpp"
 #include "mpm/scene/build.hpp"
 #include "mpm/scene/scene.hpp"
 
@@ -175,6 +177,49 @@ TEST(SurfaceGeometry, LinesThroughEdgesAndVerticesCrossOnce) {
   const auto defect = closure_defect(holed);
   ASSERT_TRUE(defect);
   EXPECT_NE(defect->find("belongs to 1 triangle"), std::string::npos) << *defect;
+}
+
+TEST(SurfaceGeometry, OutwardNormalIsTheSignedDistancesGradient) {
+  // The unit cube, some triangles turned the other way round: off a face its normal (outside and inside),
+  // off an edge or a corner the unit vector from it, on a face the face's normal turned outward.
+  TriangleSurface cube = unit_cube();
+  for (std::size_t k = 0; k < cube.faces.size(); k += 3) std::swap(cube.faces[k][0], cube.faces[k][1]);
+  SurfaceNormal normal(cube);
+  const Real r2 = std::sqrt(0.5), r3 = std::sqrt(1.0 / 3);
+  struct Case {
+    Vec<3> x, n;
+  };
+  for (const Case& c :
+       {Case{{0.5, 0.4, 1.3}, {0, 0, 1}}, Case{{0.5, 0.4, 0.9}, {0, 0, 1}}, Case{{0.5, 0.4, 1.0}, {0, 0, 1}},
+        Case{{0.3, -0.2, 0.6}, {0, -1, 0}}, Case{{0.1, 0.45, 0.5}, {-1, 0, 0}},
+        Case{{1.2, 0.5, 1.2}, {r2, 0, r2}}, Case{{-0.5, -0.5, -0.5}, {-r3, -r3, -r3}},
+        Case{{0.2, 0.3, 0.35}, {-1, 0, 0}}, Case{{0.5, 1.0, 0.5}, {0, 1, 0}}}) {
+    const Vec<3> n = normal(c.x);
+    EXPECT_NEAR((n - c.n).norm(), 0, 1e-15) << c.x.transpose() << ": " << n.transpose();
+  }
+  // A ball of 1280 triangles: the normal off it is radial to within its facets' tilt, the nearest found
+  // among the buckets being the nearest of all.
+  const TriangleSurface ball = icosphere(Vec<3>(1, 2, 3), 0.5, 3);
+  SurfaceNormal radial(ball);
+  for (const Vec<3>& x :
+       {Vec<3>(1.7, 2.1, 3.2), Vec<3>(1.1, 2.0, 2.9), Vec<3>(0.2, 1.5, 3.6), Vec<3>(1, 2, 3.45)}) {
+    const Vec<3> n = radial(x);
+    const auto distance = [&](const Vec<3>& p) {  // to the surface, over every triangle
+      Real d = std::numeric_limits<Real>::infinity();
+      for (const auto& f : ball.faces)
+        d = std::min(
+            d, (p - closest_on_triangle(p, ball.vertices[f[0]], ball.vertices[f[1]], ball.vertices[f[2]]))
+                   .norm());
+      return d;
+    };
+    const bool in = (x - Vec<3>(1, 2, 3)).norm() < 0.5;
+    EXPECT_NEAR(n.norm(), 1, 1e-14) << x.transpose();
+    EXPECT_GT(n.dot((x - Vec<3>(1, 2, 3)).normalized()), 0.99) << x.transpose() << (in ? " inside" : "");
+    // Stepping the nearest distance (found over every triangle) from x against the normal outside, along it
+    // inside, lands on the surface.
+    const Real d = distance(x);
+    EXPECT_LT(distance(x - (in ? -d : d) * n), 1e-12) << x.transpose();
+  }
 }
 
 TEST(SurfaceGeometry, WeldMergesEqualVertices) {
