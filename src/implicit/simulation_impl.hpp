@@ -1,6 +1,7 @@
 #pragma once
 // Implementation of ImplicitSimulation<Dim, Kernel>; included by the per-dimension instantiation files.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -14,6 +15,7 @@
 #include "mpm/materials/material_step.hpp"
 #include "mpm/particles/stable_step.hpp"
 #include "mpm/particles/validate.hpp"
+#include "mpm/transfer/particle_update.hpp"
 #include "projection_impl.hpp"
 #include "residual_impl.hpp"
 #include "tangent_impl.hpp"
@@ -256,7 +258,6 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
   const bool with_momentum = momentum && !moves_with_projected_velocity(spec_);
   const bool axisymmetric = Dim == 2 && spec_.geometry == Geometry::axisymmetric;
   trial_.x.resize(p.size());
-  if (!momentum) trial_.v.resize(p.size());
   gather_over_active_nodes([&](const GridNode<Dim>& node,
                                std::size_t n) { return with_momentum ? momentum_velocity_[n] : node.v_new; },
                            v_move_);
@@ -283,66 +284,83 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
     });
     g2p_affine(stencils(), grid_, &GridNode<Dim>::a, pic_velocity_, affine_);
   }
-  parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
-    // Sulsky & Kaul 2004, Eq. (2.3.2), or Eq. (3.2.5); a centre carried past a wall stays on it. A CPDI2
-    // particle goes to its corners' centroid, and its corners with it through a wrap or onto a wall.
-    if constexpr (moves_corners<Kernel>) {
-      Real corners[Kernel::corners][Dim], near[Dim], centroid[Dim];
-      for (int c = 0; c < Kernel::corners; ++c)
-        for (int d = 0; d < Dim; ++d) corners[c][d] = trial_.corners[i](d, c);
-      for (int d = 0; d < Dim; ++d) near[d] = p.x[i][d];
-      const bool unfolded = corner_centroid<Dim>(corners, near, centroid);
-      const Vec<Dim> x_c = Eigen::Map<const Vec<Dim>>(centroid);
-      trial_.x[i] = grid_.geometry.onto_walls(grid_.geometry.wrap(x_c));
-      trial_.corners[i].colwise() += trial_.x[i] - x_c;
-      if (!unfolded) trial_.x[i].setConstant(std::numeric_limits<Real>::quiet_NaN());  // refused below
-    } else {
-      trial_.x[i] = grid_.geometry.onto_walls(grid_.geometry.wrap(p.x[i] + dt * v_move_[i]));
+  // The velocity gradient of the solution by entry (Mat is column-major: entry (a, c) is Real a + c Dim).
+  const auto gradient = [](const RecordLanes<Mat<Dim>>& L) {
+    return [&L](int a, int c) -> const RealLanes& { return L[a + c * Dim]; };
+  };
+  // Sulsky & Kaul 2004, Eq. (2.3.2), or Eq. (3.2.5), kept to the grid; a CPDI2 particle goes to its corners'
+  // centroid, and its corners with it through a wrap or onto a wall (transfer/particle_update.hpp, as the
+  // explicit pass). The new positions and half-lengths are checked before anything changes, so a failure
+  // leaves the last good state.
+  const PositionBounds<Dim> bounds(grid_.geometry);
+  const bool deformed_half_lengths = p.half_lengths == HalfLengths::deformed;
+  const Real max_half_length = mpm::max_half_length(spec_.kernel) * grid_.geometry.h;
+  std::atomic<std::int64_t> moved_out{ParticleFault::none}, outgrown{ParticleFault::none};
+  const std::ptrdiff_t blocks = LaneBlock::count(p.size());
+  parallel_for(blocks, [&](std::ptrdiff_t b) {
+    const LaneBlock block(b, static_cast<std::ptrdiff_t>(p.size()));
+    RecordLanes<Vec<Dim>> x = block.load(p.x);
+    [[maybe_unused]] RecordLanes<Corners<Dim>> corners;
+    if constexpr (moves_corners<Kernel>) corners = block.load(trial_.corners);  // moved by g2p_corners
+    note_first_fault(moved_out, block,
+                     move_positions<Dim, Kernel>(bounds, x, block.load(v_move_), dt, corners));
+    block.store(trial_.x, x);
+    if constexpr (moves_corners<Kernel>) block.store(trial_.corners, corners);
+    if (deformed_half_lengths) {  // the half-lengths l_p0 diag(F) the GIMP stencil holds
+      RecordLanes<Mat<Dim>> F_new;
+      RealLanes F[Dim][Dim];
+      const RecordLanes<Mat<Dim>> L = block.load(trial_.grad_v);
+      deform<Dim>(gradient(L), dt, block.load(p.F), F, F_new);
+      note_first_fault(outgrown, block, half_lengths_fit<Dim>(block.load(p.l0), F, max_half_length));
     }
-    if (!momentum) trial_.v[i] = p.v[i] + dv_[i];  // Sulsky & Kaul 2004, Eq. (2.3.3); else Eq. (3.2.6)
   });
-  const auto fail = [&](std::size_t i, const std::string& cause) {
+  if (const std::int64_t i = std::min(moved_out.load(), outgrown.load()); i != ParticleFault::none) {
     std::ostringstream os;
     os.precision(9);
-    os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << i << " " << cause;
+    os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << p.id[i] << " ";
+    if (i == moved_out && moves_corners<Kernel> &&
+        (grid_.geometry.contains(trial_.x[i]) || grid_.geometry.beyond_outflow(trial_.x[i])))
+      os << "would fold its CPDI2 domain (the Jacobian of its corners' map <= 0 at a corner)";
+    else if (i == moved_out)
+      os << "would leave the grid";
+    else
+      os << "would take its cpGIMP half-lengths "
+         << format_point<Dim>(
+                p.l0[i].cwiseProduct(((Mat<Dim>::Identity() + dt * trial_.grad_v[i]) * p.F[i]).diagonal()))
+         << " out of " << outgrown_half_length_bound(spec_.kernel);
     throw SimulationFailure(os.str());
-  };
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if constexpr (moves_corners<Kernel>)
-      if (!trial_.x[i].allFinite())
-        fail(i, "would fold its CPDI2 domain (the Jacobian of its corners' map <= 0 at a corner)");
-    if (!grid_.geometry.contains(trial_.x[i]) && !grid_.geometry.beyond_outflow(trial_.x[i]))
-      fail(i, "would leave the grid");
-    if (p.half_lengths == HalfLengths::deformed) {  // the half-lengths l_p0 diag(F) the GIMP stencil holds
-      const Mat<Dim> F = (Mat<Dim>::Identity() + dt * trial_.grad_v[i]) * p.F[i];
-      for (int d = 0; d < Dim; ++d)
-        if (!(p.l0[i][d] * F(d, d) > 0 &&
-              p.l0[i][d] * F(d, d) <= max_half_length(spec_.kernel) * grid_.geometry.h))
-          fail(i, "would take its cpGIMP half-length " + std::to_string(p.l0[i][d] * F(d, d)) + " out of " +
-                      outgrown_half_length_bound(spec_.kernel));
-    }
   }
-  parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
-    p.x[i] = trial_.x[i];
-    if constexpr (moves_corners<Kernel>) p.corners[i] = trial_.corners[i];
-    p.v[i] = apic    ? pic_velocity_[i]
-             : blend ? Vec<Dim>(spec_.flip_fraction * trial_.v[i] + (1 - spec_.flip_fraction) * pic[i])
-                     : trial_.v[i];
-    if (apic) p.B[i] = affine_[i];
-    p.F[i] = (Mat<Dim>::Identity() + dt * trial_.grad_v[i]) * p.F[i];
-    // The hoop stretch is r / R exactly; the plane-stress thickness stretch accumulates 1 + de_zz.
-    particles_.state.stretch3[i] = axisymmetric ? p.x[i][0] / p.X[i][0] : trial_.stretch3[i];
-    // V = V0 det F: Sulsky & Kaul 2004, Eq. (2.3.4), rho^L = rho^k / (1 + tr de), in the exact form det(I +
-    // de) of which 1 + tr de is the first order.
-    p.V[i] = p.V0[i] * p.F[i].determinant() * particles_.state.stretch3[i];
-    particles_.state.sigma[i] = trial_.sigma[i];
-    particles_.state.eps_bar[i] = trial_.eps_bar[i];
-    if (particles_.state.keeps_internal) particles_.state.internal[i] = trial_.internal[i];
-    particles_.state.energy[i] += trial_.energy[i];
-    const auto* law = std::get_if<ElastoPlastic>(&spec_.materials[p.material[i]]);
-    if (law && law->specific_heat > 0)
-      particles_.state.temperature[i] +=
-          trial_.work[i] / (p.m[i] * law->specific_heat);  // Sulsky & Kaul 2004, Eq. (2.3.5)
+  parallel_for(blocks, [&](std::ptrdiff_t b) {
+    const LaneBlock block(b, static_cast<std::ptrdiff_t>(p.size()));
+    RecordLanes<Mat<Dim>> F_new;
+    RealLanes F[Dim][Dim];
+    const RecordLanes<Mat<Dim>> L = block.load(trial_.grad_v);
+    const RealLanes J = deform<Dim>(gradient(L), dt, block.load(p.F), F, F_new);
+    block.store(p.F, F_new);
+    for (int k = 0; k < block.active; ++k) {
+      const std::ptrdiff_t i = block.first + k;
+      p.x[i] = trial_.x[i];
+      if constexpr (moves_corners<Kernel>) p.corners[i] = trial_.corners[i];
+      // Sulsky & Kaul 2004, Eq. (2.3.3); else Eq. (3.2.6)
+      const Vec<Dim> v_new = momentum ? trial_.v[i] : Vec<Dim>(p.v[i] + dv_[i]);
+      p.v[i] = apic    ? pic_velocity_[i]
+               : blend ? Vec<Dim>(spec_.flip_fraction * v_new + (1 - spec_.flip_fraction) * pic[i])
+                       : v_new;
+      if (apic) p.B[i] = affine_[i];
+      // The hoop stretch is r / R exactly; the plane-stress thickness stretch accumulates 1 + de_zz.
+      particles_.state.stretch3[i] = axisymmetric ? p.x[i][0] / p.X[i][0] : trial_.stretch3[i];
+      // V = V0 det F: Sulsky & Kaul 2004, Eq. (2.3.4), rho^L = rho^k / (1 + tr de), in the exact form det(I
+      // + de) of which 1 + tr de is the first order.
+      p.V[i] = p.V0[i] * J[k] * particles_.state.stretch3[i];
+      particles_.state.sigma[i] = trial_.sigma[i];
+      particles_.state.eps_bar[i] = trial_.eps_bar[i];
+      if (particles_.state.keeps_internal) particles_.state.internal[i] = trial_.internal[i];
+      particles_.state.energy[i] += trial_.energy[i];
+      const auto* law = std::get_if<ElastoPlastic>(&spec_.materials[p.material[i]]);
+      if (law && law->specific_heat > 0)
+        particles_.state.temperature[i] +=
+            trial_.work[i] / (p.m[i] * law->specific_heat);  // Sulsky & Kaul 2004, Eq. (2.3.5)
+    }
   });
   rigid_.advance(time_, dt);
 }

@@ -15,6 +15,7 @@
 #include "mpm/shape/stencil.hpp"
 #include "mpm/transfer/g2p_stress.hpp"
 #include "mpm/transfer/lanes.hpp"
+#include "mpm/transfer/particle_update.hpp"
 #include "mpm/transfer/passes.hpp"
 
 namespace mpm {
@@ -181,22 +182,11 @@ ParticleFault g2p(ParticleSet<Dim>& p, const ParticleStencils<Dim, Kernel>& sten
   const GridGeometry<Dim>& geo = grid.geometry;
   const NodeLayout<Dim> layout(geo);
   std::atomic<std::int64_t> first_fault{ParticleFault::none};
-  // Periodic axes, as locals: the wrap below costs a register test on grids without one.
-  bool wraps = false;
-  Vec<Dim> period = Vec<Dim>::Zero();
-  for (int c = 0; c < Dim; ++c)
-    if (geo.periodic[c]) wraps = true, period[c] = geo.h * geo.cells[c];
-  // The bounds a particle may not cross (none beyond an outflow face), and whether the stencils of the next
-  // step are located at positions clamped to the grid: a particle beyond an outflow face is removed after the
-  // step.
+  const PositionBounds<Dim> bounds(geo);
+  // Whether the stencils of the next step are located at positions clamped to the grid: a particle beyond an
+  // outflow face is removed after the step.
   bool clamps = false;
-  Vec<Dim> lo_bound, hi_bound;
-  for (int c = 0; c < Dim; ++c) {
-    const Real inf = std::numeric_limits<Real>::infinity();
-    lo_bound[c] = geo.outflow[2 * c] ? -inf : geo.lo[c];
-    hi_bound[c] = geo.outflow[2 * c + 1] ? inf : geo.lo[c] + geo.h * geo.cells[c];
-    clamps = clamps || geo.outflow[2 * c] || geo.outflow[2 * c + 1];
-  }
+  for (int c = 0; c < Dim; ++c) clamps = clamps || geo.outflow[2 * c] || geo.outflow[2 * c + 1];
   constexpr Sums sums{
       .acceleration = what.velocity, .velocity = interpolate_velocity, .gradient = what.deformation};
   g2p_gather<sums>(
@@ -222,72 +212,29 @@ ParticleFault g2p(ParticleSet<Dim>& p, const ParticleStencils<Dim, Kernel>& sten
           if constexpr (what.position) {
             x = block.load(p.x);
             [[maybe_unused]] RecordLanes<Corners<Dim>> corners;
-            [[maybe_unused]] RealLanes centroid[Dim];
-            if constexpr (moves_corners<Kernel>) {  // CPDI2: at the centroid of its corners, which
-                                                    // g2p_corners moved
-              corners = block.load(p.corners);
-              RealLanes xc[Kernel::corners][Dim], near[Dim];
-              for (int c = 0; c < Kernel::corners; ++c)
-                for (int d = 0; d < Dim; ++d) xc[c][d] = corners[d + c * Dim];
-              for (int d = 0; d < Dim; ++d) near[d] = x[d];
-              ok &= corner_centroid<Dim>(xc, near, centroid);
-              for (int d = 0; d < Dim; ++d) x[d] = centroid[d];
-            } else {
-              for (int c = 0; c < Dim; ++c) x[c] += dt * v_p[c];
-            }
-            for (int c = 0; c < Dim; ++c) {
-              if (wraps && period[c] > 0) {  // out through one face of a periodic pair, in through the other
-                x[c] = x[c] >= geo.lo[c] + period[c] ? x[c] - period[c] : x[c];
-                x[c] = x[c] < geo.lo[c] ? x[c] + period[c] : x[c];
-              }
-              if (geo.walls[2 * c]) {  // back onto a wall's plane
-                const RealLanes lo = simd::broadcast(lo_bound[c]);
-                x[c] = x[c] < lo ? lo : x[c];
-              }
-              if (geo.walls[2 * c + 1]) {
-                const RealLanes hi = simd::broadcast(hi_bound[c]);
-                x[c] = x[c] > hi ? hi : x[c];
-              }
-              ok &= (x[c] >= lo_bound[c]) & (x[c] <= hi_bound[c]) & (v[c] - v[c] == 0);
-            }
+            if constexpr (moves_corners<Kernel>) corners = block.load(p.corners);  // g2p_corners moved them
+            ok &= move_positions<Dim, Kernel>(bounds, x, v_p, dt, corners);
+            for (int c = 0; c < Dim; ++c) ok &= v[c] - v[c] == 0;
             block.store(p.x, x);
-            if constexpr (moves_corners<Kernel>) {  // the corners go where a wrap or a wall took the centroid
-              for (int c = 0; c < Kernel::corners; ++c)
-                for (int d = 0; d < Dim; ++d) corners[d + c * Dim] += x[d] - centroid[d];
-              block.store(p.corners, corners);
-            }
+            if constexpr (moves_corners<Kernel>) block.store(p.corners, corners);
           }
         }
         if constexpr (what.deformation) {
           // Wallstedt & Guilkey 2008, Eq. (11), Eq. (12), Eq. (13): F^{n+1} = (I + grad v dt) F^n, V = V^0
-          // det F, sigma = sigma(F). Mat is column-major: entry (a, c) is Real a + c Dim.
-          const RecordLanes<Mat<Dim>> F_old = block.load(p.F);
+          // det F, sigma = sigma(F).
           RecordLanes<Mat<Dim>> F_new;
           RealLanes F[Dim][Dim];
-          for (int a = 0; a < Dim; ++a)
-            for (int c = 0; c < Dim; ++c) {
-              F[a][c] = ((a == 0 ? 1 : 0) + dt * grad_v[a][0]) * F_old[c * Dim];
-              for (int e = 1; e < Dim; ++e)
-                F[a][c] += ((a == e ? 1 : 0) + dt * grad_v[a][e]) * F_old[e + c * Dim];
-              F_new[a + c * Dim] = F[a][c];
-            }
+          const RealLanes J = deform<Dim>([&](int a, int c) -> const RealLanes& { return grad_v[a][c]; }, dt,
+                                          block.load(p.F), F, F_new);
           block.store(p.F, F_new);
-          const RealLanes J = simd::determinant(F);
           block.store(p.V, {block.load(p.V0)[0] * J});
           const simd::MaskLanes valid = (J > 0) & (J - J == 0);
           ok &= valid;
           // A lane with an invalid J keeps its stress (the run stops).
           ok &= stress(block, p, F, J, valid, grad_v, v_p[0], r_start);
-          if constexpr (weighs_half_lengths<Kernel>) {  // cpGIMP: Wallstedt & Guilkey 2008, Eq. (63)
-            if (p.half_lengths ==
-                HalfLengths::deformed) {  // the half-lengths F gives must fit the GIMP stencil
-              const RecordLanes<Vec<Dim>> l0 = block.load(p.l0);
-              for (int d = 0; d < Dim; ++d) {
-                const RealLanes l = l0[d] * F[d][d];
-                ok &= (l > 0) & (l <= Kernel::max_half_length * geo.h);
-              }
-            }
-          }
+          if constexpr (weighs_half_lengths<Kernel>)  // cpGIMP: the half-lengths F gives must fit the stencil
+            if (p.half_lengths == HalfLengths::deformed)
+              ok &= half_lengths_fit<Dim>(block.load(p.l0), F, Kernel::max_half_length * geo.h);
         }
         if constexpr (what.position)
           if (next) {
@@ -300,12 +247,7 @@ ParticleFault g2p(ParticleSet<Dim>& p, const ParticleStencils<Dim, Kernel>& sten
               }
             next->store(block, locate_block<Dim, Kernel>(geo, layout, x, load_domain<Dim, Kernel>(block, p)));
           }
-        std::int64_t fault = ParticleFault::none;
-        for (int k = block.active - 1; k >= 0; --k)
-          if (!ok[k]) fault = block.index[k];
-        std::int64_t cur = first_fault.load(std::memory_order_relaxed);
-        while (fault < cur && !first_fault.compare_exchange_weak(cur, fault)) {
-        }
+        note_first_fault(first_fault, block, ok);
       });
   return ParticleFault{first_fault.load()};
 }
