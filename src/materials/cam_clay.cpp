@@ -13,7 +13,11 @@ namespace mpm {
 using detail::bad_input;
 using detail::number;
 
-InternalState ModifiedCamClay::initial_state(const SymTensor<3>& sigma) const {
+InternalState ModifiedCamClay::initial_state(const SymTensor<3>& sigma, const InternalState& given) const {
+  const bool from_file = !std::isnan(given[0]);
+  const Real pc = from_file ? given[0] : pc0;
+  if (from_file && !(std::isfinite(pc) && pc > 0))
+    throw InputError("preconsolidation_pressure: expected a positive pressure [Pa], got " + number(pc));
   const Eigen::Matrix3d s = sigma.full();
   const Real p = 0.0 - s.trace() / 3, q = von_mises(s);  // 0 - 0 = +0 (a stress-free particle reads "p' = 0")
   if (!(p > 0))
@@ -21,11 +25,11 @@ InternalState ModifiedCamClay::initial_state(const SymTensor<3>& sigma) const {
         "a particle of this modified-cam-clay material starts at mean effective stress p' = " + number(p) +
         " Pa; the model has no strength without confinement: start the body in compression "
         "(k0 under gravity)");
-  if (q * q / (M * M) + p * (p - pc0) > 1e-12 * pc0 * pc0)  // Roscoe & Burland 1968: f <= 0
+  if (q * q / (M * M) + p * (p - pc) > 1e-12 * pc * pc)  // Roscoe & Burland 1968: f <= 0
     throw InputError("a particle of this modified-cam-clay material starts outside its yield surface (p' = " +
-                     number(p) + " Pa, q = " + number(q) + " Pa, preconsolidation_pressure " + number(pc0) +
-                     " Pa): raise preconsolidation_pressure");
-  return {pc0};
+                     number(p) + " Pa, q = " + number(q) + " Pa, preconsolidation_pressure " + number(pc) +
+                     " Pa): raise preconsolidation_pressure" + (from_file ? " in the particle file" : ""));
+  return {pc};
 }
 
 void validate(const ModifiedCamClay& m, const std::string& where, Geometry geometry) {

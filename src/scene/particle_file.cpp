@@ -76,15 +76,12 @@ std::vector<ParticleColumn> particle_file_columns(const std::filesystem::path& f
   known.push_back({"material", {Role::material, 0}});
   for (int k = 0; k < 6; ++k) known.push_back({stress_names[k], {Role::stress, k}});
   known.push_back({"plastic_strain", {Role::plastic_strain, 0}});
+  for (const DeclaredColumn& c : declared_columns(materials))
+    known.push_back({c.name, {Role::internal, static_cast<int>(c.column)}});
   const std::string at = file.string() + ":1: ";
   std::vector<ParticleColumn> out;
   std::vector<std::string> seen;
   for (const std::string& name : names) {
-    for (const DeclaredColumn& c : declared_columns(materials))
-      if (c.name == name)
-        throw InputError(at + "column " + in_quotes(name) +
-                         ": a law's internal variables start from the particle's stress; a file cannot give "
-                         "them");
     const auto it = std::find_if(known.begin(), known.end(), [&](const auto& k) { return k.first == name; });
     if (it == known.end()) {
       std::string expected;
@@ -107,6 +104,7 @@ template <int Dim>
 void read_particle_rows(const Scene& sc, const SceneBody& b, const std::string& key, ParticleSet<Dim>& p) {
   const std::vector<ParticleColumn> columns = particle_file_columns(b.file, Dim, material_laws(sc));
   const bool stressed = has_column(columns, Role::stress) || has_column(columns, Role::plastic_strain);
+  const std::vector<DeclaredColumn> declared = declared_columns(material_laws(sc));
   Lines lines(b.file);
   const bool plain = columns.size() == Dim + 1;  // positions and volumes only
   const auto plain_error = [&](const std::string& where) {
@@ -130,6 +128,7 @@ void read_particle_rows(const Scene& sc, const SceneBody& b, const std::string& 
     Vec<Dim> x = Vec<Dim>::Zero(), v = Vec<Dim>::Zero();
     SymTensor<3> sigma;
     Real V = 0, eps_bar = 0;
+    InternalState internal = unset_internal_state;
     std::size_t material = b.material;
     for (std::size_t k = 0; k < columns.size(); ++k) {
       const ParticleColumn& c = columns[k];
@@ -168,6 +167,9 @@ void read_particle_rows(const Scene& sc, const SceneBody& b, const std::string& 
         case Role::plastic_strain:
           eps_bar = *value;
           break;
+        case Role::internal:
+          internal[static_cast<std::size_t>(c.component)] = *value;
+          break;
         case Role::material:
           break;
       }
@@ -178,12 +180,19 @@ void read_particle_rows(const Scene& sc, const SceneBody& b, const std::string& 
       throw InputError(where + "material " + in_quotes(sc.materials[material].name) +
                        " takes no initial stress or plastic strain (a rate-form solid does)");
     if (stressed && !(eps_bar >= 0)) throw InputError(where + "plastic_strain must be >= 0");
+    for (const DeclaredColumn& c : declared)  // a law's internal variables: its law must declare them
+      if (!std::isnan(internal[c.column]) && !c.declared_by[material])
+        throw InputError(where + "material " + in_quotes(sc.materials[material].name) + " keeps no " +
+                         in_quotes(c.name) + " (a body of several laws gives it in a file of its own)");
     p.add(x, v, sc.materials[material].density * V, V, Vec<Dim>::Constant(0.5 * std::pow(V, 1.0 / Dim)),
           static_cast<std::uint16_t>(material));
-    if (stressed) {
-      p.state.resize_keeping(p.size());
+    const bool given_internal = has_column(columns, Role::internal);
+    if (stressed || given_internal) {
+      p.state.keeps_internal = p.state.keeps_internal || given_internal;
+      p.state.resize_keeping(p.size());  // earlier particles' internal variables unset, where not kept before
       p.state.sigma.back() = sigma;
       p.state.eps_bar.back() = eps_bar;
+      if (given_internal) p.state.internal.back() = internal;
     }
   }
 }

@@ -11,8 +11,10 @@ namespace mpm {
 
 /// What a column of a particle file holds.
 struct ParticleColumn {
-  enum class Role { position, volume, material, velocity, stress, plastic_strain } role;
-  int component = 0;  ///< the axis of a position or velocity, the SymTensor<3> index of a stress
+  enum class Role { position, volume, material, velocity, stress, plastic_strain, internal } role;
+  /// the axis of a position or velocity, the SymTensor<3> index of a stress, the InternalState column of a
+  /// law's internal variable
+  int component = 0;
 };
 
 /// The columns of a particle file: named by its header (line 1, when it is not all numbers), or x, y, [z,]

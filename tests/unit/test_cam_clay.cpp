@@ -223,9 +223,14 @@ TEST(CamClay, RefusesBadParametersAndStartsOnlyInCompressionInsideItsSurface) {
   EXPECT_EQ(message(m).rfind("law.preconsolidation_pressure: expected a positive", 0), 0u) << message(m);
   EXPECT_THROW(mpm::validate(mpm::Material{clay()}, "law", 2, mpm::Geometry::plane_stress), mpm::InputError);
 
-  EXPECT_EQ(clay().initial_state(mpm::packed(isotropic(100e3)))[0], 200e3);
-  EXPECT_THROW(clay().initial_state(mpm::SymTensor<3>{}), mpm::InputError);            // p' = 0
-  EXPECT_THROW(clay().initial_state(mpm::packed(isotropic(250e3))), mpm::InputError);  // beyond p_c0
+  const mpm::InternalState unset = mpm::unset_internal_state;
+  EXPECT_EQ(clay().initial_state(mpm::packed(isotropic(100e3)), unset)[0], 200e3);
+  EXPECT_THROW(clay().initial_state(mpm::SymTensor<3>{}, unset), mpm::InputError);            // p' = 0
+  EXPECT_THROW(clay().initial_state(mpm::packed(isotropic(250e3)), unset), mpm::InputError);  // beyond p_c0
+  // A particle file's p_c0 in place of the material's, checked the same way.
+  EXPECT_EQ(clay().initial_state(mpm::packed(isotropic(250e3)), {300e3})[0], 300e3);
+  EXPECT_THROW(clay().initial_state(mpm::packed(isotropic(100e3)), {50e3}), mpm::InputError);  // beyond it
+  EXPECT_THROW(clay().initial_state(mpm::packed(isotropic(100e3)), {0.0}), mpm::InputError);   // not positive
 }
 
 TEST(CamClay, TheWaveSpeedFollowsTheMeanStress) {

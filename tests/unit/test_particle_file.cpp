@@ -1,5 +1,6 @@
-// Particle files that name their columns: each particle's material (by name or index), velocity, stress and
-// plastic strain, as the scene seeds them, and a run in each engine that starts from them.
+// Particle files that name their columns: each particle's material (by name or index), velocity, stress,
+// plastic strain and its law's internal variables, as the scene seeds them, and a run in each engine that
+// starts from them.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -12,6 +13,8 @@
 #include <string>
 
 #include "mpm/core/errors.hpp"
+#include "mpm/explicit/simulation.hpp"
+#include "mpm/implicit/simulation.hpp"
 #include "mpm/scene/build.hpp"
 #include "mpm/scene/scene.hpp"
 
@@ -20,8 +23,19 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// Two materials, a rate-form solid and an elastic one, and one file body in a 1 x 1 m grid.
-std::string scene_text(const std::string& integrator) {
+/// The "clay" material of scene_text: a rate-form solid without internal variables.
+const char* const mohr_coulomb = R"(model = "mohr-coulomb"
+E = 1e7
+nu = 0.3
+density = 1800.0
+cohesion = 2e4
+friction_angle = 0.0
+)";
+
+/// Two materials, a rate-form solid ("clay", of the keys given) and an elastic one, and one body from `file`
+/// in a 1 x 1 m grid.
+std::string scene_text(const std::string& integrator, const std::string& clay = mohr_coulomb,
+                       const std::string& file = "cloud.csv") {
   return R"([simulation]
 dimension = 2
 end_time = 0.001
@@ -35,13 +49,8 @@ hi = [1.0, 1.0]
 cells = [10, 10]
 [[materials]]
 name = "clay"
-model = "mohr-coulomb"
-E = 1e7
-nu = 0.3
-density = 1800.0
-cohesion = 2e4
-friction_angle = 0.0
-[[materials]]
+)" + clay +
+         R"([[materials]]
 name = "stiff"
 model = "hypoelastic"
 E = 1e8
@@ -50,8 +59,8 @@ density = 2500.0
 [[bodies]]
 name = "cloud"
 shape = "file"
-file = "cloud.csv"
-)";
+file = ")" +
+         file + "\"\n";
 }
 
 /// The file: a header naming the columns in any order, materials by name and by index.
@@ -139,6 +148,87 @@ TEST(ParticleFileColumns, BothEnginesStartFromTheFilesVelocities) {
     EXPECT_NEAR(row.at("momentum_x"), 0.5 * 21.5, 1e-12) << integrator;
     EXPECT_NEAR(row.at("momentum_y"), -0.25 * 21.5, 1e-12) << integrator;
   }
+}
+
+/// A modified Cam-Clay body from a file: each particle's stress and preconsolidation pressure, in a scene
+/// whose material's own preconsolidation pressure is 200 kPa.
+std::string cam_clay_scene(const std::string& integrator) {
+  return scene_text(integrator, R"(model = "modified-cam-clay"
+density = 1800.0
+M = 1.2
+compression_index = 0.1
+swelling_index = 0.02
+nu = 0.3
+preconsolidation_pressure = 2e5
+)",
+                    "clay.csv");
+}
+
+/// Isotropic stresses of -50 kPa and -80 kPa; the first particle lightly, the second heavily
+/// over-consolidated.
+const char* const clay = R"(x,y,volume,material,sxx,syy,szz,preconsolidation_pressure
+0.425,0.425,0.0025,clay,-5e4,-5e4,-5e4,1e5
+0.475,0.425,0.0025,clay,-8e4,-8e4,-8e4,6e5
+)";
+
+// The file's preconsolidation pressures are each particle's initial internal variable, in both engines (the
+// material's 200 kPa would be the value of a particle the file did not give one).
+TEST(ParticleFileColumns, ALawsInternalVariablesComeFromTheFile) {
+  const Folder dir;
+  std::ofstream(dir.path / "clay.csv") << clay;
+  const double expected[] = {1e5, 6e5};
+  const Scene sc = read_scene_text(cam_clay_scene("usl"), dir.path / "scene.toml");
+  const ParticleSet<2> p = seed_bodies<2>(sc);
+  ASSERT_EQ(p.state.internal.size(), 2u);
+  EXPECT_EQ(p.state.internal[0][0], 1e5);
+  const Simulation<2, QuadraticBSplineKernel> explicit_run(make_spec<2>(sc), p);
+  const Scene implicit_scene = read_scene_text(cam_clay_scene("implicit"), dir.path / "scene.toml");
+  const ImplicitSimulation<2, QuadraticBSplineKernel> implicit_run(make_implicit_spec<2>(implicit_scene),
+                                                                   seed_bodies<2>(implicit_scene));
+  for (std::size_t i = 0; i < 2; ++i) {
+    // The explicit engine sorts its particles by tile: find each by its reference position.
+    const ParticleSet<2>& q = explicit_run.particles();
+    for (std::size_t k = 0; k < q.size(); ++k)
+      if (q.X[k] == p.X[i]) {
+        EXPECT_EQ(q.state.internal[k][0], expected[i]) << "explicit, particle " << i;
+      }
+    EXPECT_EQ(implicit_run.state().internal[i][0], expected[i]) << "implicit, particle " << i;
+  }
+}
+
+// A given preconsolidation pressure is checked as the material's is: the stress must lie inside the yield
+// surface it bounds, and it must be positive; a law that keeps no such variable is refused at the row.
+TEST(ParticleFileColumns, ALawsInternalVariablesFromTheFileAreChecked) {
+  const Folder dir;
+  const auto message = [&](const std::string& file_text) {
+    std::ofstream(dir.path / "clay.csv") << file_text;
+    try {
+      const Scene sc = read_scene_text(cam_clay_scene("usl"), dir.path / "scene.toml");
+      Simulation<2, QuadraticBSplineKernel> run(make_spec<2>(sc), seed_bodies<2>(sc));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string header = "x,y,volume,material,sxx,syy,szz,preconsolidation_pressure\n";
+  std::string m = message(header +
+                          "0.425,0.425,0.0025,clay,-5e4,-5e4,-5e4,1e5\n"
+                          "0.475,0.425,0.0025,clay,-8e4,-8e4,-8e4,4e4\n");
+  EXPECT_NE(
+      m.find("materials[0]: particle 1 of a particle file: a particle of this modified-cam-clay material "
+             "starts outside its yield surface (p' = 80000 Pa, q = 0 Pa, preconsolidation_pressure 40000 "
+             "Pa): raise preconsolidation_pressure in the particle file"),
+      std::string::npos)
+      << m;
+  m = message(header + "0.425,0.425,0.0025,clay,-5e4,-5e4,-5e4,-1e5\n");
+  EXPECT_NE(
+      m.find("particle 0 of a particle file: preconsolidation_pressure: expected a positive pressure [Pa], "
+             "got -100000"),
+      std::string::npos)
+      << m;
+  m = message(header + "0.425,0.425,0.0025,stiff,-5e4,-5e4,-5e4,1e5\n");
+  EXPECT_NE(m.find("clay.csv:2: row of bodies[0].file in "), std::string::npos) << m;
+  EXPECT_NE(m.find("material 'stiff' keeps no 'preconsolidation_pressure'"), std::string::npos) << m;
 }
 
 }  // namespace

@@ -58,9 +58,10 @@ struct ModifiedCamClay {
 
   /// Its internal variable: the preconsolidation pressure p_c [Pa].
   static constexpr std::array<StateColumn, 1> state_columns{{{"preconsolidation_pressure", "Pa"}}};
-  /// p_c,0 at a particle of stress sigma; throws InputError unless sigma lies in compression inside the
-  /// initial yield surface (p' > 0, f <= 0: the model has no tensile strength).
-  InternalState initial_state(const SymTensor<3>& sigma) const;
+  /// p_c,0 at a particle of stress sigma: `given`'s where it is a number (a particle file's), else the
+  /// material's; throws InputError unless p_c,0 > 0 and sigma lies in compression inside the initial yield
+  /// surface (p' > 0, f <= 0: the model has no tensile strength).
+  InternalState initial_state(const SymTensor<3>& sigma, const InternalState& given) const;
 
   Real bulk_at(Real p) const { return p / kappa_star; }  ///< K = p' / kappa* [Pa]
   Real shear_at(Real p) const {                          ///< G [Pa], given or from nu and K(p')

@@ -30,13 +30,14 @@ using Material =
     std::variant<NeoHookean, ElastoPlastic, NewtonianFluid, DruckerPrager, MohrCoulomb, ModifiedCamClay>;
 
 /// A law that keeps internal variables beyond the stress and the plastic strain: it names them
-/// (`state_columns`, which reach the frames and checkpoints), gives their initial values, a wave speed that
+/// (`state_columns`, which reach the frames and checkpoints), gives their initial values at a stress (those a
+/// particle file gives, NaN where it gives none, checked against the stress), a wave speed that
 /// depends on the stress, its small-strain moduli at a reference state, and checks itself in a geometry
 /// (cam_clay.hpp).
 template <class Law>
 concept DeclaresState = requires(const Law& law, const SymTensor<3>& sigma) {
   Law::state_columns;
-  { law.initial_state(sigma) } -> std::same_as<InternalState>;
+  { law.initial_state(sigma, InternalState{}) } -> std::same_as<InternalState>;
   { law.wave_speed(Real{}, sigma) } -> std::same_as<Real>;
   { law.reference_lambda() } -> std::same_as<Real>;
   { law.reference_mu() } -> std::same_as<Real>;
@@ -181,8 +182,10 @@ inline void validate(const Material& m, const std::string& where, int dim, Geome
 }
 
 /// Keep the internal variables only where a law of the table declares some (MaterialState::keeps_internal),
-/// and set each particle's to their initial values at its stress (zero for the laws that declare none); throw
-/// InputError naming the particle's material where its law cannot start from that stress.
+/// and set each particle's to their initial values at its stress (zero for the laws that declare none),
+/// taking those a particle file gave (s.internal, sized to the particles with NaN where not given) where its
+/// law accepts them; throw InputError naming the particle's material (and the particle, for given values)
+/// where its law cannot start so.
 inline void start_internal_state(const std::vector<Material>& materials,
                                  const std::vector<std::uint16_t>& material, MaterialState& s) {
   s.keeps_internal = false;
@@ -190,15 +193,22 @@ inline void start_internal_state(const std::vector<Material>& materials,
     s.keeps_internal =
         s.keeps_internal ||
         std::visit([](const auto& law) { return DeclaresState<std::decay_t<decltype(law)>>; }, m);
+  std::vector<InternalState> given;
+  if (s.internal.size() == s.sigma.size()) given = std::move(s.internal);
   s.internal.assign(s.keeps_internal ? s.sigma.size() : 0, InternalState{});
   for (std::size_t i = 0; i < s.internal.size(); ++i)
     std::visit(
         [&](const auto& law) {
           if constexpr (DeclaresState<std::decay_t<decltype(law)>>) {
+            const InternalState& from_file = given.empty() ? unset_internal_state : given[i];
             try {
-              s.internal[i] = law.initial_state(s.sigma[i]);
+              s.internal[i] = law.initial_state(s.sigma[i], from_file);
             } catch (const InputError& e) {
-              throw InputError("materials[" + std::to_string(material[i]) + "]: " + e.what());
+              const bool file =
+                  std::any_of(from_file.begin(), from_file.end(), [](Real v) { return v == v; });
+              throw InputError(
+                  "materials[" + std::to_string(material[i]) +
+                  "]: " + (file ? "particle " + std::to_string(i) + " of a particle file: " : "") + e.what());
             }
           }
         },

@@ -2,6 +2,7 @@
 /// Per-particle state of the rate-form materials, stored as a structure of arrays by the particle set.
 #include <array>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 #include "mpm/core/types.hpp"
@@ -13,6 +14,14 @@ namespace mpm {
 inline constexpr std::size_t internal_columns = 1;
 /// A particle's internal variables, in the order its law declares them (0 where its law declares fewer).
 using InternalState = std::array<Real, internal_columns>;
+
+/// Internal variables not given: NaN in every column. A particle file may give some (a law's state columns);
+/// the others, and those of every seeded particle, start from the law's initial state (start_internal_state).
+inline constexpr InternalState unset_internal_state = [] {
+  InternalState s;
+  s.fill(std::numeric_limits<Real>::quiet_NaN());
+  return s;
+}();
 
 /// One internal variable a law declares: its name in frames and its unit.
 struct StateColumn {
@@ -43,14 +52,15 @@ struct MaterialState {
     keeps_internal = keep;
     resize_keeping(n);
   }
-  /// Grow (or shrink) to n particles, keeping the first ones' state; new particles start unstressed.
+  /// Grow (or shrink) to n particles, keeping the first ones' state; new particles start unstressed, their
+  /// internal variables unset.
   void resize_keeping(std::size_t n) {
     sigma.resize(n, SymTensor<3>{});
     eps_bar.resize(n, 0);
     temperature.resize(n, 0);
     energy.resize(n, 0);
     stretch3.resize(n, 1);
-    internal.resize(keeps_internal ? n : 0, InternalState{});
+    internal.resize(keeps_internal ? n : 0, unset_internal_state);
   }
   /// Particle i's internal variables: zero where no law of the table declares any.
   InternalState internal_at(std::size_t i) const { return keeps_internal ? internal[i] : InternalState{}; }
