@@ -100,11 +100,11 @@ void seed_shape(const Scene& sc, std::size_t k, ParticleSet<Dim>& p) {
   const auto material = static_cast<std::uint16_t>(b.material);
   if (b.shape == SceneBody::Shape::file) {
     read_particle_rows<Dim>(sc, b, "bodies[" + std::to_string(k) + "].file in " + sc.file.string(), p);
-  } else if (b.shape == SceneBody::Shape::mesh) {  // half-lengths as a file's particles have them
+  } else if (b.shape == SceneBody::Shape::mesh) {
     for (const MeshPoint& m : b.mesh_points)
       p.add(Eigen::Map<const Vec<3>>(m.x.data()).template head<Dim>(), Vec<Dim>::Zero(),
-            sc.materials[m.material].density * m.volume, m.volume,
-            Vec<Dim>::Constant(0.5 * std::pow(m.volume, 1.0 / Dim)), static_cast<std::uint16_t>(m.material));
+            sc.materials[m.material].density * m.volume, m.volume, cube_half_lengths<Dim>(m.volume),
+            static_cast<std::uint16_t>(m.material));
   } else if (b.add.empty() && b.subtract.empty() && b.intersect.empty()) {
     fill_shape<Dim>(sc, b, density, material, p);
   } else {

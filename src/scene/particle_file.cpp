@@ -104,6 +104,7 @@ template <int Dim>
 void read_particle_rows(const Scene& sc, const SceneBody& b, const std::string& key, ParticleSet<Dim>& p) {
   const std::vector<ParticleColumn> columns = particle_file_columns(b.file, Dim, material_laws(sc));
   const bool stressed = has_column(columns, Role::stress) || has_column(columns, Role::plastic_strain);
+  const bool given_internal = has_column(columns, Role::internal);
   const std::vector<DeclaredColumn> declared = declared_columns(material_laws(sc));
   Lines lines(b.file);
   const bool plain = columns.size() == Dim + 1;  // positions and volumes only
@@ -184,9 +185,8 @@ void read_particle_rows(const Scene& sc, const SceneBody& b, const std::string& 
       if (!std::isnan(internal[c.column]) && !c.declared_by[material])
         throw InputError(where + "material " + in_quotes(sc.materials[material].name) + " keeps no " +
                          in_quotes(c.name) + " (a body of several laws gives it in a file of its own)");
-    p.add(x, v, sc.materials[material].density * V, V, Vec<Dim>::Constant(0.5 * std::pow(V, 1.0 / Dim)),
+    p.add(x, v, sc.materials[material].density * V, V, cube_half_lengths<Dim>(V),
           static_cast<std::uint16_t>(material));
-    const bool given_internal = has_column(columns, Role::internal);
     if (stressed || given_internal) {
       p.state.keeps_internal = p.state.keeps_internal || given_internal;
       p.state.resize_keeping(p.size());  // earlier particles' internal variables unset, where not kept before

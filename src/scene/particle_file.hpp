@@ -1,5 +1,6 @@
 #pragma once
 // The particle files of file bodies: the header that names their columns, and their rows.
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -18,17 +19,24 @@ struct ParticleColumn {
 };
 
 /// The columns of a particle file: named by its header (line 1, when it is not all numbers), or x, y, [z,]
-/// volume in order without one. Throws InputError "FILE:1: ..." for a column that is not known (the law's
-/// internal variables included: they start from the particle's stress), repeated, or a position or the
-/// volume missing.
+/// volume in order without one; a law's internal variable by its name. Throws InputError "FILE:1: ..." for a
+/// column that is not known, repeated, or a position or the volume missing.
 std::vector<ParticleColumn> particle_file_columns(const std::filesystem::path& file, int dim,
                                                   const std::vector<Material>& materials);
+
+/// The half-lengths of a particle given as a point and a volume V (a file's row, a mesh's Gauss point): those
+/// of a cube of volume V, V^(1/dim) / 2 per axis.
+template <int Dim>
+Vec<Dim> cube_half_lengths(Real V) {
+  return Vec<Dim>::Constant(0.5 * std::pow(V, 1.0 / Dim));
+}
 
 /// Whether the columns hold `role`.
 bool has_column(const std::vector<ParticleColumn>& columns, ParticleColumn::Role role);
 
-/// The rows of body b's particle file appended to p (reference positions; mass rho V and half-length
-/// V^(1/dim)/2 per axis; the material, velocity, stress and plastic strain of the columns that give them). A
+/// The rows of body b's particle file appended to p (reference positions; mass rho V and cube_half_lengths;
+/// the material, velocity, stress, plastic strain and a law's internal variables of the columns that give
+/// them). A
 /// bad row throws "FILE:LINE: row of KEY: ..." (`key` names the scene key).
 template <int Dim>
 void read_particle_rows(const Scene& sc, const SceneBody& b, const std::string& key, ParticleSet<Dim>& p);
