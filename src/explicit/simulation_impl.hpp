@@ -162,7 +162,7 @@ void Simulation<Dim, Kernel>::step(Real max_dt) {
       step_musl(dt, first_scale);
       break;
   }
-  if (loads_) account_load_power();
+  if (loads_) account_load_power(dt);
   rigid_.advance(time_, dt);
   time_ += dt;
   ++steps_;

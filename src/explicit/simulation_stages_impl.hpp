@@ -76,7 +76,7 @@ void Simulation<Dim, Kernel>::scatter() {
     std::optional<FaceTileSums<Dim>> kept;  // a divided grid's: the sums of its face tiles for the halo sum
     if (box_halo_.divided()) kept.emplace(grid.geometry, order_);
     p2g<what>(particles_, stencils(), order_, body_accel_, grid, KeepFaceTiles<Dim>(kept), k,
-              has_material_state(), affine());
+              has_material_state(), affine(), surface_.empty() ? nullptr : &surface_);
     if (kept)  // the halo sum: the sums of tiles of other boxes at the nodes they share
       box_halo_.sum(grid, kept->take(), what.mass_momentum, what.force, *comm_, nullptr,
                     what.volume_gradient);
@@ -169,25 +169,30 @@ void Simulation<Dim, Kernel>::gather(NodeVelocity<Dim> v_grid, Real dt) {
 }
 
 template <int Dim, class Kernel>
-void Simulation<Dim, Kernel>::account_load_power() {
+void Simulation<Dim, Kernel>::account_load_power(Real dt) {
   // Grouped by the tiles of the step's start, whose particles one rank held, in id order.
   const ParticleSet<Dim>& p = particles_;
   load_power_ = exact_particle_sum<1>(
       p.size(), [&](std::size_t i) { return start_tile_[i]; },
       [&](std::size_t i) {
-        return std::array<Real, 1>{particle_load_power(p, i, spec_.gravity, body_accel_, v_start_)};
+        return std::array<Real, 1>{particle_load_power(p, i, spec_.gravity, body_accel_, v_start_) +
+                                   surface_.work(p, i, grid_.geometry) / dt};
       },
       *comm_)[0];
 }
 
 template <int Dim, class Kernel>
 void Simulation<Dim, Kernel>::evaluate_body_force() {
-  if (!spec_.body_force && spec_.surface_loads.empty()) return;
-  body_accel_.resize(particles_.size());
-  parallel_for(static_cast<std::ptrdiff_t>(particles_.size()), [&](std::ptrdiff_t i) {
-    body_accel_[i] = spec_.body_force ? spec_.body_force(particles_.X[i], time_) : Vec<Dim>::Zero();
-  });
-  spec_.surface_loads.accelerate(particles_, time_, 1, spec_.geometry, body_accel_);  // at the step's start
+  if (spec_.body_force) {
+    body_accel_.resize(particles_.size());
+    parallel_for(static_cast<std::ptrdiff_t>(particles_.size()),
+                 [&](std::ptrdiff_t i) { body_accel_[i] = spec_.body_force(particles_.X[i], time_); });
+  }
+  if (spec_.surface_loads.empty()) return;
+  surface_.reset(particles_);
+  spec_.surface_loads.add_to_particles(particles_, time_, 1, spec_.geometry,
+                                       surface_);  // at the step's start
+  surface_.start(particles_);
 }
 
 template <int Dim, class Kernel>
@@ -225,7 +230,8 @@ double Simulation<Dim, Kernel>::bytes_per_particle() const {
          static_cast<double>(
              particles_.l0.capacity() * sizeof(Vec<Dim>) +
              located_half_lengths_.capacity() * sizeof(Vec<Dim>) + order_.bytes() +
-             body_accel_.capacity() * sizeof(Vec<Dim>) + grid_.bytes() * contact_.fields() +
+             body_accel_.capacity() * sizeof(Vec<Dim>) + surface_.bytes() +
+             grid_.bytes() * contact_.fields() +
              (particles_.state.empty() ? 0 : particles_.size() * MaterialState::bytes_per_particle()) +
              grad_v_.capacity() * sizeof(Mat<Dim>) + hoop_rate_.capacity() * sizeof(Real) +
              pic_velocity_.capacity() * sizeof(Vec<Dim>) + particles_.B.capacity() * sizeof(Mat<Dim>) +

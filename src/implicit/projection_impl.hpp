@@ -115,23 +115,30 @@ void ImplicitSimulation<Dim, Kernel>::scatter_force(const std::vector<SymTensor<
 
 // The body force's and the surface loads' share of the external force, f_i += sum_p S_ip m_p b_p, with b_p =
 // (1 - theta) b(X_p, t^k) + theta b(X_p, t^{k+1}) blended as the internal forces are (Sulsky & Kaul 2004,
-// Eq. (2.4.1)); a pressure's direction is that of the step's start, where the stencils are.
+// Eq. (2.4.1)), and the surface loads' moments blended alike (BodyForce); a pressure's direction is that of
+// the step's start, where the stencils are.
 template <int Dim, class Kernel>
 void ImplicitSimulation<Dim, Kernel>::add_body_force(Real dt) {
   const ParticleSet<Dim>& p = particles_;
   const Real theta = spec_.theta, t0 = time_, t1 = time_ + dt;
-  body_accel_.resize(p.size());
-  parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
-    body_accel_[i] =
-        spec_.body_force
-            ? Vec<Dim>((1 - theta) * spec_.body_force(p.X[i], t0) + theta * spec_.body_force(p.X[i], t1))
-            : Vec<Dim>::Zero();
-  });
-  spec_.surface_loads.accelerate(p, t0, 1 - theta, spec_.geometry, body_accel_);
-  spec_.surface_loads.accelerate(p, t1, theta, spec_.geometry, body_accel_);
+  body_accel_.clear();
+  if (spec_.body_force) {
+    body_accel_.resize(p.size());
+    parallel_for(static_cast<std::ptrdiff_t>(p.size()), [&](std::ptrdiff_t i) {
+      body_accel_[i] = (1 - theta) * spec_.body_force(p.X[i], t0) + theta * spec_.body_force(p.X[i], t1);
+    });
+  }
+  if (!spec_.surface_loads.empty()) {
+    surface_.reset(p);
+    spec_.surface_loads.add_to_particles(p, t0, 1 - theta, spec_.geometry, surface_);
+    spec_.surface_loads.add_to_particles(p, t1, theta, spec_.geometry, surface_);
+    surface_.start(p);
+  }
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()),
                [&](std::ptrdiff_t n) { grid_.nodes[n].a.setZero(); });
-  p2g_add(stencils(), order_, grid_, BodyForce<Dim>{p.m, body_accel_});
+  p2g_add(stencils(), order_, grid_,
+          BodyForce<Dim>{p.m, spec_.body_force ? &body_accel_ : nullptr,
+                         spec_.surface_loads.empty() ? nullptr : &surface_, &p.F});
   periodic_halo_.sum_into_owners(grid_, NodeFields::force);
   constraints_.fold_and_mirror(grid_, NodeFields::force);
   parallel_for(static_cast<std::ptrdiff_t>(grid_.size()),

@@ -303,12 +303,20 @@ class Implicit final : public SimulationAdapter<Dim, ImplicitSpec<Dim>, Implicit
   }
   const Communicator& communicator() const override { return one_process(); }
   std::int64_t particle_count() const override { return static_cast<std::int64_t>(sim_.particles().size()); }
-  /// Power of gravity and the body force over the last step: sum_p m_p (g + b_p) . (v_before + v_after) / 2.
+  void step(Real max_dt) override {
+    const Real start = sim_.time();
+    sim_.step(max_dt);
+    step_dt_ = sim_.time() - start;
+  }
+  /// Power of gravity, the body force and the surface loads over the last step: sum_p m_p (g + b_p) .
+  /// (v_before + v_after) / 2, plus the work of the surface loads' moments over the step's length.
   bool needs_velocities_before() const override { return true; }
   Real load_power(const std::vector<Vec<Dim>>& v_before) const override {
+    const ParticleSet<Dim>& p = sim_.particles();
     return this->template particle_sum<1>([&](std::size_t i) {
       return std::array<Real, 1>{
-          particle_load_power(sim_.particles(), i, spec_.gravity, sim_.body_acceleration(), v_before)};
+          particle_load_power(p, i, spec_.gravity, sim_.body_acceleration(), v_before) +
+          sim_.surface_loading().work(p, i, sim_.grid().geometry) / step_dt_};
     })[0];
   }
   void stress(std::size_t i, double* out) const override {
@@ -379,6 +387,9 @@ class Implicit final : public SimulationAdapter<Dim, ImplicitSpec<Dim>, Implicit
   std::vector<double> failed_particles() const override {
     return failed_mask(sim_.particles(), sim_.grid().geometry, -1);
   }
+
+ private:
+  Real step_dt_ = 1;  ///< the last step's length (load_power)
 };
 
 }  // namespace mpm::scene_engines

@@ -133,8 +133,8 @@ MemoryModel engine_memory(const Scene& sc) {
       if (std::isfinite(c.gap)) grids = 2 * sc.fields;
     const bool located_half_lengths =  // USF keeps cpGIMP's (Simulation::keep_located_half_lengths)
         sc.integrator == Integrator::usf && half_lengths_of(sc.kernel) == HalfLengths::deformed;
-    return Simulation<Dim, Kernel>::memory_model(!sc.body_force.empty() || !sc.surface_loads.empty(),
-                                                 rate_form, located_half_lengths, grids);
+    return Simulation<Dim, Kernel>::memory_model(!sc.body_force.empty(), rate_form, located_half_lengths,
+                                                 grids, !sc.surface_loads.empty());
   });
 }
 

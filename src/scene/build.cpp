@@ -118,7 +118,7 @@ template <int Dim>
 SurfaceLoads<Dim> surface_loads_of(const Scene& sc) {
   if (sc.surface_loads.empty()) return {};
   std::vector<std::size_t> first(sc.bodies.size() + 1, 0);
-  std::vector<std::vector<Vec<Dim>>> area(sc.bodies.size());
+  std::vector<std::vector<LatticeFaces<Dim>>> faces(sc.bodies.size());
   ParticleSet<Dim> p;
   for (std::size_t k = 0; k < sc.bodies.size(); ++k) {
     seed_shape<Dim>(sc, k, p);
@@ -127,7 +127,7 @@ SurfaceLoads<Dim> surface_loads_of(const Scene& sc) {
                                     [&](const SceneSurfaceLoad& l) { return l.body == k; });
     if (!loaded || first[k + 1] == first[k]) continue;
     const std::vector<Vec<Dim>> X(p.X.begin() + static_cast<std::ptrdiff_t>(first[k]), p.X.end());
-    area[k] =
+    faces[k] =
         lattice_surface<Dim>(X, X.front(), sc.h / sc.bodies[k].ppc, sc.geometry == Geometry::axisymmetric);
   }
   std::vector<SurfaceLoad<Dim>> loads;
@@ -140,18 +140,18 @@ SurfaceLoads<Dim> surface_loads_of(const Scene& sc) {
       };
     else
       load.traction = velocity_of<Dim>(l.traction);  // a vector function of t
-    for (std::size_t j = 0; j < area[l.body].size(); ++j) {
-      Vec<Dim> a = area[l.body][j];
+    const Real half_spacing = 0.5 * sc.h / sc.bodies[l.body].ppc;
+    for (std::size_t j = 0; j < faces[l.body].size(); ++j) {
+      LatticeFaces<Dim> f = faces[l.body][j];
       const Vec<Dim>& X = p.X[first[l.body] + j];
-      if (l.face >= 0) {  // the component looking out along the face's normal
-        const int axis = l.face / 2, side = l.face % 2 ? 1 : -1;
-        const Real along = a[axis] * side;
-        a = Vec<Dim>::Zero();
-        if (along > 0) a[axis] = side * along;
+      if (l.face >= 0) {  // the lattice face looking out along the face's normal
+        const Real kept = f[l.face];
+        f = {};
+        f[l.face] = kept;
       }
-      bool in = !a.isZero(0);
+      bool in = std::any_of(f.begin(), f.end(), [](Real a) { return a > 0; });
       for (int d = 0; in && d < Dim && !l.lo.empty(); ++d) in = X[d] >= l.lo[d] && X[d] <= l.hi[d];
-      if (in) load.patches.push_back({p.id[first[l.body] + j], a});
+      if (in) load.patches.push_back({p.id[first[l.body] + j], f, half_spacing});
     }
     loads.push_back(std::move(load));
   }

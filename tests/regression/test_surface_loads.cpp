@@ -1,6 +1,7 @@
 // Pressures and tractions on the surfaces of bodies ([[loads.pressure]], [[loads.traction]];
-// boundary/surface_loads.hpp): a pressure follows a rotated face, and a pressure over a whole disk, cylinder
-// or ball leaves it in the hydrostatic stress -P, with the explicit and the implicit engines.
+// boundary/surface_loads.hpp): a pressure follows a rotated face, and a pressure over a whole block, cube,
+// disk, cylinder or ball leaves it in the hydrostatic stress -P in every particle, with the explicit and the
+// implicit engines.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -87,11 +88,11 @@ TEST(SurfaceLoads, PressureFollowsATurnedFaceAndATractionDoesNot) {
 }
 
 /// The mean and the extremes of stress component `k` (xx yy zz xy xz yz) over the particles of the last frame
-/// within `inside` of the origin, in units of P = 1 kPa.
+/// within `inside` of the origin (every particle by default), in units of P = 1 kPa.
 struct Spread {
   double mean = 0, lo = 1e300, hi = -1e300;
 };
-Spread stress_within(const fs::path& out, int dim, int k, double inside) {
+Spread stress_within(const fs::path& out, int dim, int k, double inside = 1e300) {
   const std::vector<double> x = vtp_array(out / "particles_0001.vtp", "");
   const std::vector<double> s = vtp_array(out / "particles_0001.vtp", "stress");
   Spread r;
@@ -107,76 +108,173 @@ Spread stress_within(const fs::path& out, int dim, int k, double inside) {
   return r;
 }
 
-/// A Neo-Hookean disk (2-D) or ball (3-D) of radius 0.1 m, E = 1 MPa, under a pressure ramped to 1 kPa over
-/// 0.1 s on its whole surface, run to `end`.
-std::string pressed_round_body(int dim, const std::string& end) {
-  const std::string d = std::to_string(dim);
-  const std::string zero = dim == 2 ? "[0.0, 0.0]" : "[0.0, 0.0, 0.0]";
+/// The largest |shear stress| of the last frame over P = 1 kPa.
+double largest_shear(const fs::path& out) {
+  const std::vector<double> s = vtp_array(out / "particles_0001.vtp", "stress");
+  double m = 0;
+  for (std::size_t i = 0; 6 * i < s.size(); ++i)
+    for (int k = 3; k < 6; ++k) m = std::max(m, std::abs(s[6 * i + k]) / 1e3);
+  return m;
+}
+
+/// The pressure's work over the energy the body holds at the end (history.csv).
+double work_over_energy(const fs::path& out) {
+  const auto h = csv_columns(out / "history.csv");
+  return h.at("external_work").back() / h.at("total_energy").back();
+}
+
+/// How a pressed body comes to rest: USL with local damping 0.1, or 2 ms implicit steps.
+enum class Settle { damped, implicit };
+const char* name(Settle s) {
+  return s == Settle::damped ? "USL with damping" : "implicit";
+}
+
+/// A Neo-Hookean body (E = 1 MPa, nu = 0.3) in a 0.3 m grid of `cells` cells a side, 2 particles per cell and
+/// axis, under a pressure ramped to 1 kPa over 0.1 s on its whole surface, run to `end`: `shape` is the
+/// body's lines after `shape = `.
+std::string pressed_body(int dim, const std::string& shape, int cells, const std::string& end,
+                         Settle settle) {
+  const std::string d = std::to_string(dim), n = std::to_string(cells);
   const std::string lo = dim == 2 ? "[-0.15, -0.15]" : "[-0.15, -0.15, -0.15]";
   const std::string hi = dim == 2 ? "[0.15, 0.15]" : "[0.15, 0.15, 0.15]";
-  const std::string cells = dim == 2 ? "[24, 24]" : "[12, 12, 12]";
-  return "[simulation]\ndimension = " + d + "\nend_time = " + end + R"(
-integrator = "usl"
-kernel = "cpgimp"
-cfl = 0.4
-[output]
-every = )" +
-         end + "\n[grid]\nlo = " + lo + "\nhi = " + hi + "\ncells = " + cells + R"(
+  const std::string grid = dim == 2 ? "[" + n + ", " + n + "]" : "[" + n + ", " + n + ", " + n + "]";
+  return "[simulation]\ndimension = " + d + "\nend_time = " + end + "\nkernel = \"cpgimp\"\n" +
+         (settle == Settle::damped ? "integrator = \"usl\"\ncfl = 0.4\nlocal_damping = 0.1\n"
+                                   : "integrator = \"implicit\"\ndt = 0.002\n") +
+         "[output]\nevery = " + end + "\n[grid]\nlo = " + lo + "\nhi = " + hi + "\ncells = " + grid + R"(
 [[materials]]
 name = "m"
 E = 1e6
 nu = 0.3
 density = 1000
 [[bodies]]
-name = "round"
-shape = ")" +
-         (dim == 2 ? "disk" : "sphere") + "\"\ncenter = " + zero + R"(
-radius = 0.1
+name = "body"
+shape = )" +
+         shape + R"(
 ppc = 2
 [[loads.pressure]]
-body = "round"
+body = "body"
 pressure = "1e3 * min(10 * t, 1.0) "
 )";
 }
 
-TEST(SurfaceLoads, PressureOverADiskLeavesItInHydrostaticStress) {
-  // Plane strain: inside r < 0.07 m sigma_xx = sigma_yy = -P. Measured means -1.00095 (USL with local damping
-  // 0.1) and -1.00090 (implicit), every particle within [-1.0094, -0.9906]: the staircase surface of the
-  // disk's lattice (exact in its projected areas) leaves that noise. Asserted: the means to 0.3%, every
-  // particle to 1.5%. The disk's pressures cancel: its momentum stays at round-off (measured 6e-15 and 8e-12
-  // N s/m).
-  for (const std::string integrator : {"usl --set simulation.local_damping=0.1", "implicit"}) {
+/// A disk (2-D) or ball (3-D) of radius 0.1 m, 8 cells across its radius (pressed_body).
+std::string pressed_round_body(int dim, const std::string& end, Settle settle) {
+  return pressed_body(dim,
+                      dim == 2 ? "\"disk\"\ncenter = [0.0, 0.0]\nradius = 0.1"
+                               : "\"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 0.1",
+                      dim == 2 ? 24 : 12, end, settle);
+}
+
+/// A square (2-D) or cube (3-D) of side 0.2 m, 16 particles along each side (pressed_body), to 0.3 s.
+std::string pressed_block(int dim, Settle settle) {
+  return pressed_body(dim,
+                      dim == 2 ? "\"box\"\nlo = [-0.1, -0.1]\nhi = [0.1, 0.1]"
+                               : "\"box\"\nlo = [-0.1, -0.1, -0.1]\nhi = [0.1, 0.1, 0.1]",
+                      dim == 2 ? 24 : 12, "0.3", settle);
+}
+
+TEST(SurfaceLoads, PressureOnEveryFaceOfABlockGivesMinusPInEveryParticle) {
+  // Plane strain, 16 x 16 particles: sigma = -P I at every particle, the corners' and the faces' included.
+  // Each face of a surface particle pushes at the face, through the weights' first-order expansion about the
+  // particle's centre (patch_load), which is exact where a particle's weights are linear over its domain
+  // (linear, GIMP and CPDI weights of a domain inside one cell): a uniform stress then balances the load at
+  // every node. Measured, every particle and both components: USL with damping within 2.2e-4 of -P for
+  // cpGIMP, uGIMP, their wide forms, CPDI and CPDI2, within 4.5e-3 for linear MPM (its light nodes); implicit
+  // within 1e-6 (cpGIMP, CPDI2) and 4.5e-3 (linear); the shear below 6e-4 P. Before this load, the outer
+  // particles held 0.70 P (cpGIMP, CPDI, linear). Asserted: every particle within 1%, the shear below 1e-3 P,
+  // and the pressure's work is the energy the block holds to 0.5% (measured 0.99998 with USL; implicit 1.018,
+  // whose backward-Euler steps dissipate: not asserted there).
+  for (const std::string kernel : {"cpgimp", "ugimp", "cpgimp-wide", "cpdi", "cpdi2", "linear"})
+    for (const Settle settle : {Settle::damped, Settle::implicit}) {
+      if (settle == Settle::implicit && (kernel == "ugimp" || kernel == "cpgimp-wide" || kernel == "cpdi"))
+        continue;
+      const fs::path dir = run_scene("block", pressed_block(2, settle), "--set simulation.kernel=" + kernel);
+      for (int k : {0, 1}) {
+        const Spread s = stress_within(dir / "out", 2, k);
+        EXPECT_GT(s.lo, -1.01) << kernel << ", " << name(settle);
+        EXPECT_LT(s.hi, -0.99) << kernel << ", " << name(settle);
+      }
+      EXPECT_LT(largest_shear(dir / "out"), 1e-3) << kernel << ", " << name(settle);
+      if (settle == Settle::damped) {
+        EXPECT_NEAR(work_over_energy(dir / "out"), 1, 5e-3) << kernel;
+      }
+      fs::remove_all(dir);
+    }
+}
+
+TEST(SurfaceLoads, PressureOnEveryFaceOfACubeGivesMinusPInEveryParticle) {
+  // 3-D, cpGIMP, 16^3 particles: measured within 1.5e-4 of -P (USL with damping) and 3e-5 (implicit) in every
+  // particle and normal component, the shear below 7e-5 P. Asserted: 1%, 1e-3 P.
+  for (const Settle settle : {Settle::damped, Settle::implicit}) {
+    const fs::path dir = run_scene("cube", pressed_block(3, settle), "");
+    for (int k : {0, 1, 2}) {
+      const Spread s = stress_within(dir / "out", 3, k);
+      EXPECT_GT(s.lo, -1.01) << name(settle);
+      EXPECT_LT(s.hi, -0.99) << name(settle);
+    }
+    EXPECT_LT(largest_shear(dir / "out"), 1e-3) << name(settle);
+    fs::remove_all(dir);
+  }
+}
+
+TEST(SurfaceLoads, PressureOnABSplineBlockKeepsItsMeanAndItsEnergyButNotEachParticle) {
+  // B-spline weights are quadratic or cubic over a particle's domain, so the first-order expansion puts part
+  // of each face's force on the wrong nodes, the light ones beyond the surface most: the outer particles then
+  // hold between 0.72 P and 1.49 P (bspline2) and between 0.85 P and 1.23 P (bspline3), measured (before this
+  // load: 0.21 P to 1.56 P, and 0.34 P to 1.29 P). The loads still sum to the pressure's resultant on each
+  // face and work as much as the body stores: measured means -1.00000 and work over energy 1.0001 and 0.9999.
+  // Asserted: the means to 0.1%, the work to 0.5%.
+  for (const std::string kernel : {"bspline2", "bspline3"}) {
     const fs::path dir =
-        run_scene("disk", pressed_round_body(2, "0.3"), "--set simulation.integrator=" + integrator);
+        run_scene("bspline", pressed_block(2, Settle::damped), "--set simulation.kernel=" + kernel);
+    for (int k : {0, 1}) EXPECT_NEAR(stress_within(dir / "out", 2, k).mean, -1, 1e-3) << kernel;
+    EXPECT_NEAR(work_over_energy(dir / "out"), 1, 5e-3) << kernel;
+    fs::remove_all(dir);
+  }
+}
+
+TEST(SurfaceLoads, PressureOverADiskLeavesItInHydrostaticStress) {
+  // Plane strain, cpGIMP: sigma_xx = sigma_yy = -P in every particle. Measured -1.00005 (USL with local
+  // damping 0.1) and -1.00000 (implicit) on average, every particle within [-1.0020, -0.9960]: the staircase
+  // surface of the disk's lattice (exact in its projected areas) leaves that at its steps (before the faces'
+  // forces acted at the faces, particles next to the surface held 0.45 P). Asserted: the means to 0.1%, every
+  // particle to 1%. The disk's pressures cancel: its momentum stays at round-off with USL (measured 3e-15 N
+  // s/m) and at what the Newton tolerance leaves implicitly (1.4e-10 N s/m against the pressure's 630 N/m
+  // over 0.3 s): asserted below 1e-9.
+  for (const Settle settle : {Settle::damped, Settle::implicit}) {
+    const fs::path dir = run_scene("disk", pressed_round_body(2, "0.3", settle), "");
     for (int k : {0, 1}) {
-      const Spread s = stress_within(dir / "out", 2, k, 0.07);
-      EXPECT_NEAR(s.mean, -1, 3e-3) << integrator << " component " << k;
-      EXPECT_GT(s.lo, -1.015) << integrator;
-      EXPECT_LT(s.hi, -0.985) << integrator;
+      const Spread s = stress_within(dir / "out", 2, k);
+      EXPECT_NEAR(s.mean, -1, 1e-3) << name(settle) << " component " << k;
+      EXPECT_GT(s.lo, -1.01) << name(settle);
+      EXPECT_LT(s.hi, -0.99) << name(settle);
     }
     const auto h = csv_columns(dir / "out/history.csv");
-    EXPECT_LT(std::abs(h.at("momentum_x").back()), 1e-10) << integrator;
-    EXPECT_LT(std::abs(h.at("momentum_y").back()), 1e-10) << integrator;
-    // The pressure's work is the strain energy it stored plus what damping took: 0.015465 against 0.015443
-    // J/m (USL), against 1/2 P dV = 0.0163 J/m for the exact disk's volume change.
-    const double work = h.at("external_work").back(), energy = h.at("total_energy").back();
-    EXPECT_GT(work, 0.99 * energy) << integrator;
-    EXPECT_LT(work, 1.01 * energy) << integrator;
+    EXPECT_LT(std::abs(h.at("momentum_x").back()), 1e-9) << name(settle);
+    EXPECT_LT(std::abs(h.at("momentum_y").back()), 1e-9) << name(settle);
+    // The pressure's work is the energy the disk holds plus what damping took (measured 0.99996 of it with
+    // USL; before the work counted the faces' motion, 1.0014, and 0.74 for the ball below).
+    if (settle == Settle::damped) {
+      EXPECT_NEAR(work_over_energy(dir / "out"), 1, 5e-3);
+    }
     fs::remove_all(dir);
   }
 }
 
 TEST(SurfaceLoads, PressureOverABallLeavesItInHydrostaticStress) {
-  // 3-D, USL with local damping 0.1: inside r < 0.06 m sigma_xx = sigma_yy = sigma_zz = -P, measured -0.9946
-  // (every particle within [-1.0102, -0.9630]) at 8 cells across the ball. Asserted: the mean to 1%, every
-  // particle to 5%.
-  const fs::path dir = run_scene("ball", pressed_round_body(3, "0.2"), "--set simulation.local_damping=0.1");
+  // 3-D, USL with local damping 0.1, cpGIMP, 8 cells across the radius: sigma_xx = sigma_yy = sigma_zz = -P,
+  // measured -1.00000 on average and every particle within [-1.0006, -0.9987] (before: the mean -0.904, the
+  // outer particles down to 0.49 P). Asserted: the mean to 0.1%, every particle to 1%, the work over the
+  // energy held to 0.5% (measured 0.998).
+  const fs::path dir = run_scene("ball", pressed_round_body(3, "0.2", Settle::damped), "");
   for (int k : {0, 1, 2}) {
-    const Spread s = stress_within(dir / "out", 3, k, 0.06);
-    EXPECT_NEAR(s.mean, -1, 1e-2) << "component " << k;
-    EXPECT_GT(s.lo, -1.05);
-    EXPECT_LT(s.hi, -0.95);
+    const Spread s = stress_within(dir / "out", 3, k);
+    EXPECT_NEAR(s.mean, -1, 1e-3) << "component " << k;
+    EXPECT_GT(s.lo, -1.01);
+    EXPECT_LT(s.hi, -0.99);
   }
+  EXPECT_NEAR(work_over_energy(dir / "out"), 1, 5e-3);
   fs::remove_all(dir);
 }
 
@@ -218,21 +316,24 @@ pressure = "1e3 * min(10 * t, 1.0) "
 )";
 }
 
-TEST(SurfaceLoads, PressureOnACylindersSideConvergesToHydrostaticInAxisymmetry) {
+TEST(SurfaceLoads, PressureOnACylindersSideGivesHydrostaticStressInAxisymmetry) {
   // sigma_rr = sigma_thetatheta = -P, sigma_zz = 0 is exact for lateral pressure with free ends. The radial
-  // face of the cell around X_r carries the area (X_r + s/2) s per radian. The mean of sigma_rr within 0.07 m
-  // of the centre is -1.0203 at h = 0.0125 m and -1.0095 at h/2 (measured): first order, the O(h) of the
-  // axisymmetric quadrature. Asserted: the error halves (ratio > 1.8) and is below 1.2% at h/2.
-  double error[2];
-  int k = 0;
+  // face of the cell around X_r carries the area (X_r + s/2) s per radian. Measured at h = 0.0125 m and h/2:
+  // every particle's sigma_rr and sigma_thetatheta within [-1.0003, -0.9996], sigma_zz within [-1e-4, 7e-4] P
+  // (before the faces' forces acted at the faces: the mean of sigma_rr within 0.07 m of the centre -1.0209
+  // and -1.0098, first order, and the outer column down to 0.72 P). Asserted: every particle within 0.2% and
+  // |sigma_zz| below 2e-3 P at both.
   for (const std::string cells : {"[12, 24]", "[24, 48]"}) {
     const fs::path dir = run_scene("cylinder", pressed_cylinder(cells), "");
-    const Spread rr = stress_within(dir / "out", 2, 0, 0.07);
-    error[k++] = std::abs(rr.mean + 1);
+    for (int k : {0, 2}) {
+      const Spread s = stress_within(dir / "out", 2, k);
+      EXPECT_GT(s.lo, -1.002) << cells << " component " << k;
+      EXPECT_LT(s.hi, -0.998) << cells << " component " << k;
+    }
+    const Spread zz = stress_within(dir / "out", 2, 1);
+    EXPECT_LT(std::max(-zz.lo, zz.hi), 2e-3) << cells;
     fs::remove_all(dir);
   }
-  EXPECT_GT(error[0] / error[1], 1.8);
-  EXPECT_LT(error[1], 0.012);
 }
 
 }  // namespace

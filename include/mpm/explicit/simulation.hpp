@@ -140,15 +140,18 @@ class Simulation {
   /// Heap bytes held by the simulation (particles, stencils, scatter order, grid) per particle.
   double bytes_per_particle() const;
   /// The bytes a simulation will hold, from the arrays the constructor sizes (a body force adds one
-  /// acceleration per particle; a rate-form material its state and the rates the stress update reads; USF
-  /// with cpGIMP the half-lengths of the locate, `located_half_lengths`; `grids` node records per node: one
-  /// per velocity field of contact, and one more each when contact measures gaps).
-  static MemoryModel memory_model(bool body_force, bool rate_form, bool located_half_lengths, int grids = 1) {
+  /// acceleration per particle, surface loads their SurfaceLoading; a rate-form material its state and the
+  /// rates the stress update reads; USF with cpGIMP the half-lengths of the locate, `located_half_lengths`;
+  /// `grids` node records per node: one per velocity field of contact, and one more each when contact
+  /// measures gaps).
+  static MemoryModel memory_model(bool body_force, bool rate_form, bool located_half_lengths, int grids = 1,
+                                  bool surface_loads = false) {
     // Particles, their stencils and scatter order, the reorder's column; one node record per node.
     const std::size_t particle =
         ParticleSet<Dim>::bytes_per_particle(reads_half_lengths<Kernel>) +
         sizeof(StoredStencil<Dim, Kernel>) + sizeof(std::int32_t) +
         (located_half_lengths ? sizeof(Vec<Dim>) : 0) + (body_force ? sizeof(Vec<Dim>) : 0) +
+        (surface_loads ? SurfaceLoading<Dim>::bytes_per_particle : 0) +
         (rate_form ? MaterialState::bytes_per_particle() + sizeof(Mat<Dim>) + sizeof(Real) : 0) +
         ReorderBuffer::column;
     // A node's mirror copies (1 B) when light nodes are re-projected.
@@ -203,8 +206,8 @@ class Simulation {
   template <Gather what>
   void gather(NodeVelocity<Dim> v_grid, Real dt);
   void evaluate_body_force();
-  /// load_power_ of the step just taken, before the particles move between ranks.
-  void account_load_power();
+  /// load_power_ of the step of length dt just taken, before the particles move between ranks.
+  void account_load_power(Real dt);
   /// The stress update of the rate-form (and, in a mixed table, Neo-Hookean) particles from the rates the
   /// last deforming G2P pass recorded.
   ParticleFault update_stress(Real dt);
@@ -267,6 +270,7 @@ class Simulation {
   ScatterOrder<Dim> order_;
   ReorderBuffer reorder_buffer_;  ///< the reorder's scratch (settle)
   std::vector<Vec<Dim>> body_accel_;
+  SurfaceLoading<Dim> surface_;  ///< the surface loads of the step (at its start)
   /// Loads, their velocities at the step's start (the particles' order then), their power over the last step.
   bool loads_;
   std::vector<Vec<Dim>> v_start_;

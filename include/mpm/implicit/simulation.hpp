@@ -97,6 +97,8 @@ class ImplicitSimulation {
   const ImplicitCounters& counters() const { return counters_; }
   /// Body accelerations b_p the last step used (empty without a body force) [m/s^2].
   const std::vector<Vec<Dim>>& body_acceleration() const { return body_accel_; }
+  /// The surface loads of the last step (empty without surface loads).
+  const SurfaceLoading<Dim>& surface_loading() const { return surface_; }
   /// Force [N per unit thickness or per radian] each grid-face constraint (in constraints().names() order)
   /// and each rigid body applied to the material over the last step.
   const std::vector<Vec<Dim>>& face_reactions() const { return face_reactions_; }
@@ -210,6 +212,7 @@ class ImplicitSimulation {
   ImplicitCounters counters_;
   Outflow<Dim> outflow_;
   std::vector<Vec<Dim>> face_reactions_, body_accel_;
+  SurfaceLoading<Dim> surface_;  ///< the surface loads, blended over the step as body_accel_
   Real explicit_dt_ = 0, dt_ = 0, time_ = 0;
   std::int64_t steps_ = 0;
   int last_newton_ = 0;

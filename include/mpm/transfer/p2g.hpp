@@ -7,6 +7,7 @@
 #include <tuple>
 #include <vector>
 
+#include "mpm/boundary/surface_loads.hpp"
 #include "mpm/core/parallel.hpp"
 #include "mpm/grid/grid.hpp"
 #include "mpm/particles/particles.hpp"
@@ -117,19 +118,43 @@ struct InternalForce {
 };
 
 /// Body force sum_p S_ip m_p b_p, b_p a per-particle acceleration, into the force slot (part of the external
-/// force of Wallstedt & Guilkey 2008, Eq. (15)).
+/// force of Wallstedt & Guilkey 2008, Eq. (15)); with `surface`, also the surface loads the particles carry,
+/// sum_p S_ip f_p + grad S_ip . (A_p F_p^T) with F the particles' deformation gradients: each face's force
+/// acting at its face rather than at the particle's centre (patch_load).
 template <int Dim>
 struct BodyForce {
   static constexpr int slots_end = NodeSlots<Dim>::a + Dim;
   const std::vector<Real>& m;
-  const std::vector<Vec<Dim>>& b;
+  const std::vector<Vec<Dim>>* b = nullptr;
+  const SurfaceLoading<Dim>* surface = nullptr;
+  const std::vector<Mat<Dim>>* F = nullptr;
 
   [[gnu::always_inline]] auto operator()(const LaneBlock& block) const {
     const RealLanes m_p = block.load(m)[0];
-    const RecordLanes<Vec<Dim>> b_p = block.load(b);
-    return [ m_p, b_p ](auto& record, const RealLanes& S_ip, const RealLanes(&)[Dim])
-        __attribute__((always_inline)) {
-      for (int d = 0; d < Dim; ++d) record[NodeSlots<Dim>::a + d] += (S_ip * m_p) * b_p[d];
+    const bool body = b != nullptr, loaded = surface != nullptr;
+    RecordLanes<Vec<Dim>> b_p{}, f_p{};
+    std::array<std::array<RealLanes, Dim>, Dim> M_p{};  // A_p F_p^T
+    if (body) b_p = block.load(*b);
+    if (loaded) {
+      f_p = block.load(surface->force);
+      const RecordLanes<Mat<Dim>> A_p = block.load(surface->moment), F_p = block.load(*F);  // column-major
+      for (int d = 0; d < Dim; ++d)
+        for (int c = 0; c < Dim; ++c) {
+          RealLanes sum = A_p[d] * F_p[c];
+          for (int e = 1; e < Dim; ++e) sum += A_p[d + e * Dim] * F_p[c + e * Dim];
+          M_p[d][c] = sum;
+        }
+    }
+    return [ m_p, b_p, f_p, M_p, body, loaded ](auto& record, const RealLanes& S_ip,
+                                                const RealLanes(&dS_ip)[Dim]) __attribute__((always_inline)) {
+      for (int d = 0; d < Dim; ++d) {
+        if (body) record[NodeSlots<Dim>::a + d] += (S_ip * m_p) * b_p[d];
+        if (loaded) {
+          RealLanes f_d = S_ip * f_p[d];
+          for (int c = 0; c < Dim; ++c) f_d += M_p[d][c] * dS_ip[c];
+          record[NodeSlots<Dim>::a + d] += f_d;
+        }
+      }
     };
   }
 };
@@ -241,12 +266,13 @@ void p2g_add(const ParticleStencils<Dim, Kernel>& stencils, const ScatterOrder<D
 /// internal force plus, when per-particle body accelerations are given, the body force (Wallstedt & Guilkey
 /// 2008, Eq. (14), Eq. (15)). Each tile's sums are shown to keep (p2g_add_keeping). The stress is p.sigma, or
 /// with `state_stress` the 3 x 3 stress of the material state (the engine's when it keeps one). With
-/// `affine`, the particles' APIC matrices B_p, the momentum is APIC's (AffineMomentum).
+/// `affine`, the particles' APIC matrices B_p, the momentum is APIC's (AffineMomentum). With `surface`, the
+/// surface loads the particles carry, the body force adds them (BodyForce).
 template <Scatter what, int Dim, class Kernel, class Keep = KeepNothing>
 void p2g(const ParticleSet<Dim>& p, const ParticleStencils<Dim, Kernel>& stencils,
          const ScatterOrder<Dim>& order, const std::vector<Vec<Dim>>& body_accel, Grid<Dim>& grid,
          const Keep& keep = {}, int field = 0, bool state_stress = false,
-         const std::vector<Mat<Dim>>* affine = nullptr) {
+         const std::vector<Mat<Dim>>* affine = nullptr, const SurfaceLoading<Dim>* surface = nullptr) {
   static_assert(!what.volume_gradient || what.mass_momentum, "the volume gradient comes with the mass");
   parallel_for(static_cast<std::ptrdiff_t>(grid.size()), [&](std::ptrdiff_t n) {
     GridNode<Dim>& node = grid.nodes[n];
@@ -262,7 +288,8 @@ void p2g(const ParticleSet<Dim>& p, const ParticleStencils<Dim, Kernel>& stencil
     if constexpr (what.force) node.a.setZero();
   });
   const InternalForce<Dim, SymTensor<Dim>> internal{p.V, p.sigma, state_stress ? &p.state.sigma : nullptr};
-  const bool body = what.force && !body_accel.empty();
+  const bool body = what.force && (!body_accel.empty() || surface);
+  const BodyForce<Dim> body_force{p.m, body_accel.empty() ? nullptr : &body_accel, surface, &p.F};
   const auto add = [&](const auto&... contributions) {
     p2g_add_keeping(keep, stencils, order, field, grid, contributions...);
   };
@@ -280,13 +307,13 @@ void p2g(const ParticleSet<Dim>& p, const ParticleStencils<Dim, Kernel>& stencil
   };
   if constexpr (what.mass_momentum && what.force) {
     if (body)
-      with_momentum(internal, BodyForce<Dim>{p.m, body_accel});
+      with_momentum(internal, body_force);
     else
       with_momentum(internal);
   } else if constexpr (what.mass_momentum) {
     with_momentum();
   } else if (body) {
-    add(internal, BodyForce<Dim>{p.m, body_accel});
+    add(internal, body_force);
   } else {
     add(internal);
   }
