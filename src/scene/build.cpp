@@ -113,7 +113,8 @@ void seed_shape(const Scene& sc, std::size_t k, ParticleSet<Dim>& p) {
 }
 
 /// The scene's pressures and tractions on the surfaces of bodies (lattice_surface of each loaded body, ids as
-/// seed_bodies gives them), each kept to the faces looking along `face` and the particles in its region.
+/// seed_bodies gives them, less the faces on symmetry planes), each kept to the faces looking along `face`
+/// and the particles in its region.
 template <int Dim>
 SurfaceLoads<Dim> surface_loads_of(const Scene& sc) {
   if (sc.surface_loads.empty()) return {};
@@ -144,6 +145,13 @@ SurfaceLoads<Dim> surface_loads_of(const Scene& sc) {
     for (std::size_t j = 0; j < faces[l.body].size(); ++j) {
       LatticeFaces<Dim> f = faces[l.body][j];
       const Vec<Dim>& X = p.X[first[l.body] + j];
+      for (int k = 0; k < 2 * Dim; ++k) {  // a face on a symmetry plane is the cut of a mirrored body
+        const int axis = k / 2;
+        const Real plane = X[axis] + (k % 2 ? half_spacing : -half_spacing);
+        const Real grid_face = k % 2 ? sc.grid_hi[axis] : sc.grid_lo[axis];
+        if (sc.faces[k].kind == SceneFace::Kind::symmetry && std::abs(plane - grid_face) < 1e-9 * sc.h)
+          f[k] = 0;
+      }
       if (l.face >= 0) {  // the lattice face looking out along the face's normal
         const Real kept = f[l.face];
         f = {};

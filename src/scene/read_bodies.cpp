@@ -14,7 +14,7 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
   const auto n = static_cast<std::size_t>(sc.dim);
   SceneBody b;
   b.name = s.name("name", "body " + std::to_string(index));
-  read_shape(s, sc, "the box", true, b);
+  read_shape(s, sc, "the box", ShapeOwner::body, b);
   for (auto [key, shapes] :
        {std::pair{"add", &b.add}, {"subtract", &b.subtract}, {"intersect", &b.intersect}}) {
     const std::vector<const toml::table*> tables = s.tables(key);
@@ -25,7 +25,7 @@ void read_body(const Section& s, Scene& sc, std::size_t index) {
                                 {"shape", "lo", "hi", "center", "radius", "inner_radius", "vertices", "file",
                                  "scale", "translate"});
       shapes->push_back({});
-      read_shape(t, sc, "the box", false, shapes->back());
+      read_shape(t, sc, "the box", ShapeOwner::body_part, shapes->back());
       shapes->back().ppc = b.ppc;
     }
   }
@@ -170,7 +170,7 @@ void read_rigid_body(const Section& s, Scene& sc, std::size_t index) {
   const auto n = static_cast<std::size_t>(sc.dim);
   SceneRigidBody r;
   r.name = s.name("name", "rigid " + std::to_string(index));
-  read_shape(s, sc, "the rigid body", false, r);
+  read_shape(s, sc, "the rigid body", ShapeOwner::rigid_body, r);
   if (!s.has("velocity"))
     s.fail("velocity", "missing (the prescribed velocity, numbers or expressions of t)");
   r.velocity = s.expressions("velocity", n, time_var, sc.constants);

@@ -259,13 +259,18 @@ void refuse_deep_keys(std::string_view text, const std::string& file);
 void read_material(const Section& s, Scene& sc);
 /// Every key a [[materials]] table may hold (those of the laws that declare theirs included).
 std::vector<std::string> material_keys();
-/// The corners `lo` and `hi` of a box inside the grid, each component a number or an expression of the
-/// constants; `what` names it in the message ("the box").
+/// The corners `lo` and `hi` of a box inside the grid (`past_symmetry`: or reaching past it across its
+/// symmetry faces only), each component a number or an expression of the constants; `what` names it in the
+/// message ("the box").
 void read_box(const Section& s, const Scene& sc, const std::string& what, std::vector<double>& lo,
-              std::vector<double>& hi);
-/// Where a body (`files`: a particle file allowed) or a rigid body lies, inside the grid: its `shape` and
-/// that shape's keys, and `ppc`; `box` names a box in the message ("the box").
-void read_shape(const Section& s, const Scene& sc, const std::string& box, bool files, SceneShape& out);
+              std::vector<double>& hi, bool past_symmetry = false);
+/// What a shape belongs to: a body (a particle file or a Gmsh mesh allowed), a shape a body adds, subtracts
+/// or intersects, or a rigid body. A body's shapes may reach past the grid across its symmetry faces, the
+/// body being their part inside (a quarter of a ring about two symmetry planes); a rigid body lies inside.
+enum class ShapeOwner { body, body_part, rigid_body };
+/// Where a body or a rigid body lies: its `shape` and that shape's keys, and `ppc`; `box` names a box in the
+/// message ("the box").
+void read_shape(const Section& s, const Scene& sc, const std::string& box, ShapeOwner owner, SceneShape& out);
 /// Read bodies[index] into sc.bodies.
 void read_body(const Section& s, Scene& sc, std::size_t index);
 /// A polygon body's outline from its `vertices` (inline [x, y] pairs or a file of them), refused with one

@@ -11,13 +11,25 @@ namespace mpm {
 
 namespace {
 /// The corners of the part of the lattice a box from the grid's lo would have (ppc particles per cell per
-/// axis) that covers [lo, hi]: shapes seeded on it meet boxes and each other without gaps or overlaps.
+/// axis) that covers [lo, hi] within the grid: shapes seeded on it meet boxes and each other without gaps or
+/// overlaps, and a shape reaching past a symmetry face (read_shape) is cut at its plane.
 template <int Dim>
 std::pair<Vec<Dim>, Vec<Dim>> lattice_cover(const Scene& sc, const Vec<Dim>& lo, const Vec<Dim>& hi,
                                             Real spacing) {
-  const Vec<Dim> grid_lo = to_vec<Dim>(sc.grid_lo);
-  return {grid_lo.array() + spacing * ((lo - grid_lo) / spacing).array().floor(),
-          grid_lo.array() + spacing * ((hi - grid_lo) / spacing).array().ceil()};
+  const Vec<Dim> grid_lo = to_vec<Dim>(sc.grid_lo), grid_hi = to_vec<Dim>(sc.grid_hi);
+  return {grid_lo.array() + spacing * ((lo.cwiseMax(grid_lo) - grid_lo) / spacing).array().floor(),
+          grid_lo.array() + spacing * ((hi.cwiseMin(grid_hi) - grid_lo) / spacing).array().ceil()};
+}
+
+/// The box whose lattice a box, disk or ring fills: [lo, hi] itself inside the grid, or the grid's lattice
+/// covering its part inside (lattice_cover) when it reaches past a symmetry face.
+template <int Dim>
+std::pair<Vec<Dim>, Vec<Dim>> seeded_box(const Scene& sc, const Vec<Dim>& lo, const Vec<Dim>& hi,
+                                         Real spacing) {
+  if ((lo.array() >= to_vec<Dim>(sc.grid_lo).array()).all() &&
+      (hi.array() <= to_vec<Dim>(sc.grid_hi).array()).all())
+    return {lo, hi};
+  return lattice_cover<Dim>(sc, lo, hi, spacing);
 }
 
 /// Whether x lies inside, given the sorted crossings of its line with a closed surface: an odd number below
@@ -81,18 +93,20 @@ void fill_shape(const Scene& sc, const SceneShape& b, Real density, std::uint16_
                 ParticleSet<Dim>& p) {
   const Real spacing = sc.h / b.ppc;
   switch (b.shape) {
-    case SceneBody::Shape::box:
-      fill_box<Dim>(p, to_vec<Dim>(b.lo), to_vec<Dim>(b.hi), spacing, density, material);
+    case SceneBody::Shape::box: {
+      const auto [lo, hi] = seeded_box<Dim>(sc, to_vec<Dim>(b.lo), to_vec<Dim>(b.hi), spacing);
+      fill_box<Dim>(p, lo, hi, spacing, density, material);
       break;
+    }
     case SceneBody::Shape::disk:
     case SceneBody::Shape::ring: {
       const Vec<Dim> c = to_vec<Dim>(b.center);
       const Real r_in = b.inner_radius, r_out = b.radius;
-      fill_box<Dim>(p, c.array() - r_out, c.array() + r_out, spacing, density, material, {},
-                    [&](const Vec<Dim>& x) {
-                      const Real r = (x - c).norm();
-                      return r <= r_out && r >= r_in;
-                    });
+      const auto [lo, hi] = seeded_box<Dim>(sc, c.array() - r_out, c.array() + r_out, spacing);
+      fill_box<Dim>(p, lo, hi, spacing, density, material, {}, [&](const Vec<Dim>& x) {
+        const Real r = (x - c).norm();
+        return r <= r_out && r >= r_in;
+      });
       break;
     }
     case SceneBody::Shape::polygon:

@@ -520,6 +520,13 @@ INSTANTIATE_TEST_SUITE_P(
                  "bodies[1].radius",
                  {"the disk (center +- radius) must lie inside the grid"},
                  31},
+        BadScene{"DiskPastAFaceThatIsNoSymmetryPlane",
+                 {{"cells = [10, 10]", "cells = [10, 10]\nfaces = { x-max = \"symmetry\" }"},
+                  {"radius = 0.1", "radius = 0.35"}},
+                 "bodies[1].radius",
+                 {"the disk (center +- radius) must lie inside the grid [0, 1] x [0, 1] (or reach past its "
+                  "symmetry faces: x-max)"},
+                 32},
         BadScene{"DiskIn3D",
                  {{"dimension = 2", "dimension = 3"},
                   {"lo = [0.0, 0.0]", "lo = [0.0, 0.0, 0.0]"},
