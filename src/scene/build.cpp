@@ -8,6 +8,7 @@
 #include "mpm/core/errors.hpp"
 #include "mpm/particles/geostatic.hpp"
 #include "mpm/particles/surface.hpp"
+#include "mpm/particles/validate.hpp"
 #include "mpm/scene/budget.hpp"
 #include "particle_file.hpp"
 #include "shapes.hpp"
@@ -112,6 +113,30 @@ void seed_shape(const Scene& sc, std::size_t k, ParticleSet<Dim>& p) {
   }
 }
 
+/// The lattice spacing s of a particle file's body that carries a surface load: its particles (reference
+/// positions X, volumes V) must be cubes of one volume s^Dim whose centres lie s apart along each axis.
+template <int Dim>
+Real file_lattice_spacing(const Scene& sc, std::size_t k, const std::vector<Vec<Dim>>& X,
+                          const std::vector<Real>& V) {
+  const Real s = std::pow(V.front(), 1.0 / Dim);
+  for (std::size_t i = 0; i < X.size(); ++i) {
+    bool on = std::abs(V[i] - V.front()) <= 1e-9 * V.front();
+    for (int d = 0; on && d < Dim; ++d) {
+      const Real steps = (X[i][d] - X.front()[d]) / s;
+      on = std::abs(steps - std::round(steps)) <= 1e-6;
+    }
+    if (!on)
+      throw InputError(
+          sc.file.string() + ": bodies[" + std::to_string(k) +
+          "].file: a surface load needs the file's "
+          "particles on a lattice, cubes of one volume whose centres lie its side apart (the first: " +
+          "volume " + format_number(V.front()) + ", side " + format_number(s) + "); its particle " +
+          std::to_string(i + 1) + " at " + format_point<Dim>(X[i]) + " with volume " + format_number(V[i]) +
+          " is not");
+  }
+  return s;
+}
+
 /// The scene's pressures and tractions on the surfaces of bodies (lattice_surface of each loaded body, ids as
 /// seed_bodies gives them, less the faces on symmetry planes), each kept to the faces looking along `face`
 /// and the particles in its region.
@@ -120,6 +145,7 @@ SurfaceLoads<Dim> surface_loads_of(const Scene& sc) {
   if (sc.surface_loads.empty()) return {};
   std::vector<std::size_t> first(sc.bodies.size() + 1, 0);
   std::vector<std::vector<LatticeFaces<Dim>>> faces(sc.bodies.size());
+  std::vector<Real> spacing(sc.bodies.size());
   ParticleSet<Dim> p;
   for (std::size_t k = 0; k < sc.bodies.size(); ++k) {
     seed_shape<Dim>(sc, k, p);
@@ -128,8 +154,11 @@ SurfaceLoads<Dim> surface_loads_of(const Scene& sc) {
                                     [&](const SceneSurfaceLoad& l) { return l.body == k; });
     if (!loaded || first[k + 1] == first[k]) continue;
     const std::vector<Vec<Dim>> X(p.X.begin() + static_cast<std::ptrdiff_t>(first[k]), p.X.end());
-    faces[k] =
-        lattice_surface<Dim>(X, X.front(), sc.h / sc.bodies[k].ppc, sc.geometry == Geometry::axisymmetric);
+    spacing[k] = sc.bodies[k].shape == SceneBody::Shape::file
+                     ? file_lattice_spacing<Dim>(
+                           sc, k, X, {p.V0.begin() + static_cast<std::ptrdiff_t>(first[k]), p.V0.end()})
+                     : sc.h / sc.bodies[k].ppc;
+    faces[k] = lattice_surface<Dim>(X, X.front(), spacing[k], sc.geometry == Geometry::axisymmetric);
   }
   std::vector<SurfaceLoad<Dim>> loads;
   for (const SceneSurfaceLoad& l : sc.surface_loads) {
@@ -141,7 +170,7 @@ SurfaceLoads<Dim> surface_loads_of(const Scene& sc) {
       };
     else
       load.traction = velocity_of<Dim>(l.traction);  // a vector function of t
-    const Real half_spacing = 0.5 * sc.h / sc.bodies[l.body].ppc;
+    const Real half_spacing = 0.5 * spacing[l.body];
     for (std::size_t j = 0; j < faces[l.body].size(); ++j) {
       LatticeFaces<Dim> f = faces[l.body][j];
       const Vec<Dim>& X = p.X[first[l.body] + j];

@@ -124,10 +124,15 @@ void read_surface_load(const Section& t, const std::string& kind, Scene& sc, con
   auto found =
       std::find_if(sc.bodies.begin(), sc.bodies.end(), [&](const SceneBody& b) { return b.name == body; });
   if (found == sc.bodies.end()) t.fail("body", "no body named " + in_quotes(body));
-  if (found->shape == SceneBody::Shape::file || found->shape == SceneBody::Shape::mesh)
+  if (found->shape == SceneBody::Shape::mesh)
     t.fail("body",
-           "surface loads need a body seeded on a lattice (box, disk, sphere, ring, polygon or surface), not "
-           "a particle file or a mesh");
+           "surface loads need a body on a lattice (box, disk, sphere, ring, polygon, surface, or a particle "
+           "file of equal cubes), not a mesh");
+  if (found->shape == SceneBody::Shape::file && sc.geometry == Geometry::axisymmetric)
+    t.fail(
+        "body",
+        "surface loads on a particle file's body are for plane and 3-D scenes: in axisymmetry a face's area "
+        "per radian needs the lattice of a shape");
   load.body = static_cast<std::size_t>(found - sc.bodies.begin());
   if (t.has("face")) {
     const std::vector<std::string> names(face_names.begin(), face_names.begin() + 2 * sc.dim);

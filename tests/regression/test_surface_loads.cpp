@@ -220,6 +220,41 @@ TEST(SurfaceLoads, PressureOnEveryFaceOfACubeGivesMinusPInEveryParticle) {
   }
 }
 
+TEST(SurfaceLoads, APressedParticleFileOnALatticeIsTheBoxBody) {
+  // The block of PressureOnEveryFaceOfABlock... read from a CSV of its 32 x 32 particles (squares of side
+  // 6.25 mm): the file's lattice is found from the volumes. Measured: every particle within 2.2e-4 of -P, as
+  // the box body's; asserted: 1%. A particle off that lattice is refused, the message naming it.
+  const fs::path dir = scratch("surface_loads", "file");
+  {
+    std::ofstream csv(dir / "block.csv");
+    csv.precision(17);
+    csv << "x,y,volume\n";
+    for (int j = 0; j < 32; ++j)
+      for (int i = 0; i < 32; ++i)
+        csv << -0.1 + (i + 0.5) * 0.00625 << "," << -0.1 + (j + 0.5) * 0.00625 << "," << 0.00625 * 0.00625
+            << "\n";
+  }
+  std::ofstream(dir / "scene.toml") << pressed_body(2, "\"file\"\nfile = \"block.csv\"", 24, "0.3",
+                                                    Settle::damped);
+  ASSERT_EQ(run_mpm(dir / "scene.toml", "--out " + (dir / "out").string(), dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
+  for (int k : {0, 1}) {
+    const Spread s = stress_within(dir / "out", 2, k);
+    EXPECT_GT(s.lo, -1.01);
+    EXPECT_LT(s.hi, -0.99);
+  }
+  std::ofstream(dir / "block.csv", std::ios::app)
+      << "0.1,0.1," << 0.00625 * 0.00625 << "\n";  // 31.5 sides away
+  EXPECT_EQ(run_mpm(dir / "scene.toml", "--out " + (dir / "out2").string(), dir / "log.txt"), 2);
+  EXPECT_NE(
+      slurp(dir / "log.txt").find("bodies[0].file: a surface load needs the file's particles on a lattice"),
+      std::string::npos)
+      << slurp(dir / "log.txt");
+  EXPECT_NE(slurp(dir / "log.txt").find("its particle 1025 at (0.1, 0.1)"), std::string::npos)
+      << slurp(dir / "log.txt");
+  fs::remove_all(dir);
+}
+
 TEST(SurfaceLoads, PressureOnABSplineBlockKeepsItsMeanAndItsEnergyButNotEachParticle) {
   // B-spline weights are quadratic or cubic over a particle's domain, so the first-order expansion puts part
   // of each face's force on the wrong nodes, the light ones beyond the surface most: the outer particles then
