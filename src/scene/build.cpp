@@ -104,7 +104,7 @@ void seed_shape(const Scene& sc, std::size_t k, ParticleSet<Dim>& p) {
   } else if (b.shape == SceneBody::Shape::mesh) {
     for (const MeshPoint& m : b.mesh_points)
       p.add(Eigen::Map<const Vec<3>>(m.x.data()).template head<Dim>(), Vec<Dim>::Zero(),
-            sc.materials[m.material].density * m.volume, m.volume, cube_half_lengths<Dim>(m.volume),
+            sc.materials[m.material].density * m.volume, m.volume, cube_half_lengths<Dim>(m.volume, sc.h),
             static_cast<std::uint16_t>(m.material));
   } else if (b.add.empty() && b.subtract.empty() && b.intersect.empty()) {
     fill_shape<Dim>(sc, b, density, material, p);

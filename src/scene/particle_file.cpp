@@ -185,7 +185,7 @@ void read_particle_rows(const Scene& sc, const SceneBody& b, const std::string& 
       if (!std::isnan(internal[c.column]) && !c.declared_by[material])
         throw InputError(where + "material " + in_quotes(sc.materials[material].name) + " keeps no " +
                          in_quotes(c.name) + " (a body of several laws gives it in a file of its own)");
-    p.add(x, v, sc.materials[material].density * V, V, cube_half_lengths<Dim>(V),
+    p.add(x, v, sc.materials[material].density * V, V, cube_half_lengths<Dim>(V, sc.h),
           static_cast<std::uint16_t>(material));
     if (stressed || given_internal) {
       p.state.keeps_internal = p.state.keeps_internal || given_internal;

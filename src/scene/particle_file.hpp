@@ -25,10 +25,15 @@ std::vector<ParticleColumn> particle_file_columns(const std::filesystem::path& f
                                                   const std::vector<Material>& materials);
 
 /// The half-lengths of a particle given as a point and a volume V (a file's row, a mesh's Gauss point): those
-/// of a cube of volume V, V^(1/dim) / 2 per axis.
+/// of a cube of volume V, V^(1/dim) / 2 per axis. A cube a cell of width h wide (one particle per cell), or
+/// half a cell, is that within round-off: its half-length is h / 2 or h / 4 exactly, not the root's last bit
+/// above the GIMP kernels' bound h / 2.
 template <int Dim>
-Vec<Dim> cube_half_lengths(Real V) {
-  return Vec<Dim>::Constant(0.5 * std::pow(V, 1.0 / Dim));
+Vec<Dim> cube_half_lengths(Real V, Real h) {
+  Real l = 0.5 * std::pow(V, 1.0 / Dim);
+  for (const Real exact : {0.5 * h, 0.25 * h})
+    if (std::abs(l - exact) <= 1e-12 * exact) l = exact;
+  return Vec<Dim>::Constant(l);
 }
 
 /// Whether the columns hold `role`.

@@ -42,6 +42,29 @@ std::map<int, StepRows> by_step(const fs::path& file) {
   return out;
 }
 
+// Sulsky & Kaul 2004, Sec. 3.2.2: the residual Newton measures is the momentum equation divided by Y dx dy
+// dt, Y the Young's modulus. The bar's first step logged both ways: at the initial guess (the same iterate)
+// the scaled norm is the unscaled one over E h^2 dt with E = 1000 Pa, h = 0.1 m and the step's dt, to
+// round-off (each component is multiplied by the scale before the norm is taken). Asserted to 1e-13 relative.
+TEST(NewtonLog, TheScaledResidualIsTheUnscaledOneOverYoungsModulusTimesCellAreaTimesStep) {
+  const fs::path dir = mpm::testing::scratch("mpm_newton_log", "scale");
+  std::map<std::string, StepRows> first;
+  for (const std::string residual : {"scaled", "unscaled"}) {
+    ASSERT_EQ(run_mpm(plastic_bar,
+                      logged + " --stop-after 1 --set implicit.residual=" + residual + " --out " +
+                          (dir / residual).string(),
+                      dir / "log"),
+              0)
+        << slurp(dir / "log");
+    first[residual] = by_step(dir / residual / "newton.csv").at(1);
+  }
+  const double dt = first["scaled"].dt.at(0);
+  EXPECT_EQ(dt, first["unscaled"].dt.at(0));
+  const double expected = first["unscaled"].norms.at(0).at(0) / (1000.0 * 0.1 * 0.1 * dt);
+  EXPECT_NEAR(first["scaled"].norms.at(0).at(0), expected, 1e-13 * expected);
+  fs::remove_all(dir);
+}
+
 // Every step of the elastic-plastic bar at 100x: the Newton iterations a step's tries logged (rows less one
 // per try) are history.csv's newton_iterations increments; the last try ends at or below newton_tolerance =
 // 1e-6 and every iterate before it is above (Newton stops at the first below); its dt is the step history.csv

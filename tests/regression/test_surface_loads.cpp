@@ -131,19 +131,26 @@ const char* name(Settle s) {
   return s == Settle::damped ? "USL with damping" : "implicit";
 }
 
+/// The [simulation] and [output] tables of a cpGIMP run to `end` seconds, settled by `settle`, one frame at
+/// the end; `extra` adds lines to [simulation].
+std::string run_tables(int dim, const std::string& end, Settle settle, const std::string& extra = "") {
+  return "[simulation]\ndimension = " + std::to_string(dim) + "\n" + extra + "end_time = " + end +
+         "\nkernel = \"cpgimp\"\n" +
+         (settle == Settle::damped ? "integrator = \"usl\"\ncfl = 0.4\nlocal_damping = 0.1\n"
+                                   : "integrator = \"implicit\"\ndt = 0.002\n") +
+         "[output]\nevery = " + end + "\n";
+}
+
 /// A Neo-Hookean body (E = 1 MPa, nu = 0.3) in a 0.3 m grid of `cells` cells a side, 2 particles per cell and
 /// axis, under a pressure ramped to 1 kPa over 0.1 s on its whole surface, run to `end`: `shape` is the
 /// body's lines after `shape = `.
 std::string pressed_body(int dim, const std::string& shape, int cells, const std::string& end,
                          Settle settle) {
-  const std::string d = std::to_string(dim), n = std::to_string(cells);
+  const std::string n = std::to_string(cells);
   const std::string lo = dim == 2 ? "[-0.15, -0.15]" : "[-0.15, -0.15, -0.15]";
   const std::string hi = dim == 2 ? "[0.15, 0.15]" : "[0.15, 0.15, 0.15]";
   const std::string grid = dim == 2 ? "[" + n + ", " + n + "]" : "[" + n + ", " + n + ", " + n + "]";
-  return "[simulation]\ndimension = " + d + "\nend_time = " + end + "\nkernel = \"cpgimp\"\n" +
-         (settle == Settle::damped ? "integrator = \"usl\"\ncfl = 0.4\nlocal_damping = 0.1\n"
-                                   : "integrator = \"implicit\"\ndt = 0.002\n") +
-         "[output]\nevery = " + end + "\n[grid]\nlo = " + lo + "\nhi = " + hi + "\ncells = " + grid + R"(
+  return run_tables(dim, end, settle) + "[grid]\nlo = " + lo + "\nhi = " + hi + "\ncells = " + grid + R"(
 [[materials]]
 name = "m"
 E = 1e6
@@ -319,17 +326,7 @@ TEST(SurfaceLoads, PressureOverABallLeavesItInHydrostaticStress) {
 /// region keeps the inner surface's particles), USL with local damping, to 0.3 s: whole in a grid about it,
 /// or a quarter in a grid whose x-min and y-min faces are symmetry planes through its centre.
 std::string pressed_ring(bool quarter) {
-  return std::string(R"([simulation]
-dimension = 2
-end_time = 0.3
-integrator = "usl"
-kernel = "cpgimp"
-cfl = 0.4
-local_damping = 0.1
-[output]
-every = 0.3
-[grid]
-)") +
+  return run_tables(2, "0.3", Settle::damped) + "[grid]\n" +
          (quarter ? "lo = [0.0, 0.0]\nhi = [0.3, 0.3]\ncells = [24, 24]\nfaces = { x-min = \"symmetry\", "
                     "y-min = \"symmetry\" }\n"
                   : "lo = [-0.3, -0.3]\nhi = [0.3, 0.3]\ncells = [48, 48]\n") +
@@ -392,17 +389,7 @@ TEST(SurfaceLoads, AQuarterRingAboutTwoSymmetryPlanesIsTheWholeRingsQuarter) {
 /// A solid hypoelastic cylinder of radius 0.1 m and height 0.2 m about the axis (axisymmetric, x = r) under a
 /// pressure ramped to 1 kPa on its curved face only, damped, at `cells` = [nr, nz].
 std::string pressed_cylinder(const std::string& cells) {
-  return R"([simulation]
-dimension = 2
-geometry = "axisymmetric"
-end_time = 0.3
-integrator = "usl"
-kernel = "cpgimp"
-cfl = 0.4
-local_damping = 0.1
-[output]
-every = 0.3
-[grid]
+  return run_tables(2, "0.3", Settle::damped, "geometry = \"axisymmetric\"\n") + R"([grid]
 lo = [0.0, -0.15]
 hi = [0.15, 0.15]
 cells = )" +

@@ -233,3 +233,53 @@ TEST(ParticleFileColumns, ALawsInternalVariablesFromTheFileAreChecked) {
 
 }  // namespace
 }  // namespace mpm
+
+namespace mpm {
+namespace {
+
+// A file of cubes one cell wide (one particle per cell) gives each the half-length h / 2 exactly: the cube
+// root of h^3 is often the last bit above h (h = 0.1: 0.5 (10^-3)^(1/3) = 0.05000000000000001), which the
+// GIMP kernels' bound h / 2 refused. The 3-D scene then runs with cpGIMP.
+TEST(ParticleFile, CubesOneCellWideHaveHalfTheCellAsTheirHalfLength) {
+  const Folder dir;
+  {
+    std::ofstream csv(dir.path / "cubes.csv");
+    csv.precision(17);
+    csv << "x,y,z,volume\n";
+    for (int k = 0; k < 2; ++k)
+      for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i)
+          csv << 0.45 + 0.1 * i << "," << 0.45 + 0.1 * j << "," << 0.45 + 0.1 * k << "," << 0.1 * 0.1 * 0.1
+              << "\n";
+  }
+  std::ofstream(dir.path / "scene.toml") << R"([simulation]
+dimension = 3
+end_time = 1e-4
+integrator = "usl"
+kernel = "cpgimp"
+cfl = 0.3
+[grid]
+lo = [0.0, 0.0, 0.0]
+hi = [1.0, 1.0, 1.0]
+cells = [10, 10, 10]
+[[materials]]
+name = "m"
+E = 1e6
+nu = 0.3
+density = 1000.0
+[[bodies]]
+shape = "file"
+file = "cubes.csv"
+)";
+  EXPECT_GT(0.5 * std::pow(0.1 * 0.1 * 0.1, 1.0 / 3), 0.05);  // the round-off this guards against
+  const ParticleSet<3> p = seed_bodies<3>(read_scene(dir.path / "scene.toml"));
+  ASSERT_EQ(p.size(), 8u);
+  for (std::size_t i = 0; i < p.size(); ++i) EXPECT_EQ(p.half_length(i), Vec<3>::Constant(0.05));
+  const std::string cmd = std::string(MPM_BINARY) + " run " + (dir.path / "scene.toml").string() +
+                          " --quiet --out " + (dir.path / "out").string() + " > " +
+                          (dir.path / "log").string() + " 2>&1";
+  EXPECT_EQ(std::system(cmd.c_str()), 0);
+}
+
+}  // namespace
+}  // namespace mpm

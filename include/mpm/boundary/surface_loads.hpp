@@ -12,8 +12,8 @@
 #include "mpm/core/parallel.hpp"
 #include "mpm/core/types.hpp"
 #include "mpm/grid/grid.hpp"
+#include "mpm/particles/lattice_faces.hpp"
 #include "mpm/particles/particles.hpp"
-#include "mpm/particles/surface.hpp"
 
 namespace mpm {
 
