@@ -159,6 +159,14 @@ SurfaceLoads<Dim> surface_loads_of(const Scene& sc) {
                            sc, k, X, {p.V0.begin() + static_cast<std::ptrdiff_t>(first[k]), p.V0.end()})
                      : sc.h / sc.bodies[k].ppc;
     faces[k] = lattice_surface<Dim>(X, X.front(), spacing[k], sc.geometry == Geometry::axisymmetric);
+    for (std::size_t j = 0; j < X.size(); ++j)
+      for (int f = 0; f < 2 * Dim; ++f) {  // a face on a symmetry plane is the cut of a mirrored body
+        const int axis = f / 2;
+        const Real plane = X[j][axis] + (f % 2 ? 0.5 : -0.5) * spacing[k];
+        const Real grid_face = f % 2 ? sc.grid_hi[axis] : sc.grid_lo[axis];
+        if (sc.faces[f].kind == SceneFace::Kind::symmetry && std::abs(plane - grid_face) < 1e-9 * sc.h)
+          faces[k][j][f] = 0;
+      }
   }
   std::vector<SurfaceLoad<Dim>> loads;
   for (const SceneSurfaceLoad& l : sc.surface_loads) {
@@ -174,13 +182,6 @@ SurfaceLoads<Dim> surface_loads_of(const Scene& sc) {
     for (std::size_t j = 0; j < faces[l.body].size(); ++j) {
       LatticeFaces<Dim> f = faces[l.body][j];
       const Vec<Dim>& X = p.X[first[l.body] + j];
-      for (int k = 0; k < 2 * Dim; ++k) {  // a face on a symmetry plane is the cut of a mirrored body
-        const int axis = k / 2;
-        const Real plane = X[axis] + (k % 2 ? half_spacing : -half_spacing);
-        const Real grid_face = k % 2 ? sc.grid_hi[axis] : sc.grid_lo[axis];
-        if (sc.faces[k].kind == SceneFace::Kind::symmetry && std::abs(plane - grid_face) < 1e-9 * sc.h)
-          f[k] = 0;
-      }
       if (l.face >= 0) {  // the lattice face looking out along the face's normal
         const Real kept = f[l.face];
         f = {};
