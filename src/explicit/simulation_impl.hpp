@@ -77,6 +77,7 @@ Simulation<Dim, Kernel>::Simulation(const SimulationSpec<Dim>& spec, ParticleSet
   const GridGeometry<Dim>& g = grid_.geometry;
   ParticleSet<Dim>& p = particles_;
   p.half_lengths = half_lengths_of(spec.kernel);
+  p.max_half_length = max_half_length(spec.kernel) * g.h;
   if (p.size() == 0) throw InputError("particles: the simulation has no particles");
   if (p.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
     throw InputError("particles: more than 2^31 - 1 particles");

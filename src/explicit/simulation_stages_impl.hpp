@@ -214,8 +214,7 @@ std::string Simulation<Dim, Kernel>::failure_message(std::size_t i, Real dt) con
   else if (moves_corners<Kernel>)
     cause = "its CPDI2 domain folded (the Jacobian of its corners' map <= 0 at a corner)";
   else
-    cause = "cpGIMP half-lengths " + format_point<Dim>(p.half_length(i)) + " left " +
-            outgrown_half_length_bound(spec_.kernel);
+    cause = "non-finite stress from the material update";
   std::ostringstream os;
   os.precision(9);
   os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << p.id[i] << ": " << cause;

@@ -66,6 +66,7 @@ ImplicitSimulation<Dim, Kernel>::ImplicitSimulation(const ImplicitSpec<Dim>& spe
   dashpots_ = constraints_.dashpots();
   ParticleSet<Dim>& p = particles_;
   p.half_lengths = half_lengths_of(spec.kernel);
+  p.max_half_length = max_half_length(spec.kernel) * spec.h;
   const GridGeometry<Dim>& g = grid_.geometry;
   if (p.size() == 0) throw InputError("particles: the simulation has no particles");
   if (p.state.empty()) p.state.resize(p.size());  // a state the particles bring (a geostatic stress) is kept
@@ -290,12 +291,10 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
   };
   // Sulsky & Kaul 2004, Eq. (2.3.2), or Eq. (3.2.5), kept to the grid; a CPDI2 particle goes to its corners'
   // centroid, and its corners with it through a wrap or onto a wall (transfer/particle_update.hpp, as the
-  // explicit pass). The new positions and half-lengths are checked before anything changes, so a failure
-  // leaves the last good state.
+  // explicit pass). The new positions are checked before anything changes, so a failure leaves the last good
+  // state.
   const PositionBounds<Dim> bounds(grid_.geometry);
-  const bool deformed_half_lengths = p.half_lengths == HalfLengths::deformed;
-  const Real max_half_length = mpm::max_half_length(spec_.kernel) * grid_.geometry.h;
-  std::atomic<std::int64_t> moved_out{ParticleFault::none}, outgrown{ParticleFault::none};
+  std::atomic<std::int64_t> moved_out{ParticleFault::none};
   const std::ptrdiff_t blocks = LaneBlock::count(p.size());
   parallel_for(blocks, [&](std::ptrdiff_t b) {
     const LaneBlock block(b, static_cast<std::ptrdiff_t>(p.size()));
@@ -306,28 +305,16 @@ void ImplicitSimulation<Dim, Kernel>::accept(Real dt) {
                      move_positions<Dim, Kernel>(bounds, x, block.load(v_move_), dt, corners));
     block.store(trial_.x, x);
     if constexpr (moves_corners<Kernel>) block.store(trial_.corners, corners);
-    if (deformed_half_lengths) {  // the half-lengths l_p0 diag(F) the GIMP stencil holds
-      RecordLanes<Mat<Dim>> F_new;
-      RealLanes F[Dim][Dim];
-      const RecordLanes<Mat<Dim>> L = block.load(trial_.grad_v);
-      deform<Dim>(gradient(L), dt, block.load(p.F), F, F_new);
-      note_first_fault(outgrown, block, half_lengths_fit<Dim>(block.load(p.l0), F, max_half_length));
-    }
   });
-  if (const std::int64_t i = std::min(moved_out.load(), outgrown.load()); i != ParticleFault::none) {
+  if (const std::int64_t i = moved_out.load(); i != ParticleFault::none) {
     std::ostringstream os;
     os.precision(9);
     os << "step " << steps_ + 1 << ", t = " << time_ + dt << ": particle " << p.id[i] << " ";
-    if (i == moved_out && moves_corners<Kernel> &&
+    if (moves_corners<Kernel> &&
         (grid_.geometry.contains(trial_.x[i]) || grid_.geometry.beyond_outflow(trial_.x[i])))
       os << "would fold its CPDI2 domain (the Jacobian of its corners' map <= 0 at a corner)";
-    else if (i == moved_out)
-      os << "would leave the grid";
     else
-      os << "would take its cpGIMP half-lengths "
-         << format_point<Dim>(
-                p.l0[i].cwiseProduct(((Mat<Dim>::Identity() + dt * trial_.grad_v[i]) * p.F[i]).diagonal()))
-         << " out of " << outgrown_half_length_bound(spec_.kernel);
+      os << "would leave the grid";
     throw SimulationFailure(os.str());
   }
   parallel_for(blocks, [&](std::ptrdiff_t b) {

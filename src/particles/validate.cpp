@@ -51,7 +51,10 @@ Real start_particles(ParticleSet<Dim>& p, const std::vector<Material>& materials
       p.m[i] *= p.X[i][0];  // per radian: m_p = rho r_p A_p
       p.V0[i] *= p.X[i][0];
     }
-    validate_half_lengths<Dim>(kernel, p.half_length(i), g.h, at());
+    // A run bounds the half-lengths F convects (deformed_half_length); it starts within the bound.
+    validate_half_lengths<Dim>(
+        kernel, p.half_lengths == HalfLengths::deformed ? p.convected_half_length(i) : p.half_length(i), g.h,
+        at());
     const Real J = p.F[i].determinant();
     if (!(J > 0)) throw InputError(at() + ": deformation gradient must have det F > 0");
     p.V[i] = p.V0[i] * J;

@@ -143,6 +143,7 @@ class SceneRun {
     compute_seconds_ += std::chrono::duration<double>(Clock::now() - step_start).count();
     account_work();
     engine_->remove_outflow();
+    watch_domains();
     if (has_check()) record_error();
     if (writes()) {
       write_history_row();
@@ -151,6 +152,21 @@ class SceneRun {
       if (sc_.output_every > 0 && engine_->time() >= next_output_time() * (1 - 1e-12)) write_frame();
       if (o_.checkpoint_every > 0 && engine_->steps() % o_.checkpoint_every == 0) write_checkpoint();
     }
+  }
+
+  /// After a step of a kernel whose half-lengths follow F (cpGIMP): count the particles whose domains the
+  /// stencil bounds, and say on stderr when the first appear (summary.json reports them).
+  void watch_domains() {
+    if (!deforms_half_lengths(engine_->kernel())) return;
+    std::vector<std::int64_t> count{bounded_half_lengths(std::as_const(*engine_).particles())};
+    comm_.sum(count);
+    if (bounded_.observe(engine_->steps(), engine_->time(), count[0]) && root_ && !o_.quiet)
+      std::cerr
+          << "\rmpm: note: step " << engine_->steps() << ", t = " << engine_->time() << " s: " << count[0]
+          << (count[0] == 1 ? " particle's" : " particles'") << " cpGIMP half-lengths l0 F_dd left [l0/4, "
+          << (max_half_length(engine_->kernel()) < 1 ? "h/2" : "h")
+          << "]; from here on their domains are bounded to it (docs/kernels.md, \"Bounded cpGIMP domains\"; "
+             "kernel = \"cpdi\" follows any deformation)\n";
   }
 
   /// Whether the run reached the scene's end time.
@@ -354,6 +370,7 @@ class SceneRun {
     if (t)
       j["energy"] = {{"kinetic", t->kinetic}, {"strain", t->strain}, {"external_work", acc_.external_work}};
     if (t && sc_.local_damping > 0) j["settled"] = settling_.report();
+    if (deforms_half_lengths(sc_.kernel)) j["bounded_domains"] = bounded_.report();
     if (t && has_friction(sc_)) j["energy"]["friction_dissipation"] = acc_.friction_dissipation;
     if (has_outflow(sc_)) {
       const Outflow<Dim>& out = engine_->outflow();
@@ -377,6 +394,7 @@ class SceneRun {
   std::string failure_frame_;  // the last state of a failed run, in the output folder ("": none)
   const bool root_;            // rank 0 writes history.csv, summary.json and the frames' .pvtp and .pvd
   Settling settling_;          // when the kinetic energy of a damped run settled
+  BoundedDomains bounded_;     // cpGIMP domains bounded by the stencil's reach
   RunFiles files_{o_.out_dir, comm_};
   scene_checkpoint::Accumulators acc_;  // what a checkpoint carries beside the particles
   Real previous_time_ = 0;

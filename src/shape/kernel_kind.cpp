@@ -39,17 +39,6 @@ std::string half_length_bound(KernelKind k) {
   return "(0, h] (kernel = \"cpdi\" follows any deformation)";
 }
 
-std::string outgrown_half_length_bound(KernelKind k) {
-  std::string bound = half_length_bound(k);
-  for (const KernelEntry& e : kernel_registry)
-    if (e.gimp && !e.deforms_half_lengths && e.max_half_length == max_half_length(k)) {
-      bound.insert(bound.size() - 1,
-                   ", kernel = \"" + std::string(e.name) + "\" keeps each particle's initial half-lengths");
-      break;
-    }
-  return bound;
-}
-
 template <int Dim>
 void validate_half_lengths(KernelKind k, const Vec<Dim>& l, Real h, const std::string& at) {
   if (!is_gimp(k)) return;

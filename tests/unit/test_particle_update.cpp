@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cstdint>
 #include <limits>
+#include <utility>
 
 #include "mpm/transfer/particle_update.hpp"
 
@@ -105,18 +106,31 @@ TEST(ParticleUpdate, DeformationGradientAndItsDeterminant) {
   EXPECT_EQ(J[0], 0.9375);
 }
 
-TEST(ParticleUpdate, CpGimpHalfLengthsMustStayWithinTheStencil) {
-  // l0 = (1/4, 1/4), a bound of 1/2: diag F = (3/2, 1/2) fits (3/8, 1/8); (5/2, 1) does not (5/8); a negative
-  // stretch does not; exactly the bound (2, 1) does.
-  const RecordLanes<Vec<2>> l0 = {lanes({0.25}), lanes({0.25})};
-  const auto fits = [&](Real f0, Real f1) {
-    const RealLanes F[2][2] = {{lanes({f0}), lanes({0})}, {lanes({0}), lanes({f1})}};
-    return static_cast<bool>(half_lengths_fit<2>(l0, F, 0.5)[0]);
-  };
-  EXPECT_TRUE(fits(1.5, 0.5));
-  EXPECT_FALSE(fits(2.5, 1));
-  EXPECT_FALSE(fits(1, -0.5));
-  EXPECT_TRUE(fits(2, 1));
+TEST(ParticleUpdate, CpGimpHalfLengthsAreBoundedToTheStencil) {
+  // l0 = 1/4, a bound of 1/2: inside [l0/4, 1/2] l0 F_dd itself (Eq. (63)), both ends included; past the
+  // bound the bound; below l0/4 = 1/16 that floor; a negative F_dd (a rotation past a right angle) its
+  // magnitude, within the same interval. The same in lanes and in one value.
+  const std::pair<Real, Real> cases[] = {{1.5, 0.375},   {0.5, 0.125},   {2, 0.5},       {2.5, 0.5},
+                                         {40, 0.5},      {0.25, 0.0625}, {0.1, 0.0625},  {0, 0.0625},
+                                         {-0.0, 0.0625}, {-0.5, 0.125},  {-0.1, 0.0625}, {-3, 0.5}};
+  for (const auto& [F_dd, l] : cases) {
+    EXPECT_EQ(deformed_half_length(0.25, F_dd, 0.5), l) << "F_dd = " << F_dd;
+    EXPECT_EQ(deformed_half_length(lanes({0.25}), lanes({F_dd}), 0.5)[0], l) << "F_dd = " << F_dd;
+  }
+  // A set's half_length and half_length_bounded agree with it.
+  ParticleSet<2> p;
+  p.add(Vec<2>(0.5, 0.5), Vec<2>::Zero(), 1, 1, Vec<2>(0.25, 0.25), 0);
+  p.half_lengths = HalfLengths::deformed;
+  p.max_half_length = 0.5;
+  p.F[0] << 1.5, 0.3, -0.2, 0.5;
+  EXPECT_EQ(p.half_length(0), Vec<2>(0.375, 0.125));
+  EXPECT_FALSE(p.half_length_bounded(0));
+  p.F[0](1, 1) = -0.5;
+  EXPECT_EQ(p.half_length(0), Vec<2>(0.375, 0.125));
+  EXPECT_TRUE(p.half_length_bounded(0));
+  p.F[0](1, 1) = 0.5, p.F[0](0, 0) = 2.5;
+  EXPECT_EQ(p.half_length(0), Vec<2>(0.5, 0.125));
+  EXPECT_TRUE(p.half_length_bounded(0));
 }
 
 TEST(ParticleUpdate, TheLowestFaultyParticleIsKept) {

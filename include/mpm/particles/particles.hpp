@@ -2,6 +2,7 @@
 /// Material points stored as a structure of arrays.
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "mpm/core/types.hpp"
@@ -10,8 +11,29 @@
 namespace mpm {
 
 /// How a set's current half-lengths l_p follow from l_p^0: none kept (a kernel that reads none), l_p = l_p^0
-/// (uGIMP, CPDI), or l_p = l_p^0 diag(F_p) (cpGIMP: Wallstedt & Guilkey 2008, Eq. (63)).
+/// (uGIMP, CPDI), or l_p = l_p^0 diag(F_p) (cpGIMP: Wallstedt & Guilkey 2008, Eq. (63)), bounded
+/// (deformed_half_length).
 enum class HalfLengths : std::uint8_t { none, fixed, deformed };
+
+/// The least fraction of its reference half-length l^0 a cpGIMP domain keeps along an axis
+/// (deformed_half_length). Measured on the spinning disk of CpdiSpin.*: with 1/8 or less a rim particle
+/// inverts within five steps of its domain reaching the floor (its outer nodes' weight vanishes faster than
+/// their gradient, the light nodes of linear MPM); with 1/4 and 1/2 the disk completes the turn.
+inline constexpr Real least_domain_stretch = 0.25;
+
+/// cpGIMP's half-length along one axis from l^0 and F's diagonal entry F_dd: l = l^0 F_dd (Wallstedt &
+/// Guilkey 2008, Eq. (63)) where it lies in [l^0 least_domain_stretch, bound], `bound` the reach of the
+/// kernel's stencil. Outside, the domain the stencil weighs is bounded rather than the run stopped: |l^0
+/// F_dd| where a rotation past a right angle turns F_dd negative, kept within the same interval
+/// (docs/kernels.md, "Bounded cpGIMP domains"). For Real or RealLanes.
+template <class T>
+[[gnu::always_inline]] inline T deformed_half_length(const T& l0, const T& F_dd, Real bound) {
+  const T zero{}, least = l0 * least_domain_stretch;
+  T l = l0 * F_dd;
+  l = l < zero ? -l : l;
+  l = l < least ? least : l;
+  return l > zero + bound ? zero + bound : l;
+}
 
 /// The 2^Dim corners of a particle's domain (CPDI2), column c corner c, whose reference signs are the bits of
 /// c (CpdiKernel::sign) [m].
@@ -53,6 +75,9 @@ struct ParticleSet {
   /// How the current half-lengths follow from l0: the same on every rank of a run, also on one that holds no
   /// particle.
   HalfLengths half_lengths = HalfLengths::fixed;
+  /// The largest half-length the kernel's stencil holds [m], to which deformed half-lengths are bounded
+  /// (deformed_half_length); set by the engine with half_lengths.
+  Real max_half_length = std::numeric_limits<Real>::infinity();
 
   std::size_t size() const { return x.size(); }
 
@@ -113,10 +138,25 @@ struct ParticleSet {
         return Vec<Dim>::Zero();
       case HalfLengths::fixed:
         return l0[i];
-      case HalfLengths::deformed:
-        return l0[i].cwiseProduct(F[i].diagonal());  // Wallstedt & Guilkey 2008, Eq. (63)
+      case HalfLengths::deformed: {
+        Vec<Dim> l;
+        for (int d = 0; d < Dim; ++d) l[d] = deformed_half_length(l0[i][d], F[i](d, d), max_half_length);
+        return l;
+      }
     }
     return Vec<Dim>::Zero();
+  }
+  /// Particle i's half-lengths as F convects them, l^0 diag(F) (Wallstedt & Guilkey 2008, Eq. (63)),
+  /// unbounded.
+  Vec<Dim> convected_half_length(std::size_t i) const { return l0[i].cwiseProduct(F[i].diagonal()); }
+  /// Particle i's half-lengths are bounded (deformed_half_length): l^0 F_dd leaves [l^0 least_domain_stretch,
+  /// max_half_length] on an axis.
+  bool half_length_bounded(std::size_t i) const {
+    if (half_lengths != HalfLengths::deformed) return false;
+    const Vec<Dim> l = convected_half_length(i);
+    for (int d = 0; d < Dim; ++d)
+      if (!(l[d] >= l0[i][d] * least_domain_stretch && l[d] <= max_half_length)) return true;
+    return false;
   }
   /// Free l0, for a kernel that does not read it.
   void drop_half_lengths() {

@@ -100,10 +100,6 @@ inline Real max_half_length(KernelKind k) {
 /// What a GIMP kind's particles may not outgrow, "(0, h/2]" or "(0, h]", and the kernel that takes larger
 /// ones.
 std::string half_length_bound(KernelKind k);
-/// half_length_bound of a kind whose half-lengths follow F (cpGIMP), for a particle that outgrew it: with the
-/// kind of the same stencil whose particles keep their initial half-lengths (uGIMP), which a flow that
-/// stretches the particles without bound can run.
-std::string outgrown_half_length_bound(KernelKind k);
 
 /// Throws InputError (prefixed with `at`) when a GIMP kind's particle has a half-length outside (0,
 /// max_half_length h].

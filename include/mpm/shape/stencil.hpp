@@ -168,7 +168,8 @@ template <int Dim, class Kernel>
   } else if constexpr (reads_half_lengths<Kernel>) {
     RecordLanes<Vec<Dim>> l = block.load(p.l0);
     if (p.half_lengths == HalfLengths::deformed)  // Wallstedt & Guilkey 2008, Eq. (63), of F's diagonal alone
-      for (int d = 0; d < Dim; ++d) l[d] *= block.load_member(p.F, d + d * Dim);
+      for (int d = 0; d < Dim; ++d)
+        l[d] = deformed_half_length(l[d], block.load_member(p.F, d + d * Dim), p.max_half_length);
     return l;
   } else {
     return RecordLanes<Vec<Dim>>{};  // the kernel ignores them

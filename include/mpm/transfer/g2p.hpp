@@ -232,9 +232,6 @@ ParticleFault g2p(ParticleSet<Dim>& p, const ParticleStencils<Dim, Kernel>& sten
           ok &= valid;
           // A lane with an invalid J keeps its stress (the run stops).
           ok &= stress(block, p, F, J, valid, grad_v, v_p[0], r_start);
-          if constexpr (weighs_half_lengths<Kernel>)  // cpGIMP: the half-lengths F gives must fit the stencil
-            if (p.half_lengths == HalfLengths::deformed)
-              ok &= half_lengths_fit<Dim>(block.load(p.l0), F, Kernel::max_half_length * geo.h);
         }
         if constexpr (what.position)
           if (next) {

@@ -100,20 +100,6 @@ template <int Dim, class Gradient>
   return simd::determinant(F);
 }
 
-/// cpGIMP: the lanes whose half-lengths l0_d F_dd stay within (0, max_half_length] (Wallstedt & Guilkey 2008,
-/// Eq. (63)), the reach of the GIMP stencil.
-template <int Dim>
-[[gnu::always_inline]] inline simd::MaskLanes half_lengths_fit(const RecordLanes<Vec<Dim>>& l0,
-                                                               const RealLanes (&F)[Dim][Dim],
-                                                               Real max_half_length) {
-  simd::MaskLanes ok = simd::MaskLanes{} == 0;
-  for (int d = 0; d < Dim; ++d) {
-    const RealLanes l = l0[d] * F[d][d];
-    ok &= (l > 0) & (l <= max_half_length);
-  }
-  return ok;
-}
-
 /// Lower `first_fault` to the index of the block's first lane that is not `ok`, if lower (several threads
 /// may record at once; the lowest index wins, whatever the order).
 [[gnu::always_inline]] inline void note_first_fault(std::atomic<std::int64_t>& first_fault,
