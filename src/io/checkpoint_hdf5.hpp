@@ -1,11 +1,13 @@
 #pragma once
 // What the checkpoint writer and reader share (src/io/checkpoint_write.cpp, checkpoint_read.cpp): the file's
-// group names, HDF5 handles that close themselves, and the error type both report through.
+// group names, HDF5 handles that close themselves, and the error type both report through; the handles and
+// the listing of a group also serve the particle files' reader (src/io/hdf5_columns.cpp).
 #include <hdf5.h>
 
 #include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 // Checkpoints divided between ranks are written through MPI-IO: an MPI build with parallel HDF5.
 #if defined(MPM_WITH_MPI) && defined(H5_HAVE_PARALLEL)
@@ -86,6 +88,24 @@ inline Handle string_type(std::size_t size) {
   check(H5Tset_strpad(type.get(), H5T_STR_NULLPAD), "cannot pad string type");
   check(H5Tset_cset(type.get(), H5T_CSET_UTF8), "cannot set string character set");
   return type;
+}
+
+/// The names of the links in `group`, in name order.
+inline std::vector<std::string> member_names(hid_t group, const std::string& path) {
+  H5G_info_t info;
+  check(H5Gget_info(group, &info), "cannot list " + path);
+  std::vector<std::string> names;
+  for (hsize_t i = 0; i < info.nlinks; ++i) {
+    const ssize_t len =
+        H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
+    if (len < 0) throw Failure("cannot list " + path);
+    std::vector<char> buffer(static_cast<std::size_t>(len) + 1);
+    if (H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, buffer.data(), buffer.size(),
+                           H5P_DEFAULT) < 0)
+      throw Failure("cannot list " + path);
+    names.emplace_back(buffer.data(), static_cast<std::size_t>(len));
+  }
+  return names;
 }
 
 }  // namespace mpm::io::hdf5

@@ -22,24 +22,6 @@ struct Share {
   std::int64_t rows = -1;  ///< n, once an array of rows was read
 };
 
-/// The names of the links in `group`, in name order.
-std::vector<std::string> member_names(hid_t group, const std::string& path) {
-  H5G_info_t info;
-  check(H5Gget_info(group, &info), "cannot list " + path);
-  std::vector<std::string> names;
-  for (hsize_t i = 0; i < info.nlinks; ++i) {
-    const ssize_t len =
-        H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
-    if (len < 0) throw Failure("cannot list " + path);
-    std::vector<char> buffer(static_cast<std::size_t>(len) + 1);
-    if (H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, buffer.data(), buffer.size(),
-                           H5P_DEFAULT) < 0)
-      throw Failure("cannot list " + path);
-    names.emplace_back(buffer.data(), static_cast<std::size_t>(len));
-  }
-  return names;
-}
-
 /// Calls fn(name, path, dataset) for every member of the group at `group_path`; a missing group holds
 /// nothing.
 template <class Fn>

@@ -10,6 +10,7 @@
 #include "mpm/core/errors.hpp"
 #include "mpm/explicit/simulation.hpp"
 #include "mpm/implicit/simulation.hpp"
+#include "mpm/io/hdf5_columns.hpp"
 #include "mpm/particles/stable_step.hpp"
 
 namespace mpm {
@@ -52,8 +53,10 @@ double count_round(const Scene& sc, const SceneShape& b) {
   return count;
 }
 
-/// Data rows of a particle file: lines that are neither empty, comments, nor a header on line 1.
+/// Data rows of a particle file: an HDF5 file's values per dataset, or a CSV file's lines that are neither
+/// empty, comments, nor a header on line 1.
 double count_file(const SceneShape& b) {
+  if (io::is_hdf5_file(b.file)) return static_cast<double>(io::read_hdf5_columns(b.file).values[0].size());
   std::ifstream is(b.file);
   double rows = 0;
   bool first = true;

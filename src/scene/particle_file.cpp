@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
 #include "mpm/core/errors.hpp"
+#include "mpm/io/hdf5_columns.hpp"
 
 namespace mpm {
 
@@ -49,6 +51,52 @@ struct Lines {
   }
 };
 
+/// The data rows of a particle file as text cells: a CSV file's lines (its header, empty lines and comments
+/// skipped), or the rows across an HDF5 file's datasets (io::read_hdf5_columns), each number written with 17
+/// significant digits, which read back as the same double. `where` names the row ("FILE:LINE" or "FILE: row
+/// N"), `line` is its text.
+class Rows {
+ public:
+  explicit Rows(const std::filesystem::path& file) : file_(file), lines_(file) {
+    if (io::is_hdf5_file(file)) hdf5_ = io::read_hdf5_columns(file);
+  }
+  bool next() {
+    if (!hdf5_.names.empty()) return next_hdf5();
+    while (lines_.next()) {
+      if (lines_.line.empty() || lines_.line[0] == '#') continue;
+      cells = cells_of(lines_.line);
+      const bool header = !std::all_of(cells.begin(), cells.end(),
+                                       [](const std::string& c) { return number_in(c).has_value(); });
+      if (header && lines_.number == 1) continue;
+      where = file_.string() + ":" + std::to_string(lines_.number);
+      line = lines_.line;
+      return true;
+    }
+    return false;
+  }
+  std::vector<std::string> cells;
+  std::string where, line;
+
+ private:
+  bool next_hdf5() {
+    if (row_ == hdf5_.values[0].size()) return false;
+    cells.clear();
+    line.clear();
+    for (const std::vector<double>& column : hdf5_.values) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.17g", column[row_]);
+      cells.emplace_back(text);
+      line += (line.empty() ? "" : ",") + cells.back();
+    }
+    where = file_.string() + ": row " + std::to_string(++row_);
+    return true;
+  }
+  std::filesystem::path file_;
+  Lines lines_;
+  io::NamedColumns hdf5_;
+  std::size_t row_ = 0;
+};
+
 const char* const axis_names = "xyz";
 const char* const stress_names[] = {"sxx", "syy", "szz", "sxy", "sxz", "syz"};  // SymTensor<3>'s order
 }  // namespace
@@ -57,16 +105,10 @@ bool has_column(const std::vector<ParticleColumn>& columns, Role role) {
   return std::any_of(columns.begin(), columns.end(), [&](const ParticleColumn& c) { return c.role == role; });
 }
 
-std::vector<ParticleColumn> particle_file_columns(const std::filesystem::path& file, int dim,
-                                                  const std::vector<Material>& materials) {
-  std::vector<ParticleColumn> positional;
-  for (int d = 0; d < dim; ++d) positional.push_back({Role::position, d});
-  positional.push_back({Role::volume, 0});
-  Lines lines(file);
-  if (!lines.next()) return positional;
-  const std::vector<std::string> names = cells_of(lines.line);
-  if (std::all_of(names.begin(), names.end(), [](const std::string& c) { return number_in(c).has_value(); }))
-    return positional;  // no header
+namespace {
+/// The columns `names` give (`at` prefixes the messages).
+std::vector<ParticleColumn> named_columns(const std::vector<std::string>& names, const std::string& at,
+                                          int dim, const std::vector<Material>& materials) {
   std::vector<std::pair<std::string, ParticleColumn>> known;
   for (int d = 0; d < dim; ++d) {
     known.push_back({std::string(1, axis_names[d]), {Role::position, d}});
@@ -78,7 +120,6 @@ std::vector<ParticleColumn> particle_file_columns(const std::filesystem::path& f
   known.push_back({"plastic_strain", {Role::plastic_strain, 0}});
   for (const DeclaredColumn& c : declared_columns(materials))
     known.push_back({c.name, {Role::internal, static_cast<int>(c.column)}});
-  const std::string at = file.string() + ":1: ";
   std::vector<ParticleColumn> out;
   std::vector<std::string> seen;
   for (const std::string& name : names) {
@@ -99,6 +140,22 @@ std::vector<ParticleColumn> particle_file_columns(const std::filesystem::path& f
   if (!has_column(out, Role::volume)) throw InputError(at + "no column 'volume'");
   return out;
 }
+}  // namespace
+
+std::vector<ParticleColumn> particle_file_columns(const std::filesystem::path& file, int dim,
+                                                  const std::vector<Material>& materials) {
+  if (io::is_hdf5_file(file))
+    return named_columns(io::read_hdf5_columns(file).names, file.string() + ": ", dim, materials);
+  std::vector<ParticleColumn> positional;
+  for (int d = 0; d < dim; ++d) positional.push_back({Role::position, d});
+  positional.push_back({Role::volume, 0});
+  Lines lines(file);
+  if (!lines.next()) return positional;
+  const std::vector<std::string> names = cells_of(lines.line);
+  if (std::all_of(names.begin(), names.end(), [](const std::string& c) { return number_in(c).has_value(); }))
+    return positional;  // no header
+  return named_columns(names, file.string() + ":1: ", dim, materials);
+}
 
 template <int Dim>
 void read_particle_rows(const Scene& sc, const SceneBody& b, const std::string& key, ParticleSet<Dim>& p) {
@@ -106,25 +163,21 @@ void read_particle_rows(const Scene& sc, const SceneBody& b, const std::string& 
   const bool stressed = has_column(columns, Role::stress) || has_column(columns, Role::plastic_strain);
   const bool given_internal = has_column(columns, Role::internal);
   const std::vector<DeclaredColumn> declared = declared_columns(material_laws(sc));
-  Lines lines(b.file);
+  Rows rows(b.file);
   const bool plain = columns.size() == Dim + 1;  // positions and volumes only
   const auto plain_error = [&](const std::string& where) {
     return InputError(where + "expected " + std::to_string(Dim + 1) +
                       " comma-separated numbers (position then volume), got " +
-                      in_quotes(shortened(lines.line)));
+                      in_quotes(shortened(rows.line)));
   };
-  while (lines.next()) {
-    if (lines.line.empty() || lines.line[0] == '#') continue;
-    const std::vector<std::string> cells = cells_of(lines.line);
-    const bool header = !std::all_of(cells.begin(), cells.end(),
-                                     [](const std::string& c) { return number_in(c).has_value(); });
-    if (header && lines.number == 1) continue;
-    const std::string where = b.file.string() + ":" + std::to_string(lines.number) + ": row of " + key + ": ";
+  while (rows.next()) {
+    const std::vector<std::string>& cells = rows.cells;
+    const std::string where = rows.where + ": row of " + key + ": ";
     if (cells.size() != columns.size()) {
       if (plain) throw plain_error(where);
       throw InputError(where + "expected " + std::to_string(columns.size()) +
                        " comma-separated values (one per column of line 1), got " +
-                       in_quotes(shortened(lines.line)));
+                       in_quotes(shortened(rows.line)));
     }
     Vec<Dim> x = Vec<Dim>::Zero(), v = Vec<Dim>::Zero();
     SymTensor<3> sigma;

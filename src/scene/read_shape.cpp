@@ -96,7 +96,7 @@ void read_shape(const Section& s, const Scene& sc, const std::string& box, Shape
       s.fail("file", "the surface (scaled and translated) must lie inside the grid " + grid_extent(sc, past));
   } else if (shape == "file") {
     out.shape = SceneShape::Shape::file;
-    out.file = existing_file(s, sc, "a CSV file of positions and volumes");
+    out.file = existing_file(s, sc, "a particle file: CSV, or HDF5 named *.h5 or *.hdf5");
   } else if (shape == "mesh") {
     if (sc.dim == 1) s.fail("shape", "\"mesh\" needs a 2-D or 3-D scene");
     out.shape = SceneShape::Shape::mesh;
