@@ -85,7 +85,7 @@ class Simulation:
 
     @property
     def particles(self):
-        """Particle fields by the frames' names (x, X, velocity or v, displacement, stress as xx yy zz xy xz yz, F as
+        """Particle fields by the frames' names (x, X, velocity or v, displacement, stress as xx yy zz xy yz xz, F as
         dim x dim, J, volume, mass, material, id, ...), one row per particle in the engine's current order."""
         return self._current()[1]
 

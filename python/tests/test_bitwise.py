@@ -42,7 +42,8 @@ def test_python_run_equals_the_command(tmp_path, scene, end):
     assert np.array_equal(last["id"][theirs], sim.particles["id"][ours])
     assert np.array_equal(last["x"][theirs, :2], sim.particles["x"][ours])
     assert np.array_equal(last["velocity"][theirs, :2], sim.particles["v"][ours])
-    assert np.array_equal(last["F"].reshape(-1, 3, 3)[theirs, :2, :2], sim.particles["F"][ours])
+    # Frames hold F by columns (VTK's order): component a + 3 c is F(a, c).
+    assert np.array_equal(last["F"].reshape(-1, 3, 3).transpose(0, 2, 1)[theirs, :2, :2], sim.particles["F"][ours])
     assert np.array_equal(last["stress"][theirs], sim.particles["stress"][ours])
     # history.csv's last row is the attributes' values (written with 6 significant digits).
     assert out.history["step"][-1] == sim.steps

@@ -44,7 +44,7 @@ def median_drift(frame):
     measure of PlasticBarVariants.MomentumPositionsDriftFromTheDeformationTheParticlesRecord)."""
     x = frame["points"][:, :2]
     X = x - frame["displacement"][:, :2]
-    F = frame["F"].reshape(-1, 3, 3)[:, :2, :2]
+    F = frame["F"].reshape(-1, 3, 3).transpose(0, 2, 1)[:, :2, :2]  # frames hold F by columns
     drift = []
     for i in range(len(x)):
         for j in range(i + 1, len(x)):

@@ -197,12 +197,9 @@ class Explicit final : public SimulationAdapter<Dim, SimulationSpec<Dim>, Simula
   /// ranks in a step: it needs no velocities from before the step.
   bool needs_velocities_before() const override { return false; }
   Real load_power(const std::vector<Vec<Dim>>&) const override { return sim_.load_power(); }
-  /// Cauchy stress of particle i, xx yy zz xy xz yz; in 2-D a Neo-Hookean zz is the plane-strain lambda ln J
-  /// / J (Wallstedt & Guilkey 2008, Eq. (55)).
-  void stress(std::size_t i, double* out) const override {
-    const SymTensor<3> s = sim_.full_stress(i);
-    for (int k = 0; k < 6; ++k) out[k] = s.c[k];
-  }
+  /// Cauchy stress of particle i, xx yy zz xy yz xz (vtk_order); in 2-D a Neo-Hookean zz is the plane-strain
+  /// lambda ln J / J (Wallstedt & Guilkey 2008, Eq. (55)).
+  void stress(std::size_t i, double* out) const override { vtk_order(sim_.full_stress(i), out); }
   /// The rate-form state, and with [[contact]] each particle's velocity field (to tell the bodies apart).
   void add_fields(std::vector<io::PointField>& fields) const override {
     if (!sim_.particles().state.empty()) add_state_fields(spec_.materials, sim_.particles(), fields);
@@ -319,10 +316,7 @@ class Implicit final : public SimulationAdapter<Dim, ImplicitSpec<Dim>, Implicit
           sim_.surface_loading().work(p, i, sim_.grid().geometry) / step_dt_};
     })[0];
   }
-  void stress(std::size_t i, double* out) const override {
-    const SymTensor<3>& s = sim_.state().sigma[i];
-    for (int k = 0; k < 6; ++k) out[k] = s.c[k];
-  }
+  void stress(std::size_t i, double* out) const override { vtk_order(sim_.state().sigma[i], out); }
   void add_fields(std::vector<io::PointField>& fields) const override {
     add_state_fields(spec_.materials, sim_.particles(), fields);
   }

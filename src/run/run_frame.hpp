@@ -22,7 +22,8 @@ struct ExactFromScene {
 };
 
 /// Points (3 coordinates each) and fields of the engine's particles at time t: velocity, displacement, Cauchy
-/// stress (xx yy zz xy xz yz), F (3 x 3), J, volume, mass, material, id (Int64), the [check] error |u -
+/// stress (xx yy zz xy yz xz, VTK's order of a symmetric tensor), F (3 x 3 by columns, VTK's order of a
+/// tensor: component a + 3 c is F(a, c)), J, volume, mass, material, id (Int64), the [check] error |u -
 /// u_exact| when `exact` is given, and the engine's own fields.
 template <int Dim>
 void frame_fields(const SceneEngine<Dim>& engine, const std::vector<ExpressionPtr>& exact, Real t,
@@ -47,7 +48,7 @@ void frame_fields(const SceneEngine<Dim>& engine, const std::vector<ExpressionPt
     engine.stress(i, &stress.values[6 * i]);
     for (int a = 0; a < 3; ++a)
       for (int c = 0; c < 3; ++c)
-        deformation.values[9 * i + 3 * a + c] = (a < Dim && c < Dim) ? p.F[i](a, c) : (a == c ? 1.0 : 0.0);
+        deformation.values[9 * i + a + 3 * c] = (a < Dim && c < Dim) ? p.F[i](a, c) : (a == c ? 1.0 : 0.0);
     J.values.push_back(Ji);
     volume.values.push_back(p.V[i]);
     mass.values.push_back(p.m[i]);

@@ -24,6 +24,13 @@
 
 namespace mpm {
 
+/// A symmetric tensor's six components in VTK's order, xx yy zz xy yz xz, which ParaView's tensor filters
+/// read (SymTensor's own is xx yy zz xy xz yz).
+inline void vtk_order(const SymTensor<3>& s, double* out) {
+  constexpr int from[6] = {0, 1, 2, 3, 5, 4};
+  for (int k = 0; k < 6; ++k) out[k] = s.c[from[k]];
+}
+
 template <int Dim>
 class SceneEngine {
  public:
@@ -88,7 +95,7 @@ class SceneEngine {
   virtual std::vector<std::int64_t> counters() const = 0;
 
   // Outputs and checkpoints.
-  /// Cauchy stress of particle i, xx yy zz xy xz yz.
+  /// Cauchy stress of particle i in VTK's order of a symmetric tensor, xx yy zz xy yz xz (vtk_order).
   virtual void stress(std::size_t i, double* out) const = 0;
   /// The engine's own frame fields (the rate-form state, the contact field).
   virtual void add_fields(std::vector<io::PointField>& fields) const = 0;

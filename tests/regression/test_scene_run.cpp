@@ -164,7 +164,7 @@ def dump(name, arr, comps):
 dump("x", d.GetPoints().GetData(), [0, 1])
 pd = d.GetPointData()
 dump("v", pd.GetArray("velocity"), [0, 1])
-dump("F", pd.GetArray("F"), [0, 3, 1, 4])
+dump("F", pd.GetArray("F"), [0, 1, 3, 4])
 dump("J", pd.GetArray("J"), [0])
 dump("stress", pd.GetArray("stress"), [0, 1, 2, 3])
 )";
@@ -188,7 +188,7 @@ dump("stress", pd.GetArray("stress"), [0, 1, 2, 3])
   };
   EXPECT_EQ(read_row("x", 2 * n), c.reals.at("x"));
   EXPECT_EQ(read_row("v", 2 * n), c.reals.at("v"));
-  // VTK holds F row by row (xx, xy, xz, yx, ...); the engine column by column: read as (xx, yx, xy, yy).
+  // VTK holds F column by column (xx, yx, zx, xy, ...), as the engine does: read as (xx, yx, xy, yy).
   EXPECT_EQ(read_row("F", 4 * n), c.reals.at("F"));
   const std::vector<double> J = read_row("J", n), stress = read_row("stress", 4 * n);
   const mpm::NeoHookean mat = mpm::NeoHookean::from_young_poisson(1000, 0.3, 1000);
@@ -201,6 +201,74 @@ dump("stress", pd.GetArray("stress"), [0, 1, 2, 3])
     EXPECT_EQ(stress[4 * i + 1], s(1, 1));
     EXPECT_EQ(stress[4 * i + 2], mat.lambda * std::log(J[i]) / J[i]);  // plane strain sigma_zz
     EXPECT_EQ(stress[4 * i + 3], s(0, 1));
+  }
+  fs::remove_all(dir);
+}
+
+TEST(SceneRun, ParaViewReadsTheShearOfA3dFrameAsWritten) {
+  // A Neo-Hookean block sheared at the start, F = I + g e_x (x) e_z + b e_y (x) e_z (J = 1): its Cauchy
+  // stress is mu (F F^T - I), so sigma_xz = mu g and sigma_yz = mu b (Wallstedt & Guilkey 2008, Eq. (55)).
+  // VTK's own filter (vtkExtractTensorComponents, which reads a 6-component tensor as xx yy zz xy yz xz and a
+  // 9-component one by columns) extracts those components of the first frame; with xz and yz swapped, or F by
+  // rows, it would read sigma_xz = mu b and F_xz = 0.
+  const fs::path dir = scratch("vtk3d");
+  const double g = 0.02, b = 0.01, E = 1000, nu = 0.25, mu = E / (2 * (1 + nu));
+  std::ofstream(dir / "block.toml") << R"toml([simulation]
+dimension = 3
+end_time = 1e-6
+integrator = "usl"
+cfl = 0.5
+[grid]
+lo = [0.0, 0.0, 0.0]
+hi = [1.0, 1.0, 1.0]
+cells = [4, 4, 4]
+[[materials]]
+name = "rubber"
+model = "neo-hookean"
+E = 1000.0
+nu = 0.25
+density = 1000.0
+[[bodies]]
+name = "block"
+material = "rubber"
+shape = "box"
+lo = [0.25, 0.25, 0.25]
+hi = [0.75, 0.75, 0.5]
+ppc = 1
+displacement = ["0.02 * Z", "0.01 * Z", "0"]
+deformation_gradient = [1, 0, 0.02, 0, 1, 0.01, 0, 0, 1]
+)toml";
+  ASSERT_EQ(mpm::testing::run_mpm(dir / "block.toml", "--out " + (dir / "out").string(), dir / "log"), 0)
+      << slurp(dir / "log");
+  std::ofstream(dir / "read.py") << R"(import sys, vtk
+r = vtk.vtkXMLPolyDataReader(); r.SetFileName(sys.argv[1]); r.Update()
+for name in ("stress", "F"):
+    r.GetOutput().GetPointData().SetActiveTensors(name)
+    for i, j in ((0, 2), (1, 2), (2, 0)):
+        e = vtk.vtkExtractTensorComponents(); e.SetInputData(r.GetOutput()); e.ExtractScalarsOn()
+        e.SetScalarComponents(i, j); e.Update()
+        s = e.GetOutput().GetPointData().GetScalars()
+        print(name, i, j, " ".join(repr(s.GetValue(k)) for k in range(s.GetNumberOfTuples())))
+)";
+  const std::string cmd = "/usr/bin/python3 " + (dir / "read.py").string() + " " +
+                          (dir / "out/particles_0000.vtp").string() + " > " + (dir / "values.txt").string() +
+                          " 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0)
+      << "python3-vtk9 is needed (apt-get install python3-vtk9): " << slurp(dir / "values.txt");
+  const double expected[2][3] = {{mu * g, mu * b, mu * g},
+                                 {g, b, 0}};  // stress (symmetric), F: (0,2) (1,2) (2,0)
+  std::istringstream in(slurp(dir / "values.txt"));
+  for (int row = 0; row < 6; ++row) {
+    std::string line, name;
+    ASSERT_TRUE(std::getline(in, line)) << slurp(dir / "values.txt");
+    std::istringstream fields(line);
+    int i = 0, j = 0;
+    fields >> name >> i >> j;
+    const double want = expected[row / 3][row % 3];
+    int count = 0;
+    for (double v = 0; fields >> v; ++count)
+      EXPECT_NEAR(v, want, 1e-12 * (std::abs(want) + 1)) << name << i << j;
+    EXPECT_EQ(count, 4) << line;  // 2 x 2 x 1 cells of one particle each
   }
   fs::remove_all(dir);
 }

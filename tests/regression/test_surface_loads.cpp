@@ -349,7 +349,7 @@ pressure = "1e3 * min(10 * t, 1.0)"
                   : "region = { lo = [-0.11, -0.11], hi = [0.11, 0.11] }\n");
 }
 
-/// The last frame's stresses (xx yy zz xy xz yz) by reference position (rounded to 1e-9 m).
+/// The last frame's stresses (xx yy zz xy yz xz) by reference position (rounded to 1e-9 m).
 std::map<std::pair<long long, long long>, std::array<double, 6>> stresses_by_place(const fs::path& out) {
   const fs::path frame = out / "particles_0001.vtp";
   const std::vector<double> x = vtp_array(frame, ""), u = vtp_array(frame, "displacement"),

@@ -74,7 +74,7 @@ def read_frame(path):
 
 def scalar(values, component, name):
     """One value per point: the component asked for, or the magnitude (6 components: a symmetric tensor
-    xx yy zz xy xz yz, Frobenius norm)."""
+    xx yy zz xy yz xz, Frobenius norm)."""
     if component is not None:
         if not 0 <= component < values.shape[1]:
             fail(f"{name} has {values.shape[1]} components; component {component} does not exist", 4)
