@@ -272,6 +272,24 @@ template <class T>
 T max(const T& a, const T& b) {
   return a < b ? b : a;
 }
+/// On lanes, the min and max instructions, one each rather than a comparison and a blend: min(a, b) is
+/// minpd(b, a), b < a ? b : a, and max(a, b) maxpd(b, a), b > a ? b : a, the comparisons above, which give a
+/// where either is NaN or both are zeros.
+#if defined(__AVX512F__)
+[[gnu::always_inline]] inline RealLanes min(const RealLanes& a, const RealLanes& b) {
+  return reinterpret_cast<RealLanes>(_mm512_min_pd(reinterpret_cast<__m512d>(b), reinterpret_cast<__m512d>(a)));
+}
+[[gnu::always_inline]] inline RealLanes max(const RealLanes& a, const RealLanes& b) {
+  return reinterpret_cast<RealLanes>(_mm512_max_pd(reinterpret_cast<__m512d>(b), reinterpret_cast<__m512d>(a)));
+}
+#elif defined(__AVX__)
+[[gnu::always_inline]] inline RealLanes min(const RealLanes& a, const RealLanes& b) {
+  return reinterpret_cast<RealLanes>(_mm256_min_pd(reinterpret_cast<__m256d>(b), reinterpret_cast<__m256d>(a)));
+}
+[[gnu::always_inline]] inline RealLanes max(const RealLanes& a, const RealLanes& b) {
+  return reinterpret_cast<RealLanes>(_mm256_max_pd(reinterpret_cast<__m256d>(b), reinterpret_cast<__m256d>(a)));
+}
+#endif
 
 /// The square root, for one value or lanes: IEEE's correctly rounded one either way, so the same bits.
 inline Real sqrt(Real x) {

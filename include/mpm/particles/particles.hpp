@@ -5,6 +5,7 @@
 #include <limits>
 #include <vector>
 
+#include "mpm/core/simd.hpp"
 #include "mpm/core/types.hpp"
 #include "mpm/materials/state.hpp"
 
@@ -28,11 +29,7 @@ inline constexpr Real least_domain_stretch = 0.25;
 /// (docs/kernels.md, "Bounded cpGIMP domains"). For Real or RealLanes.
 template <class T>
 [[gnu::always_inline]] inline T deformed_half_length(const T& l0, const T& F_dd, Real bound) {
-  const T zero{}, least = l0 * least_domain_stretch;
-  T l = l0 * F_dd;
-  l = l < zero ? -l : l;
-  l = l < least ? least : l;
-  return l > zero + bound ? zero + bound : l;
+  return simd::min(simd::max(simd::abs(l0 * F_dd), l0 * least_domain_stretch), T{} + bound);
 }
 
 /// The 2^Dim corners of a particle's domain (CPDI2), column c corner c, whose reference signs are the bits of
