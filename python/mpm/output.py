@@ -6,8 +6,8 @@ import re
 
 import numpy as np
 
-_ARRAY = re.compile(rb'<DataArray type="(\w+)"(?: Name="([^"]*)")? NumberOfComponents="(\d+)" '
-                    rb'format="appended" offset="(\d+)"/>')
+_ARRAY = re.compile(rb'<DataArray type="(\w+)"(?: Name="([^"]*)")? NumberOfComponents="(\d+)"'
+                    rb'(?: ComponentName\d+="[^"]*")* format="appended" offset="(\d+)"/>')
 _DATASET = re.compile(r'<DataSet timestep="([^"]+)"[^>]* file="([^"]+)"')
 _PIECE = re.compile(r'<Piece Source="([^"]+)"/>')
 _TYPES = {b"Float64": "<f8", b"Int64": "<i8"}

@@ -81,13 +81,38 @@ void append_block(std::string& out, const T* values, std::size_t count) {
   }
 }
 
+/// The attributes type, Name, NumberOfComponents and ComponentName0... of a (P)DataArray tag.
+std::string array_attributes(std::string_view type, std::string_view name, int components,
+                             const std::vector<std::string>& component_names) {
+  std::string text = "type=\"" + std::string(type) + "\"";
+  if (!name.empty()) text += " Name=\"" + xml_escape(name) + "\"";
+  text += " NumberOfComponents=\"" + std::to_string(components) + "\"";
+  for (std::size_t c = 0; c < component_names.size(); ++c)
+    text += " ComponentName" + std::to_string(c) + "=\"" + xml_escape(component_names[c]) + "\"";
+  return text;
+}
+
 /// One <DataArray ... format="appended" offset="..."/> line.
-std::string data_array(std::string_view type, std::string_view name, int components, std::size_t offset) {
-  std::string line = "<DataArray type=\"" + std::string(type) + "\"";
-  if (!name.empty()) line += " Name=\"" + xml_escape(name) + "\"";
-  line += " NumberOfComponents=\"" + std::to_string(components) + "\" format=\"appended\" offset=\"" +
-          std::to_string(offset) + "\"/>\n";
-  return line;
+std::string data_array(std::string_view type, std::string_view name, int components, std::size_t offset,
+                       const std::vector<std::string>& component_names = {}) {
+  return "<DataArray " + array_attributes(type, name, components, component_names) +
+         " format=\"appended\" offset=\"" + std::to_string(offset) + "\"/>\n";
+}
+
+/// The <FieldData> block of the fields' units: a VTK string array `units` of "name: unit" entries, written
+/// as VTK's ASCII string arrays are, each string's bytes as numbers, each ended by 0.
+std::string units_field_data(const std::vector<PointField>& fields) {
+  std::vector<std::string> entries{"Points: m"};
+  for (const PointField& f : fields)
+    if (!f.unit.empty()) entries.push_back(f.name + ": " + f.unit);
+  std::string bytes;
+  for (const std::string& e : entries) {
+    for (const char c : e) bytes += std::to_string(static_cast<unsigned char>(c)) + " ";
+    bytes += "0 ";
+  }
+  bytes.pop_back();
+  return "<FieldData>\n<Array type=\"String\" Name=\"units\" NumberOfTuples=\"" +
+         std::to_string(entries.size()) + "\" format=\"ascii\">\n" + bytes + "\n</Array>\n</FieldData>\n";
 }
 
 /// `time` with 17 significant digits, enough for any double to read back exactly.
@@ -125,6 +150,10 @@ void write_vtp(const std::filesystem::path& file, const std::vector<double>& poi
       for (double v : f.values)
         if (!(std::abs(v) < 0x1p53 && std::trunc(v) == v))
           throw InputError(file.string() + ": integer point field " + f.name + " holds " + std::to_string(v));
+    if (!f.component_names.empty() && f.component_names.size() != static_cast<std::size_t>(f.components))
+      throw InputError(file.string() + ": point field " + f.name + " names " +
+                       std::to_string(f.component_names.size()) + " of its " + std::to_string(f.components) +
+                       " components");
     if (f.components < 1 || f.values.size() != static_cast<std::size_t>(f.components) * n)
       throw InputError(file.string() + ": point field " + f.name + " has " + std::to_string(f.values.size()) +
                        " values for " + std::to_string(n) + " points of " + std::to_string(f.components) +
@@ -142,15 +171,16 @@ void write_vtp(const std::filesystem::path& file, const std::vector<double>& poi
   std::string header =
       "<?xml version=\"1.0\"?>\n"
       "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
-      "<PolyData>\n<Piece NumberOfPoints=\"" +
-      std::to_string(n) + "\" NumberOfVerts=\"" + std::to_string(n) +
-      "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n<PointData>\n";
+      "<PolyData>\n" +
+      units_field_data(fields) + "<Piece NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfVerts=\"" +
+      std::to_string(n) + "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n<PointData>\n";
   std::string data;
   std::size_t data_bytes = (2 * n + points.size()) * 8 + 8 * (fields.size() + 3);  // blocks with their counts
   for (const PointField& f : fields) data_bytes += f.values.size() * 8;
   data.reserve(data_bytes);  // appends never reallocate: the peak memory is the file's size once more
   for (const PointField& f : fields) {
-    header += data_array(f.integer ? "Int64" : "Float64", f.name, f.components, data.size());
+    header +=
+        data_array(f.integer ? "Int64" : "Float64", f.name, f.components, data.size(), f.component_names);
     if (f.integer) {
       const std::vector<std::int64_t> whole(f.values.begin(), f.values.end());
       append_block(data, whole.data(), whole.size());
@@ -181,8 +211,9 @@ void write_pvtp(const std::filesystem::path& file, const std::vector<PointField>
       "<VTKFile type=\"PPolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
       "<PPolyData GhostLevel=\"0\">\n<PPointData>\n";
   for (const PointField& f : fields)
-    text += "<PDataArray type=\"" + std::string(f.integer ? "Int64" : "Float64") + "\" Name=\"" +
-            xml_escape(f.name) + "\" NumberOfComponents=\"" + std::to_string(f.components) + "\"/>\n";
+    text += "<PDataArray " +
+            array_attributes(f.integer ? "Int64" : "Float64", f.name, f.components, f.component_names) +
+            "/>\n";
   text += "</PPointData>\n<PPoints>\n<PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>\n</PPoints>\n";
   for (const std::string& piece : pieces) text += "<Piece Source=\"" + xml_escape(piece) + "\"/>\n";
   text += "</PPolyData>\n</VTKFile>\n";

@@ -1,10 +1,13 @@
 #pragma once
 // The particle fields of one ParaView frame of a scene run (particles_NNNN.vtp).
+#include <string>
 #include <vector>
 
 #include "mpm/io/vtk.hpp"
+#include "mpm/materials/material.hpp"
 #include "mpm/particles/particles.hpp"
 #include "mpm/scene/expression.hpp"
+#include "run_units.hpp"
 #include "scene_engine.hpp"
 
 namespace mpm {
@@ -21,22 +24,42 @@ struct ExactFromScene {
   }
 };
 
+/// The units of the engines' own frame fields (add_fields): the rate-form state's and the laws' declared
+/// columns (StateColumn::unit); the rest (field, failed) are indices.
+inline std::string engine_field_unit(const std::string& name, const std::vector<Material>& materials,
+                                     const std::string& extent) {
+  if (name == "plastic_strain") return "1";
+  if (name == "temperature_rise") return "K";
+  if (name == "internal_energy") return "J" + extent;
+  for (const DeclaredColumn& column : declared_columns(materials))
+    if (column.name == name) return column.unit;
+  return "";
+}
+
 /// Points (3 coordinates each) and fields of the engine's particles at time t: velocity, displacement, Cauchy
 /// stress (xx yy zz xy yz xz, VTK's order of a symmetric tensor), F (3 x 3 by columns, VTK's order of a
 /// tensor: component a + 3 c is F(a, c)), J, volume, mass, material, id (Int64), the [check] error |u -
-/// u_exact| when `exact` is given, and the engine's own fields.
+/// u_exact| when `exact` is given, and the engine's own fields; each with its components' names and its unit
+/// (mass, volume and energy per metre of thickness or per radian in 2-D: per_extent).
 template <int Dim>
-void frame_fields(const SceneEngine<Dim>& engine, const std::vector<ExpressionPtr>& exact, Real t,
-                  std::vector<double>& points, std::vector<io::PointField>& fields) {
+void frame_fields(const SceneEngine<Dim>& engine, const std::vector<Material>& materials, Geometry geometry,
+                  const std::vector<ExpressionPtr>& exact, Real t, std::vector<double>& points,
+                  std::vector<io::PointField>& fields) {
   const ParticleSet<Dim>& p = engine.particles();
   const std::size_t n = p.size();
+  const std::string extent = per_extent<Dim>(geometry);
   points.assign(3 * n, 0.0);
-  io::PointField velocity{"velocity", 3, std::vector<double>(3 * n, 0.0)};
-  io::PointField displacement{"displacement", 3, std::vector<double>(3 * n, 0.0)};
-  io::PointField stress{"stress", 6, std::vector<double>(6 * n, 0.0)};
-  io::PointField deformation{"F", 9, std::vector<double>(9 * n, 0.0)};
-  io::PointField J{"J", 1, {}}, volume{"volume", 1, {}}, mass{"mass", 1, {}}, material{"material", 1, {}};
-  io::PointField error{"error", 1, {}}, id{"id", 1, {}, true};
+  const std::vector<std::string> xyz{"x", "y", "z"};
+  io::PointField velocity{"velocity", 3, std::vector<double>(3 * n, 0.0), false, xyz, "m/s"};
+  io::PointField displacement{"displacement", 3, std::vector<double>(3 * n, 0.0), false, xyz, "m"};
+  io::PointField stress{
+      "stress", 6, std::vector<double>(6 * n, 0.0), false, {"xx", "yy", "zz", "xy", "yz", "xz"}, "Pa"};
+  io::PointField deformation{
+      "F", 9, std::vector<double>(9 * n, 0.0), false, {"xx", "yx", "zx", "xy", "yy", "zy", "xz", "yz", "zz"},
+      "1"};
+  io::PointField J{"J", 1, {}, false, {}, "1"}, volume{"volume", 1, {}, false, {}, "m^3" + extent};
+  io::PointField mass{"mass", 1, {}, false, {}, "kg" + extent}, material{"material", 1, {}};
+  io::PointField error{"error", 1, {}, false, {}, "m"}, id{"id", 1, {}, true};
   for (io::PointField* f : {&J, &volume, &mass, &material, &id, &error}) f->values.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Real Ji = p.F[i].determinant();
@@ -63,7 +86,10 @@ void frame_fields(const SceneEngine<Dim>& engine, const std::vector<ExpressionPt
        {&velocity, &displacement, &stress, &deformation, &J, &volume, &mass, &material, &id})
     fields.push_back(std::move(*f));
   if (!exact.empty()) fields.push_back(std::move(error));
+  const std::size_t own = fields.size();
   engine.add_fields(fields);
+  for (std::size_t k = own; k < fields.size(); ++k)
+    fields[k].unit = engine_field_unit(fields[k].name, materials, extent);
 }
 
 }  // namespace mpm

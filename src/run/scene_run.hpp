@@ -320,7 +320,8 @@ class SceneRun {
   void write_failure_frame() {
     std::vector<double> points;
     std::vector<io::PointField> fields;
-    frame_fields<Dim>(*engine_, sc_.exact_displacement, engine_->time(), points, fields);
+    frame_fields<Dim>(*engine_, material_laws(sc_), sc_.geometry, sc_.exact_displacement, engine_->time(),
+                      points, fields);
     fields.push_back(io::PointField{"failed", 1, engine_->failed_particles()});
     failure_frame_ = files_.failure_frame(points, fields);
   }
@@ -328,7 +329,8 @@ class SceneRun {
   void write_frame() {
     std::vector<double> points;
     std::vector<io::PointField> fields;
-    frame_fields<Dim>(*engine_, sc_.exact_displacement, engine_->time(), points, fields);
+    frame_fields<Dim>(*engine_, material_laws(sc_), sc_.geometry, sc_.exact_displacement, engine_->time(),
+                      points, fields);
     files_.frame(acc_.frames, engine_->time(), points, fields);
     ++acc_.frames;
     acc_.last_frame_time = engine_->time();
@@ -380,6 +382,11 @@ class SceneRun {
                       {"kinetic_energy", out.kinetic_energy},
                       {"internal_energy", out.internal_energy}};
     }
+    nlohmann::json history_units = nlohmann::json::object();
+    for (const HistoryColumn& column : history_columns<Dim>(sc_, *engine_))
+      if (!column.unit.empty()) history_units[column.name] = column.unit;
+    const nlohmann::json summary = summary_units(j, per_extent<Dim>(sc_.geometry));
+    j["units"] = {{"summary", summary}, {"history", history_units}};
     io::write_file_atomically(o_.out_dir / "summary.json", j.dump(2) + '\n');
   }
 

@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -167,6 +168,8 @@ dump("v", pd.GetArray("velocity"), [0, 1])
 dump("F", pd.GetArray("F"), [0, 1, 3, 4])
 dump("J", pd.GetArray("J"), [0])
 dump("stress", pd.GetArray("stress"), [0, 1, 2, 3])
+u = d.GetFieldData().GetAbstractArray("units")
+print("units|" + "|".join(u.GetValue(k) for k in range(u.GetNumberOfValues())))
 )";
   const std::string cmd = "/usr/bin/python3 " + (dir / "read.py").string() + " " + (dir / last).string() +
                           " > " + (dir / "values.txt").string() + " 2>&1";
@@ -202,6 +205,11 @@ dump("stress", pd.GetArray("stress"), [0, 1, 2, 3])
     EXPECT_EQ(stress[4 * i + 2], mat.lambda * std::log(J[i]) / J[i]);  // plane strain sigma_zz
     EXPECT_EQ(stress[4 * i + 3], s(0, 1));
   }
+  std::string units;
+  in >> units;  // 2-D: mass and volume per metre of thickness
+  EXPECT_EQ(units, "units|Points:");
+  std::getline(in, units);
+  EXPECT_EQ(units, " m|velocity: m/s|displacement: m|stress: Pa|F: 1|J: 1|volume: m^3/m|mass: kg/m");
   fs::remove_all(dir);
 }
 
@@ -210,7 +218,9 @@ TEST(SceneRun, ParaViewReadsTheShearOfA3dFrameAsWritten) {
   // stress is mu (F F^T - I), so sigma_xz = mu g and sigma_yz = mu b (Wallstedt & Guilkey 2008, Eq. (55)).
   // VTK's own filter (vtkExtractTensorComponents, which reads a 6-component tensor as xx yy zz xy yz xz and a
   // 9-component one by columns) extracts those components of the first frame; with xz and yz swapped, or F by
-  // rows, it would read sigma_xz = mu b and F_xz = 0.
+  // rows, it would read sigma_xz = mu b and F_xz = 0. VTK's eigensolver (vtkMath::Diagonalize3x3) on the
+  // tensor the filter reads gives the principal stresses, the eigenvalues of mu (F F^T - I); VTK's reader
+  // gives the components' names and the units written as field data.
   const fs::path dir = scratch("vtk3d");
   const double g = 0.02, b = 0.01, E = 1000, nu = 0.25, mu = E / (2 * (1 + nu));
   std::ofstream(dir / "block.toml") << R"toml([simulation]
@@ -249,6 +259,21 @@ for name in ("stress", "F"):
         e.SetScalarComponents(i, j); e.Update()
         s = e.GetOutput().GetPointData().GetScalars()
         print(name, i, j, " ".join(repr(s.GetValue(k)) for k in range(s.GetNumberOfTuples())))
+d = r.GetOutput(); pd = d.GetPointData(); pd.SetActiveTensors("stress")
+A = [[0.0] * 3 for _ in range(3)]
+for i in range(3):
+    for j in range(3):
+        e = vtk.vtkExtractTensorComponents(); e.SetInputData(d); e.ExtractScalarsOn()
+        e.SetScalarComponents(i, j); e.Update()
+        A[i][j] = e.GetOutput().GetPointData().GetScalars().GetValue(0)
+w = [0.0] * 3; V = [[0.0] * 3 for _ in range(3)]
+vtk.vtkMath.Diagonalize3x3(A, w, V)
+print("principal", " ".join(repr(x) for x in sorted(w)))
+for name in ("stress", "F", "velocity"):
+    a = pd.GetArray(name)
+    print("names", name, " ".join(a.GetComponentName(c) for c in range(a.GetNumberOfComponents())))
+u = d.GetFieldData().GetAbstractArray("units")
+print("units|" + "|".join(u.GetValue(k) for k in range(u.GetNumberOfValues())))
 )";
   const std::string cmd = "/usr/bin/python3 " + (dir / "read.py").string() + " " +
                           (dir / "out/particles_0000.vtp").string() + " > " + (dir / "values.txt").string() +
@@ -270,6 +295,32 @@ for name in ("stress", "F"):
       EXPECT_NEAR(v, want, 1e-12 * (std::abs(want) + 1)) << name << i << j;
     EXPECT_EQ(count, 4) << line;  // 2 x 2 x 1 cells of one particle each
   }
+  std::string line, label;
+  ASSERT_TRUE(std::getline(in, line));
+  std::istringstream principal(line);
+  principal >> label;
+  ASSERT_EQ(label, "principal") << line;
+  mpm::Mat<3> F = mpm::Mat<3>::Identity();
+  F(0, 2) = g;
+  F(1, 2) = b;
+  const Eigen::Vector3d want =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(mu * (F * F.transpose() - Eigen::Matrix3d::Identity()))
+          .eigenvalues();  // ascending
+  for (int k = 0; k < 3; ++k) {
+    double v = 0;
+    principal >> v;
+    EXPECT_NEAR(v, want[k], 1e-12 * mu) << k;  // Jacobi's rotations against Eigen's: round-off apart
+  }
+  for (const std::string names :
+       {"names stress xx yy zz xy yz xz", "names F xx yx zx xy yy zy xz yz zz", "names velocity x y z"}) {
+    ASSERT_TRUE(std::getline(in, line));
+    EXPECT_EQ(line, names);
+  }
+  ASSERT_TRUE(std::getline(in, line));
+  EXPECT_EQ(line, "units|Points: m|velocity: m/s|displacement: m|stress: Pa|F: 1|J: 1|volume: m^3|mass: kg");
+  const nlohmann::json summary = nlohmann::json::parse(slurp(dir / "out/summary.json"));
+  EXPECT_EQ(summary.at("units").at("history").at("kinetic_energy"), "J");  // 3-D: no thickness
+  EXPECT_EQ(summary.at("units").at("summary").at("energy").at("kinetic"), "J");
   fs::remove_all(dir);
 }
 
@@ -388,6 +439,32 @@ TEST(SceneRun, FloorReactionBalancesTheMomentumChangeInBothConstraintModes) {
   }
 }
 
+TEST(SceneRun, SummaryGivesTheUnitsOfTheHistoryColumnsAndOfItsOwnNumbers) {
+  // summary.json's `units`: one per history.csv column but the step count, and the summary's own numbers in
+  // the same nesting; in 2-D the extensive ones per metre of thickness.
+  const std::string floor = (source_dir / "examples/block-on-floor/scene.toml").string();
+  const fs::path dir = scratch("units");
+  ASSERT_EQ(run(floor + " --quiet --set simulation.end_time=0.01 --out " + dir.string(), dir / "log"), 0)
+      << slurp(dir / "log");
+  std::vector<std::string> h;
+  read_csv(dir / "history.csv", h);
+  const nlohmann::json j = nlohmann::json::parse(slurp(dir / "summary.json"));
+  const nlohmann::json& history = j.at("units").at("history");
+  EXPECT_EQ(history.size() + 1, h.size());
+  for (const std::string& name : h) EXPECT_EQ(history.contains(name), name != "step") << name;
+  EXPECT_EQ(history.at("time"), "s");
+  EXPECT_EQ(history.at("kinetic_energy"), "J/m");
+  EXPECT_EQ(history.at("momentum_y"), "kg*m/s/m");
+  EXPECT_EQ(history.at("reaction_y-min_y"), "N/m");
+  const nlohmann::json& summary = j.at("units").at("summary");
+  EXPECT_EQ(summary.at("time"), "s");
+  EXPECT_EQ(summary.at("wall_seconds"), "s");
+  EXPECT_EQ(summary.at("memory").at("peak_bytes"), "B");
+  EXPECT_EQ(summary.at("energy").at("kinetic"), "J/m");
+  EXPECT_EQ(summary.at("energy").size(), j.at("energy").size());  // every energy has its unit
+  fs::remove_all(dir);
+}
+
 TEST(SceneRun, TractionOnABoxFaceAppliesTractionTimesArea) {
   // A free box, 0.41 x 0.2 m (its width not a multiple of the particle spacing 0.0125), pulled at x-max by
   // 100 Pa: the force per unit thickness is 100 * 0.2 = 20 N/m, so momentum_x = 20 t, with USL and with the
@@ -437,6 +514,16 @@ TEST(SceneRun, RenderDrawsEveryKthFrameAndTheLast) {
                                                 "velocity_0005.png"}));
   EXPECT_EQ(render("--field temperature"), 2) << slurp(dir / "render.log");
   EXPECT_NE(slurp(dir / "render.log").find("velocity"), std::string::npos) << "lists the available fields";
+  // The colour bars' labels: a component by the name the frame gives it, a magnitude, and their units.
+  const std::string labels =
+      "/usr/bin/python3 -c 'import sys; sys.path.insert(0, \"" + (source_dir / "apps/mpm/python").string() +
+      "\"); import render as r; n, u = r.read_labels(sys.argv[1]); "
+      "print(r.colour_label(\"stress\", 3, False, n, u)); "
+      "print(r.colour_label(\"velocity\", None, True, n, u)); "
+      "print(r.colour_label(\"material\", None, False, n, u))' " +
+      (dir / "particles_0005.vtp").string() + " > " + (dir / "labels.txt").string() + " 2>&1";
+  ASSERT_EQ(std::system(labels.c_str()), 0) << slurp(dir / "labels.txt");
+  EXPECT_EQ(slurp(dir / "labels.txt"), "stress xy [Pa]\n|velocity| [m/s]\nmaterial\n");
   fs::remove_all(dir);
 }
 

@@ -243,6 +243,8 @@ TEST_F(VtkTest, BadInputThrowsInputErrorAndUnwritablePathsOutputError) {
   EXPECT_THROW(mpm::io::write_vtp(dir_ / "p.vtp", points, {{"v", 3, {1, 2, 3}}}), mpm::InputError);
   EXPECT_THROW(mpm::io::write_vtp(dir_ / "p.vtp", points, {{"J", 1, {1, 2}}, {"J", 1, {1, 2}}}),
                mpm::InputError);
+  EXPECT_THROW(mpm::io::write_vtp(dir_ / "p.vtp", points, {{"v", 2, {1, 2, 3, 4}, false, {"x", "y", "z"}}}),
+               mpm::InputError);  // three names for two components
   EXPECT_FALSE(fs::exists(dir_ / "p.vtp"));
 
   PvdSeries series(dir_ / "no-such-folder" / "s.pvd");

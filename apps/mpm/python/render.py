@@ -61,6 +61,45 @@ def read_vtp(path):
     return arrays
 
 
+def read_labels(path):
+    """The names of each array's components and each array's unit, from a frame's header (a .pvtp's first
+    piece): ({name: [component names]}, {name: unit}); empty for a file written without them."""
+    if path.endswith(".pvtp"):
+        piece = next(ET.parse(path).getroot().iter("Piece"), None)
+        if piece is None:
+            return {}, {}
+        path = os.path.join(os.path.dirname(path), piece.get("Source"))
+    with open(path, "rb") as f:
+        data = f.read()
+    at = data.find(MARKER)
+    root = ET.fromstring(data[:at] + b"</VTKFile>")
+    names = {}
+    for node in root.iter("DataArray"):
+        k = int(node.get("NumberOfComponents", "1"))
+        if node.get("Name") and node.get("ComponentName0") is not None:
+            names[node.get("Name")] = [node.get(f"ComponentName{c}", str(c)) for c in range(k)]
+    units = {}
+    for node in root.iter("Array"):  # the field data: VTK's ASCII strings, bytes as numbers, each ended by 0
+        if node.get("Name") == "units" and node.get("type") == "String":
+            for entry in bytes(int(b) for b in node.text.split()).split(b"\0"):
+                name, _, unit = entry.decode().partition(": ")
+                if unit:
+                    units[name] = unit
+    return names, units
+
+
+def colour_label(name, component, magnitude, names, units):
+    """The colour bar's label: the field, its component by name (or number) or |field| for a magnitude, and
+    its unit in brackets when the frame gives one."""
+    if magnitude:
+        text = f"|{name}|"
+    elif component is not None:
+        text = f"{name} {names[name][component]}" if name in names else f"{name}:{component}"
+    else:
+        text = name
+    return f"{text} [{units[name]}]" if name in units else text
+
+
 def read_frame(path):
     """A frame's arrays: a .vtp, or the pieces a .pvtp lists (a run divided between ranks), joined."""
     if not path.endswith(".pvtp"):
@@ -102,6 +141,7 @@ def main(folder, field, every, plane="xy"):
     indices = list(range(0, len(entries), every)) + ([len(entries) - 1] if (len(entries) - 1) % every else [])
     chosen = [entries[i] for i in indices]
 
+    names, units = read_labels(os.path.join(folder, chosen[-1][1]))
     frames = []
     for time, file in chosen:
         arrays = read_frame(os.path.join(folder, file))
@@ -133,11 +173,11 @@ def main(folder, field, every, plane="xy"):
         ax.set_xlim(lo[0] - pad, hi[0] + pad)
         ax.set_ylim(lo[1] - pad, hi[1] + pad)
         ax.set_aspect("equal")
-        ax.set_xlabel(plane[0])
-        ax.set_ylabel(plane[1])
+        ax.set_xlabel(f"{plane[0]} [{units.get('Points', 'm')}]")
+        ax.set_ylabel(f"{plane[1]} [{units.get('Points', 'm')}]")
         ax.set_title(f"{field}   t = {time:.6g}")
         cax = make_axes_locatable(ax).append_axes("right", size="4%", pad=0.1)  # as tall as the axes
-        fig.colorbar(dots, cax=cax, label=f"|{field}|" if magnitude else field)
+        fig.colorbar(dots, cax=cax, label=colour_label(name, component, magnitude, names, units))
         fig.tight_layout()
         path = os.path.join(out_dir, f"{stem}_{frame:04d}.png")
         fig.savefig(path, dpi=100)

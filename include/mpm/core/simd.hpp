@@ -277,17 +277,21 @@ T max(const T& a, const T& b) {
 /// where either is NaN or both are zeros.
 #if defined(__AVX512F__)
 [[gnu::always_inline]] inline RealLanes min(const RealLanes& a, const RealLanes& b) {
-  return reinterpret_cast<RealLanes>(_mm512_min_pd(reinterpret_cast<__m512d>(b), reinterpret_cast<__m512d>(a)));
+  return reinterpret_cast<RealLanes>(
+      _mm512_min_pd(reinterpret_cast<__m512d>(b), reinterpret_cast<__m512d>(a)));
 }
 [[gnu::always_inline]] inline RealLanes max(const RealLanes& a, const RealLanes& b) {
-  return reinterpret_cast<RealLanes>(_mm512_max_pd(reinterpret_cast<__m512d>(b), reinterpret_cast<__m512d>(a)));
+  return reinterpret_cast<RealLanes>(
+      _mm512_max_pd(reinterpret_cast<__m512d>(b), reinterpret_cast<__m512d>(a)));
 }
 #elif defined(__AVX__)
 [[gnu::always_inline]] inline RealLanes min(const RealLanes& a, const RealLanes& b) {
-  return reinterpret_cast<RealLanes>(_mm256_min_pd(reinterpret_cast<__m256d>(b), reinterpret_cast<__m256d>(a)));
+  return reinterpret_cast<RealLanes>(
+      _mm256_min_pd(reinterpret_cast<__m256d>(b), reinterpret_cast<__m256d>(a)));
 }
 [[gnu::always_inline]] inline RealLanes max(const RealLanes& a, const RealLanes& b) {
-  return reinterpret_cast<RealLanes>(_mm256_max_pd(reinterpret_cast<__m256d>(b), reinterpret_cast<__m256d>(a)));
+  return reinterpret_cast<RealLanes>(
+      _mm256_max_pd(reinterpret_cast<__m256d>(b), reinterpret_cast<__m256d>(a)));
 }
 #endif
 

@@ -11,16 +11,21 @@ namespace mpm::io {
 /// One point-data array: `components` values per point, stored point by point.
 struct PointField {
   std::string name;    ///< array name shown in ParaView (e.g. "velocity", "stress", "J")
-  int components = 1;  ///< values per point: 1 scalar, 3 vector, 6 symmetric tensor (xx yy zz xy xz yz)
+  int components = 1;  ///< values per point: 1 scalar, 3 vector, 6 symmetric tensor (xx yy zz xy yz xz)
   std::vector<double> values;  ///< components * (number of points) values, point by point
   bool integer = false;        ///< written as Int64 (the values are whole numbers of magnitude below 2^53)
+  /// The components' names, which ParaView shows instead of numbers (none, or one per component).
+  std::vector<std::string> component_names = {};
+  /// The unit of the values ("m/s", "Pa", "1" for a dimensionless number); empty: none (an index).
+  std::string unit = {};
 };
 
 /// Write a VTK XML PolyData file (.vtp) with one vertex per point. `points` holds 3 coordinates per point
 /// (1-D and 2-D callers pad with zeros); each field becomes a Float64 (or, when `integer`, Int64)
-/// <PointData> array. The data are raw
-/// little-endian binary in one <AppendedData encoding="raw"> block, each array preceded by its byte count as
-/// a UInt64. The file is written to FILE.tmp and renamed over FILE, so readers never see a partial file.
+/// <PointData> array with its components' names (ComponentName0, ...). The units are field data: a string
+/// array `units` of one "name: unit" per field that has a unit (the points' "Points: m" first). The data are
+/// raw little-endian binary in one <AppendedData encoding="raw"> block, each array preceded by its byte count
+/// as a UInt64. The file is written to FILE.tmp and renamed over FILE, so readers never see a partial file.
 /// Throws InputError on inconsistent sizes, OutputError when the file cannot be written (naming the path).
 void write_vtp(const std::filesystem::path& file, const std::vector<double>& points,
                const std::vector<PointField>& fields);

@@ -219,6 +219,7 @@ inline void start_internal_state(const std::vector<Material>& materials,
 struct DeclaredColumn {
   std::size_t column;
   std::string name;
+  std::string unit;               ///< StateColumn::unit
   std::vector<bool> declared_by;  ///< per material of the table
 };
 
@@ -237,7 +238,8 @@ inline std::vector<DeclaredColumn> declared_columns(const std::vector<Material>&
                 return d.name == name && d.column == c;
               });
               if (it == out.end())
-                it = out.insert(out.end(), {c, name, std::vector<bool>(materials.size(), false)});
+                it = out.insert(out.end(), {c, name, Law::state_columns[c].unit,
+                                            std::vector<bool>(materials.size(), false)});
               it->declared_by[k] = true;
             }
         },
