@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "commands.hpp"
+#include "mpm/core/build_info.hpp"
 #include "mpm/core/errors.hpp"
 #include "mpm/distributed/communicator.hpp"
 
@@ -42,6 +43,7 @@ int main(int argc, char** argv) {
   // program.
   std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"mpm: material point method for large-deformation solids"};
+  app.set_version_flag("--version", mpm::build_info_text());
   app.require_subcommand(1);
   const mpm::app::Action bench = mpm::app::add_bench(app);
   const mpm::app::Action verify = mpm::app::add_verify(app);
@@ -55,7 +57,14 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    std::cout << mpm::build_info_text();
+    return 0;
   } catch (const CLI::ParseError& e) {
+    if (argc == 1) {  // no subcommand at all: what there is to run
+      say() << app.help();
+      return mpm::exit_input_error;
+    }
     say() << "mpm: " << e.what() << '\n';
     return mpm::exit_input_error;
   }

@@ -12,7 +12,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from . import _core
-from ._core import OutputError, Scene, SimulationFailure
+from ._core import OutputError, Scene, SimulationFailure, __version__
 from .output import Output, read_output, read_vtp
 
 __all__ = ["Scene", "Simulation", "SimulationFailure", "OutputError", "verify", "converge", "read_output",

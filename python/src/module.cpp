@@ -3,11 +3,14 @@
 #include <pybind11/pybind11.h>
 
 #include "bindings.hpp"
+#include "mpm/core/build_info.hpp"
 #include "mpm/core/errors.hpp"
 
 PYBIND11_MODULE(_core, m) {
   namespace py = pybind11;
   m.doc() = "The compiled part of the mpm package: use the names the package mpm exports.";
+  m.attr("__version__") = mpm::build_info().version;
+  m.attr("build") = mpm::build_info_text();
   // Bad input is a ValueError with the one-line message `mpm` prints before exiting with status 2; a
   // numerical failure (exit status 1) is mpm.SimulationFailure, a RuntimeError; an output that cannot be
   // written is mpm.OutputError, an OSError.

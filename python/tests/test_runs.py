@@ -1,12 +1,14 @@
 """Stepping and callbacks, energies and reactions, and a run interrupted (Ctrl-C) and restarted from its checkpoint,
 bitwise equal to one uninterrupted run."""
 import _thread
+import os
+import re
 
 import numpy as np
 import pytest
 
 import mpm
-from conftest import BAR, BLOCK, DISKS
+from conftest import BAR, BLOCK, DISKS, SOURCE, cli
 
 
 def test_run_until_takes_whole_steps():
@@ -99,3 +101,11 @@ def test_sigint_while_stepping_stops_after_a_step():
     steps = sim.steps
     sim.step()  # the state is a whole step's: it goes on
     assert sim.steps == steps + 1
+
+
+def test_version_is_the_builds():
+    """mpm.__version__ is the version `mpm --version` names (the project's, CMakeLists.txt)."""
+    with open(os.path.join(SOURCE, "CMakeLists.txt")) as f:
+        project = re.search(r"project\(mpm LANGUAGES CXX VERSION ([0-9.]+)\)", f.read()).group(1)
+    assert mpm.__version__ == project
+    assert cli("--version").stdout.startswith(f"mpm {project} (commit ")

@@ -15,6 +15,7 @@
 #include <optional>
 #include <utility>
 
+#include "mpm/core/build_info.hpp"
 #include "mpm/core/errors.hpp"
 #include "mpm/core/interrupt.hpp"
 #include "mpm/core/parallel.hpp"
@@ -118,13 +119,15 @@ class SceneRun {
     return 0;
   }
 
-  /// The output folder (a restart keeps what came before its checkpoint), and at step 0 the first frame and
+  /// The output folder (a restart keeps what came before its checkpoint) with the scene as this run reads it
+  /// (scene_as_run.toml: the file with the --set overrides applied), and at step 0 the first frame and
   /// history row.
   void open() {
     wall_start_ = Clock::now();
     if (!writes()) return;
     acc_.frames = files_.prepare(!o_.restart.empty(), engine_->time(), engine_->steps(),
                                  history_header<Dim>(sc_, *engine_), sc_.newton_log);
+    if (root_) io::write_file_atomically(o_.out_dir / "scene_as_run.toml", sc_.resolved_text);
     if (engine_->steps() == 0) {
       write_frame();
       write_history_row();
@@ -387,6 +390,11 @@ class SceneRun {
       if (!column.unit.empty()) history_units[column.name] = column.unit;
     const nlohmann::json summary = summary_units(j, per_extent<Dim>(sc_.geometry));
     j["units"] = {{"summary", summary}, {"history", history_units}};
+    const BuildInfo& b = build_info();
+    j["build"] = {{"version", b.version},   {"commit", b.commit}, {"build_type", b.build_type},
+                  {"compiler", b.compiler}, {"flags", b.flags},   {"instruction_set", b.isa},
+                  {"mpi", b.mpi},           {"hdf5", b.hdf5}};
+    j["overrides"] = sc_.overrides;
     io::write_file_atomically(o_.out_dir / "summary.json", j.dump(2) + '\n');
   }
 

@@ -325,6 +325,10 @@ Scene read_scene_text(const std::string& text, const std::filesystem::path& file
                      std::string(e.description()));
   }
   for (const std::string& o : overrides) loc.overrides.emplace_back(apply_override(doc, o), o);
+  sc.overrides = overrides;
+  std::ostringstream resolved;
+  resolved << doc << '\n';
+  sc.resolved_text = resolved.str();
 
   const Section top(doc, "", loc,
                     {"simulation", "output", "constants", "grid", "materials", "bodies", "rigid_bodies",

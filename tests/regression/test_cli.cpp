@@ -10,6 +10,8 @@
 #include <sstream>
 #include <string>
 
+#include "mpm/core/build_info.hpp"
+
 namespace {
 
 struct Outcome {
@@ -105,6 +107,23 @@ INSTANTIATE_TEST_SUITE_P(
                     "--series: expected kernel:integrator pairs such as cpgimp:cd, got 'cpgimp'", "--plot"},
         BadArgument{"converge bar-1d --vary cells --values 8,16 --series cpgimp:cd,linear:rk4",
                     "--series: unknown name 'rk4'", "--plot"}));
+
+TEST(Cli, VersionNamesTheBuildAndNoCommandGivesTheUsage) {
+  const Outcome v = run_mpm("--version");
+  EXPECT_EQ(v.status, 0) << v.err;
+  const mpm::BuildInfo& b = mpm::build_info();
+  EXPECT_EQ(v.out, mpm::build_info_text());
+  EXPECT_EQ(v.out.rfind("mpm " + b.version + " (commit " + b.commit + ")\n", 0), 0u) << v.out;
+  EXPECT_TRUE(b.commit == "unknown" || b.commit.size() == 12 || b.commit.size() == 12 + 8) << b.commit;
+  for (const char* line :
+       {"\nbuild type: ", "\ncompiler: ", "\nflags: ", "\ninstruction set: ", "\nMPI: ", "\nHDF5: "})
+    EXPECT_NE(v.out.find(line), std::string::npos) << line << " in " << v.out;
+  const Outcome bare = run_mpm("");
+  EXPECT_EQ(bare.status, 2);
+  EXPECT_NE(bare.err.find("Subcommands:"), std::string::npos) << bare.err;  // the usage, not one line
+  EXPECT_NE(bare.err.find("run"), std::string::npos) << bare.err;
+  EXPECT_TRUE(bare.out.empty()) << bare.out;
+}
 
 TEST(Cli, ConvergeReportsObservedOrders) {
   const Outcome o = run_mpm("converge bar-1d --amplitude 0.01 --vary cells --values 8,16,32 --json");

@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "mpm/core/build_info.hpp"
 #include "mpm/io/checkpoint.hpp"
 #include "mpm/materials/neo_hookean.hpp"
 #include "mpm/verification/axis_aligned.hpp"
@@ -462,6 +463,32 @@ TEST(SceneRun, SummaryGivesTheUnitsOfTheHistoryColumnsAndOfItsOwnNumbers) {
   EXPECT_EQ(summary.at("memory").at("peak_bytes"), "B");
   EXPECT_EQ(summary.at("energy").at("kinetic"), "J/m");
   EXPECT_EQ(summary.at("energy").size(), j.at("energy").size());  // every energy has its unit
+  fs::remove_all(dir);
+}
+
+TEST(SceneRun, OutputRecordsTheBuildTheOverridesAndTheSceneAsRunWhichRunsAlike) {
+  // summary.json names the build and the --set overrides; scene_as_run.toml, the scene with them applied, run
+  // again without any gives the same history.csv to the bit.
+  const std::string floor = (source_dir / "examples/block-on-floor/scene.toml").string();
+  const fs::path dir = scratch("provenance");
+  const std::vector<std::string> sets{"simulation.end_time=0.02", "simulation.integrator=\"usl\"",
+                                      "loads.gravity=[0, -5]"};
+  std::string args = floor + " --quiet --out " + (dir / "a").string();
+  for (const std::string& s : sets) args += " --set '" + s + "'";
+  ASSERT_EQ(run(args, dir / "log"), 0) << slurp(dir / "log");
+  const nlohmann::json j = nlohmann::json::parse(slurp(dir / "a/summary.json"));
+  const mpm::BuildInfo& b = mpm::build_info();
+  EXPECT_EQ(j.at("build").at("version"), b.version);
+  EXPECT_EQ(j.at("build").at("commit"), b.commit);
+  EXPECT_EQ(j.at("build").at("compiler"), b.compiler);
+  EXPECT_EQ(j.at("build").at("instruction_set"), b.isa);
+  EXPECT_EQ(j.at("build").at("mpi"), b.mpi);
+  EXPECT_EQ(j.at("overrides").get<std::vector<std::string>>(), sets);
+  ASSERT_EQ(
+      run((dir / "a/scene_as_run.toml").string() + " --quiet --out " + (dir / "b").string(), dir / "log"), 0)
+      << slurp(dir / "log");
+  EXPECT_EQ(slurp(dir / "b/history.csv"), slurp(dir / "a/history.csv"));
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir / "b/summary.json")).at("overrides").size(), 0u);
   fs::remove_all(dir);
 }
 

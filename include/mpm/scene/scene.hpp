@@ -121,8 +121,11 @@ struct SceneSurfaceLoad {
 };
 
 struct Scene {
-  std::filesystem::path file;  ///< where it was read from (particle files are relative to it)
-  std::string text;            ///< the scene file as read (stored in checkpoints)
+  std::filesystem::path file;          ///< where it was read from (particle files are relative to it)
+  std::string text;                    ///< the scene file as read (stored in checkpoints)
+  std::vector<std::string> overrides;  ///< the --set overrides applied to it, in order
+  std::string
+      resolved_text;  ///< the scene with the overrides applied, as TOML (the output's scene_as_run.toml)
   std::map<std::string, double> constants;
 
   // [simulation]
